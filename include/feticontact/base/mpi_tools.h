@@ -1,0 +1,36 @@
+#pragma once
+
+#include <mpi.h>
+
+#include <type_traits>
+#include <vector>
+
+namespace FetiContact::MPITools
+{
+  /** The concatenation, in rank order, of every rank's @p local (trivially copyable T). */
+  template <typename T>
+  std::vector<T>
+  all_gather(const MPI_Comm comm, const std::vector<T> &local)
+  {
+    static_assert(std::is_trivially_copyable_v<T>);
+    int n_ranks = 1;
+    MPI_Comm_size(comm, &n_ranks);
+    const int        bytes = local.size() * sizeof(T);
+    std::vector<int> counts(n_ranks), offsets(n_ranks + 1, 0);
+    MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (int r = 0; r < n_ranks; ++r)
+      offsets[r + 1] = offsets[r] + counts[r];
+    std::vector<T> all(offsets[n_ranks] / sizeof(T));
+    MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
+                   MPI_BYTE, comm);
+    return all;
+  }
+
+  /** In-place sum over all ranks of an array of doubles. */
+  inline void
+  sum_in_place(const MPI_Comm comm, double *values, const std::size_t n)
+  {
+    if (n > 0)
+      MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm);
+  }
+} // namespace FetiContact::MPITools

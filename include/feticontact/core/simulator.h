@@ -1,0 +1,96 @@
+#pragma once
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/json_writer.h>
+#include <feticontact/base/tee_stream.h>
+#include <feticontact/feti/dual_problem.h>
+#include <feticontact/scene/body.h>
+#include <feticontact/scene/scene_parameters.h>
+#include <feticontact/subdomain/subdomain.h>
+
+#include <fstream>
+#include <memory>
+#include <mpi.h>
+#include <sstream>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * A run of the program on one parameter file: builds the bodies and their subdomains (this
+   * rank's share), the FETI dual problem, solves it, recovers the displacements and writes the
+   * output (log.txt, summary.json, ParaView files). Phases are timed with TimerOutput.
+   */
+  class Simulator
+  {
+  public:
+    /**
+     * @p effective_parameters and @p input are written into the output directory
+     * (parameters.prm and input.prm).
+     */
+    Simulator(const MPI_Comm           comm,
+              const Parameters::Scene &parameters,
+              const std::string       &effective_parameters,
+              const std::string       &input);
+
+    /**
+     * Runs everything; returns true if the dual solver converged. Throws InputError for a scene
+     * that cannot be solved as posed.
+     */
+    bool
+    run();
+
+  private:
+    void
+    prepare_output_directory();
+    void
+    setup_bodies();
+    void
+    distribute_subdomains();
+    void
+    build_subdomains();
+    void
+    factorize();
+    void
+    build_dual_problem();
+    void
+    solve();
+    void
+    postprocess();
+    void
+    write_summary();
+
+    MPI_Comm                   comm;
+    const unsigned int         rank;
+    const unsigned int         n_ranks;
+    Parameters::Scene          parameters;
+    const std::string          effective_parameters, input;
+    std::ofstream              log_file;
+    TeeStream                  tee;
+    dealii::ConditionalOStream pcout;
+    dealii::TimerOutput        timer;
+
+    const dealii::FESystem<3> fe;
+    const dealii::MappingFE<3> mapping;
+
+    std::vector<std::unique_ptr<Body>>      bodies;
+    std::vector<unsigned int>               first_subdomain; ///< per body, + total at the end
+    std::vector<unsigned int>               owner;           ///< rank of each subdomain
+    std::vector<std::unique_ptr<Subdomain>> subdomains;      ///< this rank's
+    std::vector<Subdomain *>                owned;
+    std::vector<unsigned int>               mode_offset;
+    DualRows                                rows;
+    std::unique_ptr<DualProblem>            dual;
+
+    dealii::Vector<double>              lambda;
+    std::vector<dealii::Vector<double>> u;
+    JsonObject                          summary;
+    bool                                converged = false;
+    unsigned int                        iterations = 0;
+  };
+} // namespace FetiContact

@@ -1,0 +1,72 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/local_solvers/cholmod_solver.h>
+
+#include <mpi.h>
+
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The natural coarse space of FETI: G = Rᵀ Bᵀ (one row per rigid body mode of a floating
+   * subdomain, one column per dual unknown), the coarse matrix GGᵀ factorized once by CHOLMOD,
+   * and the orthogonal projector P = I − Gᵀ(GGᵀ)⁻¹G onto ker G (Farhat–Mandel–Roux).
+   * G is sparse and replicated on every rank; applying it costs O(nnz(G)).
+   */
+  class CoarseProblem
+  {
+  public:
+    /** A coefficient of G: row (rigid mode), column (dual unknown), value. */
+    struct Entry
+    {
+      unsigned int mode;
+      unsigned int column;
+      double       value;
+    };
+
+    /**
+     * Gathers every rank's @p local_entries of G (n_modes × n_columns) and factorizes GGᵀ.
+     * Throws InputError if GGᵀ is singular: some rigid motion is not restrained by B.
+     */
+    void
+    initialize(const MPI_Comm             comm,
+               const std::vector<Entry>  &local_entries,
+               const unsigned int         n_modes,
+               const unsigned int         n_columns);
+
+    unsigned int
+    n_modes() const
+    {
+      return n_rows;
+    }
+
+    /** y = G x. */
+    void
+    apply_G(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    /** y = Gᵀ x. */
+    void
+    apply_Gt(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    /** x ← (GGᵀ)⁻¹ x. */
+    void
+    solve_GGt(dealii::Vector<double> &x) const;
+    /** x ← P x = x − Gᵀ(GGᵀ)⁻¹G x. */
+    void
+    project(dealii::Vector<double> &x) const;
+    /** The least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
+    dealii::Vector<double>
+    least_norm_solution(const dealii::Vector<double> &e) const;
+    /** α = (GGᵀ)⁻¹ G x (the coefficients of the rigid modes in the primal recovery). */
+    dealii::Vector<double>
+    coarse_coefficients(const dealii::Vector<double> &x) const;
+
+  private:
+    unsigned int              n_rows = 0, n_cols = 0;
+    std::vector<unsigned int> row_start, column;
+    std::vector<double>       value;
+    CholmodSolver             GGt;
+    mutable dealii::Vector<double> work;
+  };
+} // namespace FetiContact

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/feti/coarse_problem.h>
+#include <feticontact/feti/equality_constraints.h>
+#include <feticontact/subdomain/subdomain.h>
+
+#include <mpi.h>
+
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The FETI dual problem
+   *
+   *   min ½ λᵀFλ − λᵀh  s.t.  Gλ = e  (and, with contact, bounds on some components of λ)
+   *
+   * with F = B K⁺ Bᵀ, h = B K⁺ f − c, G = Rᵀ Bᵀ, e = Rᵀ f, assembled from the blocks B_i of the
+   * subdomains that this rank owns. Dual vectors are replicated on every rank; F is applied
+   * subdomain by subdomain and summed over the ranks (one MPI_Allreduce of m numbers).
+   * Knows nothing of friction: it sees rows of B and their right-hand side c.
+   */
+  class DualProblem
+  {
+  public:
+    /**
+     * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
+     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c.
+     */
+    DualProblem(const MPI_Comm                    comm,
+                const std::vector<Subdomain *>   &owned,
+                const std::vector<unsigned int>  &mode_offset,
+                const DualRows                   &rows);
+
+    /** The number of dual unknowns m. */
+    unsigned int
+    size() const
+    {
+      return c.size();
+    }
+
+    /** y = F x (counted in n_F_applications). */
+    void
+    apply_F(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+
+    /**
+     * The primal solution u_i = K_i⁺(f_i − B_iᵀλ) + R_i α_i of every owned subdomain, with
+     * α = (GGᵀ)⁻¹G(Fλ − h) (so that B u = c holds in the least-squares sense on the range of G).
+     */
+    std::vector<dealii::Vector<double>>
+    recover_primal(const dealii::Vector<double> &lambda) const;
+
+    /** r = B u − c from the subdomain solutions of this rank, summed over the ranks. */
+    dealii::Vector<double>
+    constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
+
+    CoarseProblem          coarse;
+    dealii::Vector<double> h, c, e;
+    mutable unsigned int   n_F_applications = 0;
+
+  private:
+    /** B_i in coordinate form: rows (dual indices), DoFs of subdomain i, values. */
+    struct LocalBlock
+    {
+      std::vector<unsigned int> row, dof;
+      std::vector<double>       value;
+    };
+
+    void
+    add_B(const unsigned int i, const dealii::Vector<double> &u, dealii::Vector<double> &y) const;
+    void
+    set_Bt(const unsigned int i, const dealii::Vector<double> &lambda, dealii::Vector<double> &x) const;
+
+    MPI_Comm                     comm;
+    std::vector<Subdomain *>     owned;
+    std::vector<LocalBlock>      B;
+    std::vector<unsigned int>    first_mode;
+    mutable std::vector<dealii::Vector<double>> work;
+  };
+} // namespace FetiContact

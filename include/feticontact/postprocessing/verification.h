@@ -1,0 +1,57 @@
+#pragma once
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/scene/body.h>
+#include <feticontact/subdomain/subdomain.h>
+
+#include <mpi.h>
+
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * Displacements of every vertex of every body (x, y, z per vertex, by body and body-mesh
+   * vertex), gathered from the subdomain solutions: a vertex shared by several subdomains takes
+   * the value of the lowest-numbered one. Replicated on every rank.
+   */
+  std::vector<std::vector<dealii::Tensor<1, 3>>>
+  gather_vertex_displacements(const MPI_Comm                            comm,
+                              const std::vector<std::unique_ptr<Body>> &bodies,
+                              const std::vector<unsigned int>          &first_subdomain,
+                              const std::vector<Subdomain *>           &owned,
+                              const std::vector<dealii::Vector<double>> &u);
+
+  /**
+   * The linear elastic problem of one body without decomposition: the same P1 stiffness and
+   * loads on the body's whole mesh, prescribed DoFs eliminated, solved by CHOLMOD. Returns the
+   * displacement of every vertex.
+   */
+  std::vector<dealii::Tensor<1, 3>>
+  solve_monolithic(const Body &body, const dealii::Mapping<3> &mapping,
+                   const dealii::FiniteElement<3> &fe);
+
+  /**
+   * Force balance of each body: the applied force Σ f (tractions and volume force) and the force
+   * of the supports Σ_{Γ_u} (K u − f), both summed over the subdomains and the ranks, with K and
+   * f assembled anew without elimination.
+   */
+  struct ForceBalance
+  {
+    dealii::Tensor<1, 3> applied;
+    dealii::Tensor<1, 3> support;
+    /** ‖applied + support‖ / ‖applied‖ (or / ‖support‖ when nothing is applied). */
+    double relative_imbalance = 0;
+  };
+
+  std::vector<ForceBalance>
+  compute_force_balance(const MPI_Comm                             comm,
+                        const unsigned int                         n_bodies,
+                        const std::vector<Subdomain *>            &owned,
+                        const std::vector<dealii::Vector<double>> &u,
+                        const dealii::Mapping<3>                  &mapping);
+} // namespace FetiContact

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <functional>
+
+namespace FetiContact::QP
+{
+  /** What a QP solver reports. */
+  struct SolverReport
+  {
+    unsigned int iterations             = 0;
+    unsigned int hessian_multiplications = 0;
+    bool         converged              = false;
+    /** ‖projected gradient‖ / reference at the end. */
+    double relative_residual = 0;
+  };
+
+  /**
+   * Conjugate gradients for min ½ xᵀA x − xᵀb subject to x ∈ x₀ + range(P), where P is an
+   * orthogonal projector (in FETI: P = I − Gᵀ(GGᵀ)⁻¹G and x₀ with Gx₀ = e). Stops when
+   * ‖P(Ax − b)‖ ≤ tolerance · ‖P b‖ (or · ‖P(Ax₀ − b)‖ when Pb = 0). Knows nothing of meshes:
+   * A and P are functions.
+   *
+   * @param x  in: x₀ (feasible); out: the solution.
+   * @param monitor called after every iteration with (iteration, relative residual).
+   */
+  SolverReport
+  projected_conjugate_gradient(
+    const std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)> &A,
+    const std::function<void(dealii::Vector<double> &)>                              &P,
+    const dealii::Vector<double>                                                      &b,
+    dealii::Vector<double>                                                            &x,
+    const double                                                                       tolerance,
+    const unsigned int                                                                 max_iterations,
+    const std::function<void(unsigned int, double)> &monitor = {});
+} // namespace FetiContact::QP

@@ -1,0 +1,133 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <feticontact/scene/boundary_selector.h>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+/**
+ * The description of one elastic body in the parameter file: its mesh, its material, its
+ * boundary conditions and its decomposition into FETI subdomains. Each class is one
+ * subsection of `subsection Body N`.
+ */
+namespace FetiContact::Parameters
+{
+  /** `subsection Mesh`: where the tetrahedral mesh of the body comes from. */
+  struct Mesh
+  {
+    enum class Type
+    {
+      box,
+      gmsh
+    };
+    Type type = Type::box;
+
+    /** Generated box: corners (m) and the number of cubes along x, y, z. */
+    dealii::Point<3>            lower_corner;
+    dealii::Point<3>            upper_corner;
+    std::array<unsigned int, 3> subdivisions{{1, 1, 1}};
+    /** Tetrahedra per cube of the generated box: 5 or 6 (Kuhn split around the main diagonal). */
+    unsigned int tetrahedra_per_cube = 6;
+
+    /** Gmsh file (`.msh`); boundary ids are the physical tags of its triangles. */
+    std::string file;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+  };
+
+  /** `subsection Material`: isotropic linear elasticity. */
+  struct Material
+  {
+    double youngs_modulus = 1.0;
+    double poissons_ratio = 0.3;
+
+    /** The Lamé constants. */
+    double
+    lambda() const
+    {
+      return youngs_modulus * poissons_ratio /
+             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
+    }
+    double
+    mu() const
+    {
+      return youngs_modulus / (2 * (1 + poissons_ratio));
+    }
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** A displacement prescribed on a part of the boundary, component by component. */
+  struct PrescribedDisplacement
+  {
+    BoundarySelector                     boundary;
+    std::array<std::optional<double>, 3> value;
+  };
+
+  /** A surface traction (Pa) on a part of the boundary. */
+  struct Traction
+  {
+    BoundarySelector     boundary;
+    dealii::Tensor<1, 3> value;
+  };
+
+  /** `subsection Boundary conditions`: Γ_u and Γ_t, and the volume force. */
+  struct BoundaryConditions
+  {
+    std::vector<PrescribedDisplacement> prescribed_displacements;
+    std::vector<Traction>               tractions;
+    dealii::Tensor<1, 3>                volume_force;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Decomposition`: how the body is split into FETI subdomains. */
+  struct Decomposition
+  {
+    enum class Method
+    {
+      blocks,
+      metis
+    };
+    Method method = Method::blocks;
+    /** Structured blocks of the bounding box along x, y, z (cells go by their centroid). */
+    std::array<unsigned int, 3> blocks{{1, 1, 1}};
+    /** METIS: the number of parts. */
+    unsigned int n_parts = 1;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Body N`: one elastic body. */
+  struct Body
+  {
+    std::string        name;
+    Mesh               mesh;
+    Material           material;
+    BoundaryConditions boundary_conditions;
+    Decomposition      decomposition;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+  };
+} // namespace FetiContact::Parameters

@@ -1,0 +1,64 @@
+#pragma once
+
+#include <deal.II/base/bounding_box.h>
+#include <deal.II/base/types.h>
+#include <deal.II/grid/tria.h>
+
+#include <string>
+
+namespace FetiContact
+{
+  /**
+   * Boundary id that marks, in the mesh of a subdomain, the faces shared with another subdomain
+   * of the same body (the FETI interface). Meshes given by the user must not use it.
+   */
+  constexpr dealii::types::boundary_id interface_boundary_id = 254;
+
+  /**
+   * A part of a body's boundary as named in a parameter file. Either a boundary id of the mesh
+   * (a Gmsh physical tag, or 0…5 for the faces x = xmin, x = xmax, y = ymin, …, z = zmax of a
+   * generated box), or a plane `x = value` (also `y`, `z`; the value may be `xmin`, `xmax`,
+   * … for the bounding box of the body) that selects every boundary face lying in it.
+   */
+  class BoundarySelector
+  {
+  public:
+    /** Parses the text; @p what names the parameter for error messages. */
+    static BoundarySelector
+    parse(const std::string &text, const std::string &what);
+
+    /**
+     * Fixes the numeric value of `xmin`-like planes from the body's bounding box and checks
+     * that the selector names a part of @p mesh's boundary (an existing boundary id, or a plane
+     * that contains at least one boundary face). Throws with a message naming the selector.
+     */
+    void
+    resolve(const dealii::Triangulation<3> &mesh, const std::string &body_name);
+
+    /** Whether the boundary face @p face belongs to this part of the boundary. */
+    bool
+    contains(const dealii::TriaAccessor<2, 3, 3> &face) const;
+
+    /** The selector as the user wrote it. */
+    const std::string &
+    name() const
+    {
+      return text;
+    }
+
+  private:
+    enum class Kind
+    {
+      boundary_id,
+      plane
+    };
+    Kind                       kind = Kind::boundary_id;
+    dealii::types::boundary_id id   = 0;
+    unsigned int               axis = 0;
+    /** -1: the bounding box minimum, +1: its maximum, 0: the number in value. */
+    int         bound     = 0;
+    double      value     = 0;
+    double      tolerance = 0;
+    std::string text;
+  };
+} // namespace FetiContact

@@ -1,0 +1,28 @@
+#pragma once
+
+#include <deal.II/grid/tria.h>
+
+#include <feticontact/scene/body_parameters.h>
+
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The split of a body's mesh into FETI subdomains: the part of every active cell (by active
+   * cell index). Parts are face-connected, so that each subdomain is rigid when floating (its
+   * kernel is exactly the six rigid body modes): a part that the method cuts into pieces is
+   * split into its face-connected components, numbered after the others.
+   */
+  struct CellPartition
+  {
+    std::vector<unsigned int> part_of_cell;
+    unsigned int              n_parts = 0;
+  };
+
+  /** Partitions @p mesh as @p parameters asks (structured blocks or METIS). */
+  CellPartition
+  partition_cells(const dealii::Triangulation<3>      &mesh,
+                  const Parameters::Decomposition     &parameters,
+                  const std::string                   &body_name);
+} // namespace FetiContact

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <feticontact/feti/feti_parameters.h>
+#include <feticontact/postprocessing/output_parameters.h>
+#include <feticontact/scene/body_parameters.h>
+
+#include <string>
+#include <vector>
+
+namespace FetiContact::Parameters
+{
+  /**
+   * The whole parameter file: the bodies (`subsection Body 1`, `Body 2`, …, as many as
+   * `Number of bodies`), the FETI solver, output and verification.
+   */
+  struct Scene
+  {
+    std::vector<Body> bodies;
+    Feti              feti;
+    Output            output;
+    Verification      verification;
+
+    /** Declares everything for a scene with @p n_bodies bodies. */
+    static void
+    declare_parameters(dealii::ParameterHandler &prm, const unsigned int n_bodies);
+    void
+    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+
+    /**
+     * Reads @p filename into @p prm: first `Number of bodies` alone, then everything with that
+     * many body subsections declared. Throws InputError naming the line for malformed input,
+     * unknown entries and values that do not match their pattern.
+     */
+    static void
+    read_parameter_file(dealii::ParameterHandler &prm, const std::string &filename);
+  };
+} // namespace FetiContact::Parameters

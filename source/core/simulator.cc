@@ -1,0 +1,321 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/fe/fe_simplex_p.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
+#include <feticontact/core/simulator.h>
+#include <feticontact/postprocessing/solution_output.h>
+#include <feticontact/postprocessing/verification.h>
+#include <feticontact/qp/projected_cg.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <numeric>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  Simulator::Simulator(const MPI_Comm           comm,
+                       const Parameters::Scene &parameters,
+                       const std::string       &effective_parameters,
+                       const std::string       &input)
+    : comm(comm)
+    , rank(Utilities::MPI::this_mpi_process(comm))
+    , n_ranks(Utilities::MPI::n_mpi_processes(comm))
+    , parameters(parameters)
+    , effective_parameters(effective_parameters)
+    , input(input)
+    , pcout(tee, rank == 0)
+    , timer(comm, pcout, TimerOutput::never, TimerOutput::wall_times)
+    , fe(FE_SimplexP<3>(1), 3)
+    , mapping(FE_SimplexP<3>(1))
+  {
+    tee.add(std::cout);
+  }
+
+  void
+  Simulator::prepare_output_directory()
+  {
+    const std::string &dir = parameters.output.directory;
+    if (rank == 0)
+      {
+        std::filesystem::create_directories(dir);
+        // A stale summary from an earlier run must not pass for this run's result.
+        std::filesystem::remove(dir + "/summary.json");
+        std::ofstream(dir + "/parameters.prm") << effective_parameters;
+        std::ofstream(dir + "/input.prm") << input;
+        log_file.open(dir + "/log.txt");
+        tee.add(log_file);
+      }
+    MPI_Barrier(comm);
+  }
+
+  void
+  Simulator::setup_bodies()
+  {
+    TimerOutput::Scope scope(timer, "setup");
+    first_subdomain.clear();
+    unsigned int n_subdomains = 0;
+    for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
+      {
+        bodies.push_back(std::make_unique<Body>(parameters.bodies[b], b));
+        bodies.back()->setup();
+        bodies.back()->check_held();
+        first_subdomain.push_back(n_subdomains);
+        n_subdomains += bodies.back()->partition.n_parts;
+        pcout << "Body '" << bodies.back()->parameters.name << "': "
+              << bodies.back()->mesh.n_active_cells() << " tetrahedra, "
+              << bodies.back()->mesh.n_used_vertices() << " vertices, "
+              << bodies.back()->partition.n_parts << " subdomains" << std::endl;
+      }
+    first_subdomain.push_back(n_subdomains);
+  }
+
+  void
+  Simulator::distribute_subdomains()
+  {
+    // Longest processing time first: subdomains by decreasing number of cells, each to the
+    // rank with the least work so far. Every rank computes the same assignment.
+    const unsigned int        n = first_subdomain.back();
+    std::vector<unsigned int> cells(n, 0);
+    for (const auto &body : bodies)
+      for (const unsigned int p : body->partition.part_of_cell)
+        ++cells[first_subdomain[body->index] + p];
+    std::vector<unsigned int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](unsigned int a, unsigned int b) { return cells[a] > cells[b]; });
+    std::vector<std::size_t> load(n_ranks, 0);
+    owner.assign(n, 0);
+    for (const unsigned int s : order)
+      {
+        const unsigned int r = std::min_element(load.begin(), load.end()) - load.begin();
+        owner[s]             = r;
+        load[r] += cells[s];
+      }
+  }
+
+  void
+  Simulator::build_subdomains()
+  {
+    const bool primal =
+      parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
+    {
+      TimerOutput::Scope scope(timer, "setup");
+      for (const auto &body : bodies)
+        for (unsigned int p = 0; p < body->partition.n_parts; ++p)
+          {
+            const unsigned int s = first_subdomain[body->index] + p;
+            if (owner[s] == rank)
+              subdomains.push_back(std::make_unique<Subdomain>(*body, p, s, primal, fe));
+          }
+      for (const auto &s : subdomains)
+        owned.push_back(s.get());
+      rows = build_equality_rows(bodies, first_subdomain, !primal);
+    }
+    TimerOutput::Scope scope(timer, "assembly");
+    for (auto *s : owned)
+      s->assemble(mapping);
+  }
+
+  void
+  Simulator::factorize()
+  {
+    TimerOutput::Scope scope(timer, "factorization");
+    for (auto *s : owned)
+      s->factorize(parameters.feti.local_solver);
+    std::vector<double> n_modes(first_subdomain.back(), 0.0);
+    for (auto *s : owned)
+      n_modes[s->global_index] = s->R.n();
+    MPITools::sum_in_place(comm, n_modes.data(), n_modes.size());
+    mode_offset.assign(n_modes.size() + 1, 0);
+    for (unsigned int s = 0; s < n_modes.size(); ++s)
+      mode_offset[s + 1] = mode_offset[s] + static_cast<unsigned int>(n_modes[s]);
+  }
+
+  void
+  Simulator::build_dual_problem()
+  {
+    TimerOutput::Scope scope(timer, "coarse problem");
+    dual = std::make_unique<DualProblem>(comm, owned, mode_offset, rows);
+  }
+
+  void
+  Simulator::solve()
+  {
+    TimerOutput::Scope scope(timer, "solve");
+    lambda = dual->coarse.least_norm_solution(dual->e);
+    const auto report = QP::projected_conjugate_gradient(
+      [this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
+      [this](Vector<double> &x) { dual->coarse.project(x); },
+      dual->h,
+      lambda,
+      parameters.feti.relative_tolerance,
+      parameters.feti.max_iterations,
+      [this](unsigned int it, double residual) {
+        if (it % 50 == 0)
+          pcout << "  PCG iteration " << std::setw(5) << it << "   ‖P(Fλ − h)‖ / ‖Ph‖ = "
+                << std::scientific << std::setprecision(3) << residual << std::defaultfloat
+                << std::endl;
+      });
+    converged  = report.converged;
+    iterations = report.iterations;
+    pcout << "Projected CG: " << (converged ? "converged" : "NOT converged") << " after "
+          << report.iterations << " iterations, relative projected gradient "
+          << std::scientific << std::setprecision(3) << report.relative_residual
+          << std::defaultfloat << std::endl;
+    summary.set("pcg_relative_residual", report.relative_residual);
+  }
+
+  void
+  Simulator::postprocess()
+  {
+    {
+      TimerOutput::Scope scope(timer, "primal recovery");
+      u = dual->recover_primal(lambda);
+    }
+    TimerOutput::Scope scope(timer, "output");
+
+    // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
+    // Dirichlet misfit in TFETI), relative to the largest displacement.
+    const auto vertex_u = gather_vertex_displacements(comm, bodies, first_subdomain, owned, u);
+    double     u_max    = 0;
+    for (const auto &b : vertex_u)
+      for (const auto &v : b)
+        u_max = std::max(u_max, v.norm());
+    const auto residual = dual->constraint_residual(u);
+    const double jump   = residual.size() > 0 ? residual.linfty_norm() : 0.0;
+    summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
+
+    JsonObject equilibrium;
+    double     worst = 0;
+    const auto balance = compute_force_balance(comm, bodies.size(), owned, u, mapping);
+    for (const auto &body : bodies)
+      {
+        const auto &fb = balance[body->index];
+        JsonObject  b;
+        b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
+        b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
+        b.set("relative_imbalance", fb.relative_imbalance);
+        equilibrium.set(body->parameters.name, b);
+        worst = std::max(worst, fb.relative_imbalance);
+        pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
+              << ", support force " << fb.support << ", relative imbalance "
+              << fb.relative_imbalance << std::endl;
+      }
+    equilibrium.set("largest_relative_imbalance", worst);
+    summary.set("equilibrium", equilibrium);
+
+    if (parameters.verification.compare_with_monolithic)
+      {
+        double difference = 0;
+        if (rank == 0)
+          {
+            double diff2 = 0, norm2 = 0;
+            for (const auto &body : bodies)
+              {
+                const auto mono = solve_monolithic(*body, mapping, fe);
+                for (unsigned int v = 0; v < mono.size(); ++v)
+                  {
+                    diff2 += (mono[v] - vertex_u[body->index][v]).norm_square();
+                    norm2 += mono[v].norm_square();
+                  }
+              }
+            difference = norm2 > 0 ? std::sqrt(diff2 / norm2) : std::sqrt(diff2);
+          }
+        difference = Utilities::MPI::broadcast(comm, difference, 0);
+        summary.set("monolithic_difference", difference);
+        pcout << "Relative difference to the monolithic solve: " << difference << std::endl;
+      }
+
+    const std::string &dir = parameters.output.directory;
+    if (parameters.output.write_vtu)
+      write_solution_vtu(comm, owned, u, first_subdomain.back(), mapping, dir);
+    if (parameters.output.write_displacement_csv && rank == 0)
+      {
+        std::ofstream csv(dir + "/displacements.csv");
+        csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
+        for (const auto &body : bodies)
+          for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
+            if (body->mesh.get_used_vertices()[v])
+              {
+                const auto &x = body->mesh.get_vertices()[v];
+                const auto &d = vertex_u[body->index][v];
+                csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0]
+                    << ',' << d[1] << ',' << d[2] << '\n';
+              }
+      }
+  }
+
+  void
+  Simulator::write_summary()
+  {
+    unsigned int n_primal = 0, n_primal_feti = 0;
+    for (const auto &body : bodies)
+      n_primal += body->n_free_dofs();
+    for (auto *s : owned)
+      n_primal_feti += s->n_unknowns();
+    n_primal_feti = Utilities::MPI::sum(n_primal_feti, comm);
+
+    const auto times = timer.get_summary_data(TimerOutput::total_wall_time);
+    const auto time  = [&](const std::string &name) {
+      const auto it = times.find(name);
+      return it == times.end() ? 0.0 : it->second;
+    };
+    JsonObject t;
+    t.set("setup", time("setup"))
+      .set("assembly", time("assembly"))
+      .set("factorization", time("factorization"))
+      .set("coarse_problem", time("coarse problem"))
+      .set("solve", time("solve"))
+      .set("primal_recovery", time("primal recovery"))
+      .set("output", time("output"));
+    double total = 0;
+    for (const auto &[name, value] : times)
+      total += value;
+    t.set("total", total);
+
+    JsonObject s;
+    s.set("converged", converged)
+      .set("n_primal", n_primal)
+      .set("n_primal_feti", n_primal_feti)
+      .set("n_subdomains", first_subdomain.back())
+      .set("n_rigid_modes", mode_offset.back())
+      .set("m_total", dual->size())
+      .set("m_equality", dual->size())
+      .set("iterations", iterations)
+      .set("hessian_multiplications", dual->n_F_applications)
+      .set("n_mpi_ranks", n_ranks)
+      .set("dirichlet_treatment",
+           parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal ?
+             "primal" :
+             "total")
+      .set("local_solver", parameters.feti.local_solver)
+      .set("times", t)
+      .append(summary);
+    if (rank == 0)
+      std::ofstream(parameters.output.directory + "/summary.json") << s.str() << '\n';
+  }
+
+  bool
+  Simulator::run()
+  {
+    prepare_output_directory();
+    setup_bodies();
+    distribute_subdomains();
+    build_subdomains();
+    factorize();
+    build_dual_problem();
+    pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s), "
+          << mode_offset.back() << " rigid body modes, " << dual->size()
+          << " dual unknowns" << std::endl;
+    solve();
+    postprocess();
+    write_summary();
+    timer.print_summary();
+    return converged;
+  }
+} // namespace FetiContact

@@ -1,0 +1,140 @@
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
+#include <feticontact/feti/coarse_problem.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  void
+  CoarseProblem::initialize(const MPI_Comm            comm,
+                            const std::vector<Entry> &local_entries,
+                            const unsigned int        n_modes,
+                            const unsigned int        n_columns)
+  {
+    n_rows = n_modes;
+    n_cols = n_columns;
+    auto entries = MPITools::all_gather(comm, local_entries);
+    std::sort(entries.begin(), entries.end(), [](const Entry &a, const Entry &b) {
+      return a.mode < b.mode || (a.mode == b.mode && a.column < b.column);
+    });
+    row_start.assign(n_rows + 1, 0);
+    column.clear();
+    value.clear();
+    for (const auto &e : entries)
+      {
+        ++row_start[e.mode + 1];
+        column.push_back(e.column);
+        value.push_back(e.value);
+      }
+    for (unsigned int r = 0; r < n_rows; ++r)
+      row_start[r + 1] += row_start[r];
+    work.reinit(n_rows);
+    if (n_rows == 0)
+      return;
+
+    // GGᵀ from the columns of G: (GGᵀ)_ab = Σ_d G_ad G_bd.
+    std::vector<std::vector<std::pair<unsigned int, double>>> by_column(n_cols);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        by_column[column[k]].emplace_back(r, value[k]);
+    DynamicSparsityPattern dsp(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      dsp.add(r, r);
+    for (const auto &col : by_column)
+      for (const auto &[a, va] : col)
+        for (const auto &[b, vb] : col)
+          dsp.add(a, b);
+    SparsityPattern sp;
+    sp.copy_from(dsp);
+    SparseMatrix<double> M(sp);
+    for (const auto &col : by_column)
+      for (const auto &[a, va] : col)
+        for (const auto &[b, vb] : col)
+          M.add(a, b, va * vb);
+
+    for (unsigned int r = 0; r < n_rows; ++r)
+      require(M.diag_element(r) > 0,
+              "The coarse problem is singular: rigid body mode " + std::to_string(r) +
+                " of a floating subdomain is restrained by no constraint. A body is not held.");
+    try
+      {
+        GGt.factorize(M);
+      }
+    catch (const InputError &)
+      {
+        throw InputError("The coarse problem GGᵀ is singular: some rigid motion of a floating "
+                         "subdomain is restrained by no constraint, so a body is not held.");
+      }
+    const double rcond = GGt.reciprocal_condition_estimate();
+    require(rcond > 1e-13,
+            "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
+              std::to_string(rcond) + "): a body is not held.");
+  }
+
+  void
+  CoarseProblem::apply_G(const Vector<double> &x, Vector<double> &y) const
+  {
+    y.reinit(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      {
+        double s = 0;
+        for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+          s += value[k] * x[column[k]];
+        y[r] = s;
+      }
+  }
+
+  void
+  CoarseProblem::apply_Gt(const Vector<double> &x, Vector<double> &y) const
+  {
+    y.reinit(n_cols);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        y[column[k]] += value[k] * x[r];
+  }
+
+  void
+  CoarseProblem::solve_GGt(Vector<double> &x) const
+  {
+    if (n_rows > 0)
+      GGt.solve(x);
+  }
+
+  void
+  CoarseProblem::project(Vector<double> &x) const
+  {
+    if (n_rows == 0)
+      return;
+    apply_G(x, work);
+    GGt.solve(work);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        x[column[k]] -= value[k] * work[r];
+  }
+
+  Vector<double>
+  CoarseProblem::least_norm_solution(const Vector<double> &e) const
+  {
+    Vector<double> mu(e), lambda(n_cols);
+    solve_GGt(mu);
+    apply_Gt(mu, lambda);
+    return lambda;
+  }
+
+  Vector<double>
+  CoarseProblem::coarse_coefficients(const Vector<double> &x) const
+  {
+    Vector<double> alpha;
+    apply_G(x, alpha);
+    solve_GGt(alpha);
+    return alpha;
+  }
+} // namespace FetiContact

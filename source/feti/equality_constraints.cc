@@ -1,0 +1,69 @@
+#include <feticontact/feti/equality_constraints.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace FetiContact
+{
+  void
+  DualRows::add_row(const std::vector<DualRowEntry> &row, const double rhs)
+  {
+    entries.insert(entries.end(), row.begin(), row.end());
+    row_start.push_back(entries.size());
+    c.push_back(rhs);
+  }
+
+  DualRows
+  build_equality_rows(const std::vector<std::unique_ptr<Body>> &bodies,
+                      const std::vector<unsigned int>          &first_subdomain,
+                      const bool                                dirichlet_rows)
+  {
+    DualRows rows;
+    for (const auto &body : bodies)
+      {
+        // The subdomains that hold each vertex, in increasing order.
+        std::vector<std::vector<unsigned int>> holders(body->mesh.n_vertices());
+        for (const auto &cell : body->mesh.active_cell_iterators())
+          {
+            const unsigned int s =
+              first_subdomain[body->index] + body->partition.part_of_cell[cell->active_cell_index()];
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                auto &h = holders[cell->vertex_index(v)];
+                if (std::find(h.begin(), h.end(), s) == h.end())
+                  h.push_back(s);
+              }
+          }
+        std::vector<DualRowEntry> row;
+        for (unsigned int v = 0; v < holders.size(); ++v)
+          {
+            auto &h = holders[v];
+            if (h.empty())
+              continue;
+            std::sort(h.begin(), h.end());
+            const auto it = body->prescribed.find(v);
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                const bool is_prescribed = it != body->prescribed.end() && it->second[c];
+                if (is_prescribed)
+                  {
+                    if (dirichlet_rows)
+                      for (const unsigned int s : h)
+                        rows.add_row({{s, v, c, 1.0}}, *it->second[c]);
+                    continue;
+                  }
+                for (unsigned int j = 1; j < h.size(); ++j)
+                  {
+                    const double scale = 1.0 / std::sqrt(double(j) * (j + 1));
+                    row.clear();
+                    for (unsigned int k = 0; k < j; ++k)
+                      row.push_back({h[k], v, c, scale});
+                    row.push_back({h[j], v, c, -scale * j});
+                    rows.add_row(row, 0.0);
+                  }
+              }
+          }
+      }
+    return rows;
+  }
+} // namespace FetiContact

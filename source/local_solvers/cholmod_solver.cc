@@ -1,0 +1,93 @@
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/local_solvers/cholmod_solver.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  CholmodSolver::CholmodSolver()
+  {
+    cholmod_start(&common);
+    common.supernodal = CHOLMOD_SUPERNODAL;
+    common.print      = 0;
+  }
+
+  CholmodSolver::~CholmodSolver()
+  {
+    for (cholmod_dense **d : {&x_work, &y_work, &e_work, &b_work})
+      if (*d != nullptr)
+        cholmod_free_dense(d, &common);
+    if (factor != nullptr)
+      cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+  }
+
+  void
+  CholmodSolver::factorize(const SparseMatrix<double> &A)
+  {
+    n = A.m();
+    // The upper triangle in compressed-column form, rows sorted: column j of the upper triangle
+    // is row j of the lower triangle, and A is symmetric.
+    std::vector<std::pair<unsigned int, double>> column;
+    std::size_t                                  nnz = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      for (auto it = A.begin(j); it != A.end(j); ++it)
+        if (it->column() <= j)
+          ++nnz;
+    cholmod_sparse *S = cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &common);
+    auto           *p = static_cast<int *>(S->p);
+    auto           *i = static_cast<int *>(S->i);
+    auto           *x = static_cast<double *>(S->x);
+    std::size_t     k = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        p[j] = k;
+        column.clear();
+        for (auto it = A.begin(j); it != A.end(j); ++it)
+          if (it->column() <= j)
+            column.emplace_back(it->column(), it->value());
+        std::sort(column.begin(), column.end());
+        for (const auto &[row, value] : column)
+          {
+            i[k] = row;
+            x[k] = value;
+            ++k;
+          }
+      }
+    p[n] = k;
+
+    if (factor != nullptr)
+      cholmod_free_factor(&factor, &common);
+    factor = cholmod_analyze(S, &common);
+    cholmod_factorize(S, factor, &common);
+    cholmod_free_sparse(&S, &common);
+    require(common.status == CHOLMOD_OK && factor->minor == n,
+            "CHOLMOD: the matrix is not positive definite (leading minor " +
+              std::to_string(factor->minor) + " of " + std::to_string(n) +
+              "): the body or subdomain is not held as the scene claims.");
+  }
+
+  void
+  CholmodSolver::solve(Vector<double> &v) const
+  {
+    Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
+    if (n == 0)
+      return;
+    if (b_work == nullptr)
+      b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
+    std::memcpy(b_work->x, v.begin(), n * sizeof(double));
+    cholmod_solve2(CHOLMOD_A, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work,
+                   &common);
+    std::memcpy(v.begin(), x_work->x, n * sizeof(double));
+  }
+
+  double
+  CholmodSolver::reciprocal_condition_estimate() const
+  {
+    return n == 0 ? 1.0 : cholmod_rcond(factor, &common);
+  }
+} // namespace FetiContact

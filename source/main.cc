@@ -1,0 +1,148 @@
+/**
+ * feticontact: 3D contact problems of elastic bodies solved by FETI domain decomposition.
+ *
+ *   feticontact scene.prm                 run the scene
+ *   feticontact --validate scene.prm      parse and check the parameter file, then exit
+ *   feticontact --print-parameters        every parameter with its default and documentation
+ *   feticontact --help
+ */
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/core/simulator.h>
+#include <feticontact/scene/scene_parameters.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace
+{
+  void
+  print_usage(std::ostream &out)
+  {
+    out << "Usage: feticontact [--validate] FILE.prm\n"
+           "       feticontact --print-parameters\n"
+           "       feticontact --help\n\n"
+           "Solves the scene described by the deal.II parameter file FILE.prm (linear elastic\n"
+           "bodies on P1 tetrahedra, decomposed into FETI subdomains) and writes log.txt,\n"
+           "summary.json, the effective parameters and ParaView files into the folder given by\n"
+           "'subsection Output / set Directory'. Run under mpirun for several ranks.\n\n"
+           "  --validate           parse and check the parameter file and the meshes it names,\n"
+           "                       then exit (status 0 if valid)\n"
+           "  --print-parameters   print every parameter with its default and documentation\n"
+           "  --help               this text\n\n"
+           "Exit status: 0 success, 1 bad input, 2 the solver did not converge, 3 internal error.\n";
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  using namespace FetiContact;
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm comm = MPI_COMM_WORLD;
+  const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+
+  std::vector<std::string> args(argv + 1, argv + argc);
+  bool                     validate_only = false;
+  std::string              filename;
+  for (const auto &a : args)
+    {
+      if (a == "--help" || a == "-h")
+        {
+          if (root)
+            print_usage(std::cout);
+          return 0;
+        }
+      if (a == "--print-parameters")
+        {
+          dealii::ParameterHandler prm;
+          Parameters::Scene::declare_parameters(prm, 1);
+          if (root)
+            prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
+          return 0;
+        }
+      if (a == "--validate")
+        validate_only = true;
+      else if (!a.empty() && a[0] == '-')
+        {
+          if (root)
+            {
+              std::cerr << "Error: unknown option <" << a << ">.\n\n";
+              print_usage(std::cerr);
+            }
+          return 1;
+        }
+      else if (filename.empty())
+        filename = a;
+      else
+        {
+          if (root)
+            std::cerr << "Error: more than one parameter file given.\n";
+          return 1;
+        }
+    }
+  if (filename.empty())
+    {
+      if (root)
+        print_usage(std::cerr);
+      return 1;
+    }
+
+  try
+    {
+      dealii::ParameterHandler prm;
+      Parameters::Scene::read_parameter_file(prm, filename);
+      Parameters::Scene scene;
+      scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
+
+      if (validate_only)
+        {
+          // The meshes and boundary parts are checked too: create them without solving.
+          for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+            {
+              Body body(scene.bodies[b], b);
+              body.setup();
+              body.check_held();
+            }
+          if (root)
+            std::cout << "The parameter file <" << filename << "> is valid." << std::endl;
+          return 0;
+        }
+
+      std::ostringstream effective;
+      prm.print_parameters(effective, dealii::ParameterHandler::PRM);
+      std::ifstream      in(filename);
+      std::ostringstream verbatim;
+      verbatim << in.rdbuf();
+
+      Simulator simulator(comm, scene, effective.str(), verbatim.str());
+      const bool converged = simulator.run();
+      if (!converged)
+        {
+          if (root)
+            std::cerr << "Error: the FETI solver did not converge (see log.txt; summary.json "
+                         "has \"converged\": false)."
+                      << std::endl;
+          return 2;
+        }
+    }
+  catch (const InputError &e)
+    {
+      if (root)
+        std::cerr << "Error: " << e.what() << std::endl;
+      return 1;
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "Internal error on rank " << dealii::Utilities::MPI::this_mpi_process(comm)
+                << ": " << e.what() << std::endl;
+      MPI_Abort(comm, 3);
+      return 3;
+    }
+  return 0;
+}

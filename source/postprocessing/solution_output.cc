@@ -1,0 +1,80 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <feticontact/postprocessing/solution_output.h>
+#include <feticontact/postprocessing/stresses.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::string
+    piece_name(const unsigned int s)
+    {
+      char name[64];
+      std::snprintf(name, sizeof(name), "solution_%04u.vtu", s);
+      return name;
+    }
+  } // namespace
+
+  void
+  write_solution_vtu(const MPI_Comm                     comm,
+                     const std::vector<Subdomain *>    &owned,
+                     const std::vector<Vector<double>> &u,
+                     const unsigned int                 n_subdomains,
+                     const Mapping<3>                  &mapping,
+                     const std::string                 &directory)
+  {
+    const std::vector<std::string> displacement_names(3, "displacement");
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation> interpretation(
+      3, DataComponentInterpretation::component_is_part_of_vector);
+    const char *stress_names[6] = {"stress_xx", "stress_yy", "stress_zz",
+                                   "stress_xy", "stress_yz", "stress_xz"};
+    const unsigned int stress_index[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+
+    std::vector<std::string> pieces;
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      {
+        const Subdomain   &s       = *owned[i];
+        const unsigned int n_cells = s.mesh.n_active_cells();
+        const auto         sigma   = cell_stresses(s, mapping, u[i]);
+        std::vector<Vector<double>> stress(6, Vector<double>(n_cells));
+        Vector<double> mises(n_cells), subdomain_id(n_cells), body_id(n_cells);
+        for (unsigned int c = 0; c < n_cells; ++c)
+          {
+            for (unsigned int k = 0; k < 6; ++k)
+              stress[k][c] = sigma[c][stress_index[k][0]][stress_index[k][1]];
+            mises[c]        = von_mises(sigma[c]);
+            subdomain_id[c] = s.global_index;
+            body_id[c]      = s.body.index;
+          }
+        DataOut<3> data_out;
+        data_out.attach_dof_handler(s.dof_handler);
+        data_out.add_data_vector(u[i], displacement_names, DataOut<3>::type_dof_data,
+                                 interpretation);
+        for (unsigned int k = 0; k < 6; ++k)
+          data_out.add_data_vector(stress[k], stress_names[k], DataOut<3>::type_cell_data);
+        data_out.add_data_vector(mises, "von_mises", DataOut<3>::type_cell_data);
+        data_out.add_data_vector(subdomain_id, "subdomain", DataOut<3>::type_cell_data);
+        data_out.add_data_vector(body_id, "body", DataOut<3>::type_cell_data);
+        data_out.build_patches(mapping);
+        std::ofstream out(directory + "/" + piece_name(s.global_index));
+        data_out.write_vtu(out);
+        if (i == 0 && Utilities::MPI::this_mpi_process(comm) == 0)
+          {
+            // The pvtu record needs the list of fields: take it from the first piece.
+            for (unsigned int p = 0; p < n_subdomains; ++p)
+              pieces.push_back(piece_name(p));
+            std::ofstream pvtu(directory + "/solution.pvtu");
+            data_out.write_pvtu_record(pvtu, pieces);
+            std::ofstream pvd(directory + "/solution.pvd");
+            DataOutBase::write_pvd_record(pvd, {{0.0, "solution.pvtu"}});
+          }
+      }
+  }
+} // namespace FetiContact

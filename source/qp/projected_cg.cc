@@ -1,0 +1,68 @@
+#include <feticontact/qp/projected_cg.h>
+
+#include <cmath>
+
+namespace FetiContact::QP
+{
+  using namespace dealii;
+
+  SolverReport
+  projected_conjugate_gradient(
+    const std::function<void(const Vector<double> &, Vector<double> &)> &A,
+    const std::function<void(Vector<double> &)>                         &P,
+    const Vector<double>                                                &b,
+    Vector<double>                                                      &x,
+    const double                                                         tolerance,
+    const unsigned int                                                   max_iterations,
+    const std::function<void(unsigned int, double)>                     &monitor)
+  {
+    SolverReport   report;
+    Vector<double> g(b.size()), w(b.size()), p(b.size()), Ap(b.size());
+
+    // g = Ax − b, w = Pg.
+    A(x, g);
+    ++report.hessian_multiplications;
+    g -= b;
+    w = g;
+    P(w);
+
+    Vector<double> Pb(b);
+    P(Pb);
+    double reference = Pb.l2_norm();
+    if (reference == 0)
+      reference = w.l2_norm();
+    if (reference == 0)
+      {
+        report.converged = true;
+        return report;
+      }
+
+    double ww = w * w;
+    report.relative_residual = std::sqrt(ww) / reference;
+    p = w;
+    while (report.relative_residual > tolerance)
+      {
+        if (report.iterations >= max_iterations)
+          return report;
+        A(p, Ap);
+        ++report.hessian_multiplications;
+        const double pAp = p * Ap;
+        if (!(pAp > 0))
+          return report; // breakdown: A not positive definite on range(P)
+        const double alpha = ww / pAp;
+        x.add(-alpha, p);
+        g.add(-alpha, Ap);
+        w = g;
+        P(w);
+        const double ww_new = w * w;
+        p.sadd(ww_new / ww, 1.0, w);
+        ww = ww_new;
+        ++report.iterations;
+        report.relative_residual = std::sqrt(ww) / reference;
+        if (monitor)
+          monitor(report.iterations, report.relative_residual);
+      }
+    report.converged = true;
+    return report;
+  }
+} // namespace FetiContact::QP

@@ -1,0 +1,111 @@
+#include <deal.II/grid/grid_tools.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/scene/decomposition.h>
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** Splits every part into its face-connected components; empty parts disappear. */
+    CellPartition
+    face_connected_components(const Triangulation<3> &mesh, const std::vector<unsigned int> &part)
+    {
+      const unsigned int        unset = numbers::invalid_unsigned_int;
+      std::vector<unsigned int> component(mesh.n_active_cells(), unset);
+      unsigned int              n = 0;
+      // Seeds in the order of the original parts, so that a partition that needs no split keeps
+      // its numbering.
+      std::vector<std::vector<unsigned int>> cells_of_part;
+      for (const auto &cell : mesh.active_cell_iterators())
+        {
+          const unsigned int p = part[cell->active_cell_index()];
+          if (p >= cells_of_part.size())
+            cells_of_part.resize(p + 1);
+          cells_of_part[p].push_back(cell->active_cell_index());
+        }
+      std::vector<typename Triangulation<3>::active_cell_iterator> cell_of_index(
+        mesh.n_active_cells());
+      for (const auto &cell : mesh.active_cell_iterators())
+        cell_of_index[cell->active_cell_index()] = cell;
+
+      for (const auto &cells : cells_of_part)
+        for (const unsigned int seed : cells)
+          if (component[seed] == unset)
+            {
+              std::queue<unsigned int> queue;
+              queue.push(seed);
+              component[seed] = n;
+              while (!queue.empty())
+                {
+                  const auto cell = cell_of_index[queue.front()];
+                  queue.pop();
+                  for (const unsigned int f : cell->face_indices())
+                    if (!cell->at_boundary(f))
+                      {
+                        const unsigned int nb = cell->neighbor(f)->active_cell_index();
+                        if (component[nb] == unset && part[nb] == part[cell->active_cell_index()])
+                          {
+                            component[nb] = n;
+                            queue.push(nb);
+                          }
+                      }
+                }
+              ++n;
+            }
+      return {component, n};
+    }
+  } // namespace
+
+  CellPartition
+  partition_cells(const Triangulation<3>          &mesh,
+                  const Parameters::Decomposition &parameters,
+                  const std::string               &body_name)
+  {
+    std::vector<unsigned int> part(mesh.n_active_cells(), 0);
+    if (parameters.method == Parameters::Decomposition::Method::blocks)
+      {
+        const auto box   = GridTools::compute_bounding_box(mesh);
+        const auto lower = box.get_boundary_points().first;
+        const auto upper = box.get_boundary_points().second;
+        const auto &nb   = parameters.blocks;
+        require(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2] <= mesh.n_active_cells(),
+                "Body '" + body_name + "': Decomposition/Blocks asks for more subdomains than "
+                "the mesh has cells (" + std::to_string(mesh.n_active_cells()) + ").");
+        for (const auto &cell : mesh.active_cell_iterators())
+          {
+            const Point<3> c = cell->center();
+            unsigned int   b[3];
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                const double t = (c[d] - lower[d]) / (upper[d] - lower[d]);
+                b[d] = std::min<unsigned int>(nb[d] - 1, static_cast<unsigned int>(
+                                                           std::floor(t * nb[d])));
+              }
+            part[cell->active_cell_index()] = b[0] + nb[0] * (b[1] + nb[1] * b[2]);
+          }
+      }
+    else
+      {
+        require(parameters.n_parts <= mesh.n_active_cells(),
+                "Body '" + body_name + "': Decomposition/Number of parts (" +
+                  std::to_string(parameters.n_parts) + ") exceeds the number of cells (" +
+                  std::to_string(mesh.n_active_cells()) + ").");
+        if (parameters.n_parts > 1)
+          {
+            Triangulation<3> &m = const_cast<Triangulation<3> &>(mesh);
+            GridTools::partition_triangulation(parameters.n_parts, m,
+                                               SparsityTools::Partitioner::metis);
+            for (const auto &cell : mesh.active_cell_iterators())
+              part[cell->active_cell_index()] = cell->subdomain_id();
+          }
+      }
+    return face_connected_components(mesh, part);
+  }
+} // namespace FetiContact

@@ -1,0 +1,120 @@
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/scene/scene_parameters.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace FetiContact::Parameters
+{
+  using namespace dealii;
+
+  void
+  Scene::declare_parameters(ParameterHandler &prm, const unsigned int n_bodies)
+  {
+    prm.declare_entry("Number of bodies", "1", Patterns::Integer(1, 64),
+                      "The number of elastic bodies; each is described in 'subsection Body N'.");
+    for (unsigned int b = 1; b <= n_bodies; ++b)
+      {
+        prm.enter_subsection("Body " + std::to_string(b));
+        Body::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    Feti::declare_parameters(prm);
+    Output::declare_parameters(prm);
+    Verification::declare_parameters(prm);
+  }
+
+  void
+  Scene::parse_parameters(ParameterHandler &prm, const std::string &base_directory)
+  {
+    const unsigned int n_bodies = prm.get_integer("Number of bodies");
+    bodies.resize(n_bodies);
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      {
+        const std::string section = "Body " + std::to_string(b + 1);
+        prm.enter_subsection(section);
+        try
+          {
+            bodies[b].parse_parameters(prm, base_directory);
+          }
+        catch (const InputError &e)
+          {
+            throw InputError("subsection " + section + ": " + e.what());
+          }
+        prm.leave_subsection();
+        if (bodies[b].name.empty())
+          bodies[b].name = "body " + std::to_string(b + 1);
+      }
+    feti.parse_parameters(prm);
+    output.parse_parameters(prm);
+    verification.parse_parameters(prm);
+  }
+
+  namespace
+  {
+    /** deal.II's messages carry file and line of the library; keep the part for the user. */
+    std::string
+    user_part_of(const std::exception &e)
+    {
+      const std::string text = e.what();
+      const std::string key  = "Additional information:";
+      const auto        pos  = text.find(key);
+      std::string       msg  = pos == std::string::npos ? text : text.substr(pos + key.size());
+      const auto        end  = msg.find("Stacktrace:");
+      if (end != std::string::npos)
+        msg = msg.substr(0, end);
+      std::string collapsed;
+      bool        space = false;
+      for (const char c : msg)
+        {
+          const bool ws = (c == ' ' || c == '\n' || c == '\t' || c == '-');
+          if (ws && c != '-')
+            {
+              space = true;
+              continue;
+            }
+          if (space && !collapsed.empty())
+            collapsed += ' ';
+          space = false;
+          collapsed += c;
+        }
+      return InputParsing::trim(collapsed);
+    }
+  } // namespace
+
+  void
+  Scene::read_parameter_file(ParameterHandler &prm, const std::string &filename)
+  {
+    std::ifstream in(filename);
+    require(static_cast<bool>(in), "Cannot open the parameter file <" + filename + ">.");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+
+    // First pass: the number of bodies, everything else skipped.
+    unsigned int n_bodies = 1;
+    {
+      ParameterHandler first;
+      first.declare_entry("Number of bodies", "1", Patterns::Integer(1, 64), "");
+      try
+        {
+          first.parse_input_from_string(text, filename, true);
+        }
+      catch (const std::exception &e)
+        {
+          throw InputError("Parameter file <" + filename + ">: " + user_part_of(e));
+        }
+      n_bodies = first.get_integer("Number of bodies");
+    }
+
+    declare_parameters(prm, n_bodies);
+    try
+      {
+        prm.parse_input_from_string(text, filename, false);
+      }
+    catch (const std::exception &e)
+      {
+        throw InputError("Parameter file <" + filename + ">: " + user_part_of(e));
+      }
+  }
+} // namespace FetiContact::Parameters

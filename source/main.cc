@@ -3,6 +3,7 @@
  *
  *   feticontact scene.prm                 run the scene
  *   feticontact --validate scene.prm      parse and check the parameter file, then exit
+ *   feticontact --set "Body 1/Mesh/Subdivisions=24, 8, 8" scene.prm   override an entry
  *   feticontact --print-parameters        every parameter with its default and documentation
  *   feticontact --help
  */
@@ -24,7 +25,7 @@ namespace
   void
   print_usage(std::ostream &out)
   {
-    out << "Usage: feticontact [--validate] FILE.prm\n"
+    out << "Usage: feticontact [--validate] [--set PATH=VALUE]... FILE.prm\n"
            "       feticontact --print-parameters\n"
            "       feticontact --help\n\n"
            "Solves the scene described by the deal.II parameter file FILE.prm (linear elastic\n"
@@ -33,6 +34,8 @@ namespace
            "'subsection Output / set Directory'. Run under mpirun for several ranks.\n\n"
            "  --validate           parse and check the parameter file and the meshes it names,\n"
            "                       then exit (status 0 if valid)\n"
+           "  --set PATH=VALUE     override an entry after reading the file, e.g.\n"
+           "                       --set \"Body 1/Mesh/Subdivisions=24, 8, 8\"\n"
            "  --print-parameters   print every parameter with its default and documentation\n"
            "  --help               this text\n\n"
            "Exit status: 0 success, 1 bad input, 2 the solver did not converge, 3 internal error.\n";
@@ -50,8 +53,10 @@ main(int argc, char **argv)
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     validate_only = false;
   std::string              filename;
-  for (const auto &a : args)
+  std::vector<std::string> overrides;
+  for (unsigned int i = 0; i < args.size(); ++i)
     {
+      const std::string &a = args[i];
       if (a == "--help" || a == "-h")
         {
           if (root)
@@ -68,6 +73,8 @@ main(int argc, char **argv)
         }
       if (a == "--validate")
         validate_only = true;
+      else if (a == "--set" && i + 1 < args.size())
+        overrides.push_back(args[++i]);
       else if (!a.empty() && a[0] == '-')
         {
           if (root)
@@ -96,7 +103,7 @@ main(int argc, char **argv)
   try
     {
       dealii::ParameterHandler prm;
-      Parameters::Scene::read_parameter_file(prm, filename);
+      Parameters::Scene::read_parameter_file(prm, filename, overrides);
       Parameters::Scene scene;
       scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
 

@@ -29,7 +29,7 @@ namespace FetiContact
     , effective_parameters(effective_parameters)
     , input(input)
     , pcout(tee, rank == 0)
-    , timer(comm, pcout, TimerOutput::never, TimerOutput::wall_times)
+    , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , fe(FE_SimplexP<3>(1), 3)
     , mapping(FE_SimplexP<3>(1))
   {

@@ -1,6 +1,8 @@
 #include <feticontact/qp/projected_cg.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace FetiContact::QP
 {
@@ -26,11 +28,15 @@ namespace FetiContact::QP
     w = g;
     P(w);
 
-    Vector<double> Pb(b);
+    // Reference: ‖Pb‖, but not below what rounding leaves in the data: when Pb vanishes up to
+    // rounding (x₀ is already the solution), a gradient at the noise level counts as zero.
+    Vector<double> Pb(b), Ax(b.size());
     P(Pb);
-    double reference = Pb.l2_norm();
-    if (reference == 0)
-      reference = w.l2_norm();
+    A(x, Ax);
+    ++report.hessian_multiplications;
+    const double noise =
+      64 * std::numeric_limits<double>::epsilon() * (b.l2_norm() + Ax.l2_norm());
+    const double reference = std::max(Pb.l2_norm(), noise / tolerance);
     if (reference == 0)
       {
         report.converged = true;

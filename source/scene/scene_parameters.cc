@@ -1,6 +1,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/scene_parameters.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -83,13 +84,42 @@ namespace FetiContact::Parameters
   } // namespace
 
   void
-  Scene::read_parameter_file(ParameterHandler &prm, const std::string &filename)
+  Scene::read_parameter_file(ParameterHandler               &prm,
+                             const std::string              &filename,
+                             const std::vector<std::string> &overrides)
   {
     std::ifstream in(filename);
     require(static_cast<bool>(in), "Cannot open the parameter file <" + filename + ">.");
     std::stringstream buffer;
-    buffer << in.rdbuf();
+    buffer << in.rdbuf() << '\n';
+    const std::string file_text = buffer.str();
+    for (const auto &o : overrides)
+      {
+        const auto eq = o.find('=');
+        require(eq != std::string::npos && eq > 0,
+                "--set <" + o + ">: expected 'Subsection/.../Entry=value'.");
+        auto path = InputParsing::split(o.substr(0, eq), '/');
+        require(!path.empty(), "--set <" + o + ">: no entry named.");
+        const std::string entry = path.back();
+        path.pop_back();
+        for (const auto &p : path)
+          buffer << "subsection " << p << '\n';
+        buffer << "set " << entry << " = " << o.substr(eq + 1) << '\n';
+        for (unsigned int k = 0; k < path.size(); ++k)
+          buffer << "end\n";
+      }
     const std::string text = buffer.str();
+    const auto file_lines = std::count(file_text.begin(), file_text.end(), '\n');
+    const auto describe   = [&](const std::exception &e) {
+      std::string       msg   = user_part_of(e);
+      const std::string label = "<input string>";
+      for (auto pos = msg.find(label); pos != std::string::npos; pos = msg.find(label))
+        msg.replace(pos, label.size(), "<" + filename + ">");
+      const auto line = msg.find("Line <");
+      if (line != std::string::npos && std::stol(msg.substr(line + 6)) > file_lines)
+        msg += " (this line comes from a --set option)";
+      return "Parameter file <" + filename + ">: " + msg;
+    };
 
     // First pass: the number of bodies, everything else skipped.
     unsigned int n_bodies = 1;
@@ -98,11 +128,11 @@ namespace FetiContact::Parameters
       first.declare_entry("Number of bodies", "1", Patterns::Integer(1, 64), "");
       try
         {
-          first.parse_input_from_string(text, filename, true);
+          first.parse_input_from_string(text, "", true);
         }
       catch (const std::exception &e)
         {
-          throw InputError("Parameter file <" + filename + ">: " + user_part_of(e));
+          throw InputError(describe(e));
         }
       n_bodies = first.get_integer("Number of bodies");
     }
@@ -110,11 +140,11 @@ namespace FetiContact::Parameters
     declare_parameters(prm, n_bodies);
     try
       {
-        prm.parse_input_from_string(text, filename, false);
+        prm.parse_input_from_string(text, "", false);
       }
     catch (const std::exception &e)
       {
-        throw InputError("Parameter file <" + filename + ">: " + user_part_of(e));
+        throw InputError(describe(e));
       }
   }
 } // namespace FetiContact::Parameters

@@ -19,8 +19,10 @@ namespace FetiContact::QP
   /**
    * Conjugate gradients for min ½ xᵀA x − xᵀb subject to x ∈ x₀ + range(P), where P is an
    * orthogonal projector (in FETI: P = I − Gᵀ(GGᵀ)⁻¹G and x₀ with Gx₀ = e). Stops when
-   * ‖P(Ax − b)‖ ≤ tolerance · ‖P b‖ (or · ‖P(Ax₀ − b)‖ when Pb = 0). Knows nothing of meshes:
-   * A and P are functions.
+   * ‖P(Ax − b)‖ ≤ tolerance · max(‖P b‖, 64 ε (‖b‖ + ‖Ax₀‖) / tolerance): relative to the
+   * projected right-hand side, but never below the rounding level of the data (ε the machine
+   * epsilon), so that a problem whose x₀ already solves it stops at once instead of iterating
+   * on noise. Knows nothing of meshes: A and P are functions.
    *
    * @param x  in: x₀ (feasible); out: the solution.
    * @param monitor called after every iteration with (iteration, relative residual).

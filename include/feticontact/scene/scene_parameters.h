@@ -32,8 +32,13 @@ namespace FetiContact::Parameters
      * Reads @p filename into @p prm: first `Number of bodies` alone, then everything with that
      * many body subsections declared. Throws InputError naming the line for malformed input,
      * unknown entries and values that do not match their pattern.
+     *
+     * @p overrides ("Body 1/Mesh/Subdivisions=24, 8, 8", from the command line option --set)
+     * are applied after the file, as if appended to it.
      */
     static void
-    read_parameter_file(dealii::ParameterHandler &prm, const std::string &filename);
+    read_parameter_file(dealii::ParameterHandler        &prm,
+                        const std::string               &filename,
+                        const std::vector<std::string> &overrides = {});
   };
 } // namespace FetiContact::Parameters

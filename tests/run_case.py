@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""Runs feticontact on one parameter file for ctest and checks the outcome.
+
+  run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
+      [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
+  run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]...
+
+scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
+into summary.json, e.g. equilibrium.largest_relative_imbalance). With several ranks (--np 1,2,3)
+every run is checked, and with --same-displacements the nodal displacements of all runs must
+agree to TOL relative (max norm).
+bad: the run must exit with status 1 (no signal, within the time limit), print TEXT
+(case-insensitive) on stderr, and leave no summary.json.
+Standard library only, so that any python3 runs it.
+"""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+TIME_LIMIT = 600
+
+
+def run(exe, prm, outdir, np, extra=()):
+    if os.path.isdir(outdir):
+        shutil.rmtree(outdir)
+    cmd = [exe, "--set", "Output/Directory=" + outdir, *extra, prm]
+    if np > 1:
+        cmd = ["mpirun", "--oversubscribe", "-np", str(np)] + cmd
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    print("$", " ".join(cmd), flush=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=TIME_LIMIT, env=env)
+    sys.stdout.write(p.stdout)
+    sys.stderr.write(p.stderr)
+    return p
+
+
+def lookup(summary, path):
+    value = summary
+    for key in path.split("."):
+        if not isinstance(value, dict) or key not in value:
+            raise KeyError(path)
+        value = value[key]
+    return value
+
+
+def check_expectation(summary, expectation):
+    for op in ("<=", ">=", "<", ">", "="):
+        if op in expectation:
+            key, target = expectation.split(op, 1)
+            break
+    else:
+        raise ValueError("bad expectation " + expectation)
+    value = lookup(summary, key.strip())
+    target = target.strip()
+    if target in ("true", "false"):
+        ok = value == (target == "true")
+    else:
+        t = float(target)
+        v = float(value)
+        ok = {"<": v < t, ">": v > t, "<=": v <= t, ">=": v >= t, "=": v == t}[op]
+    print(f"  check {key.strip()} {op} {target}: value {value} -> {'ok' if ok else 'FAILED'}")
+    return ok
+
+
+def read_displacements(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return [[float(r[k]) for k in ("ux", "uy", "uz")] for r in rows]
+
+
+def scene(args):
+    exe, prm, outdir = args[:3]
+    nps, expectations, same_tol, sets = [1], [], None, []
+    i = 3
+    while i < len(args):
+        if args[i] == "--set":
+            sets += ["--set", args[i + 1]]
+        elif args[i] == "--np":
+            nps = [int(n) for n in args[i + 1].split(",")]
+        elif args[i] == "--expect":
+            expectations.append(args[i + 1])
+        elif args[i] == "--same-displacements":
+            same_tol = float(args[i + 1])
+        else:
+            raise ValueError(args[i])
+        i += 2
+    ok = True
+    displacements = []
+    for np in nps:
+        d = outdir + (f"_np{np}" if len(nps) > 1 else "")
+        extra = sets + (["--set", "Output/Write displacement csv=true"] if same_tol else [])
+        p = run(exe, prm, d, np, extra)
+        if p.returncode != 0:
+            print(f"FAILED: exit status {p.returncode} with {np} rank(s)")
+            return 1
+        with open(os.path.join(d, "summary.json")) as f:
+            summary = json.load(f)
+        ok &= check_expectation(summary, "converged=true")
+        for e in expectations:
+            ok &= check_expectation(summary, e)
+        if same_tol is not None:
+            displacements.append(read_displacements(os.path.join(d, "displacements.csv")))
+    if same_tol is not None:
+        ref = displacements[0]
+        scale = max(abs(c) for row in ref for c in row)
+        for np, other in zip(nps[1:], displacements[1:]):
+            diff = max(abs(a - b) for ra, rb in zip(ref, other) for a, b in zip(ra, rb))
+            good = len(other) == len(ref) and diff <= same_tol * scale
+            print(f"  -np {np} against -np {nps[0]}: max difference {diff / scale:.3e} relative"
+                  f" -> {'ok' if good else 'FAILED'}")
+            ok &= good
+    return 0 if ok else 1
+
+
+def bad(args):
+    exe, prm, outdir = args[:3]
+    message, np, sets = None, 1, []
+    i = 3
+    while i < len(args):
+        if args[i] == "--set":
+            sets += ["--set", args[i + 1]]
+        elif args[i] == "--message":
+            message = args[i + 1]
+        elif args[i] == "--np":
+            np = int(args[i + 1])
+        i += 2
+    try:
+        p = run(exe, prm, outdir, np, sets)
+    except subprocess.TimeoutExpired:
+        print("FAILED: no answer within the time limit")
+        return 1
+    ok = True
+    if p.returncode != 1:
+        print(f"FAILED: exit status {p.returncode}, expected 1 (a negative status is a signal)")
+        ok = False
+    if message.lower() not in p.stderr.lower():
+        print(f"FAILED: stderr does not name the cause <{message}>")
+        ok = False
+    if os.path.exists(os.path.join(outdir, "summary.json")):
+        print("FAILED: summary.json was written")
+        ok = False
+    print("ok" if ok else "")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    mode = sys.argv[1]
+    sys.exit({"scene": scene, "bad": bad}[mode](sys.argv[2:]))

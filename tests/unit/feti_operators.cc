@@ -1,0 +1,155 @@
+// The FETI operators of the brick (DESIGN.md §5), primal and TFETI, structured and METIS:
+//  - B_E has orthonormal rows (B_E B_Eᵀ = I) and the expected number of rows;
+//  - gluing rows vanish on a continuous field;
+//  - F is symmetric and positive semidefinite, P is a projector onto ker G, Gλ₀ = e (to rounding:
+//    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50).
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+
+#include <feticontact/feti/dual_problem.h>
+#include <feticontact/feti/equality_constraints.h>
+
+#include "test_tools.h"
+
+#include <map>
+#include <random>
+#include <tuple>
+
+using namespace dealii;
+using namespace FetiContact;
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const FESystem<3>  fe(FE_SimplexP<3>(1), 3);
+  const MappingFE<3> mapping(FE_SimplexP<3>(1));
+  std::mt19937       random(7);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+
+  for (const auto &[name, decomposition, expected_primal_rows] :
+       std::vector<std::tuple<std::string, std::string, unsigned int>>{
+         {"3 blocks", "set Method = blocks\nset Blocks = 3, 1, 1", 150},
+         {"METIS 8", "set Method = metis\nset Number of parts = 8", 0}})
+    for (const bool primal : {true, false})
+      {
+        const std::string label = name + (primal ? ", primal" : ", TFETI");
+        const auto        scene = scene_from_text(brick_text(decomposition));
+        std::vector<std::unique_ptr<Body>> bodies;
+        bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
+        bodies[0]->setup();
+        const unsigned int n_sub = bodies[0]->partition.n_parts;
+        const DualRows     rows  = build_equality_rows(bodies, {0, n_sub}, !primal);
+
+        // Row count: gluing rows Σ_v (p_v − 1) per free component, plus (TFETI) one row per
+        // copy of a clamped component.
+        std::vector<std::vector<unsigned int>> holders(bodies[0]->mesh.n_vertices());
+        for (const auto &cell : bodies[0]->mesh.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              auto &h = holders[cell->vertex_index(v)];
+              const unsigned int p = bodies[0]->partition.part_of_cell[cell->active_cell_index()];
+              if (std::find(h.begin(), h.end(), p) == h.end())
+                h.push_back(p);
+            }
+        unsigned int expected = 0;
+        for (unsigned int v = 0; v < holders.size(); ++v)
+          {
+            const bool clamped = bodies[0]->prescribed.count(v) > 0;
+            if (!clamped && !holders[v].empty())
+              expected += 3 * (holders[v].size() - 1);
+            if (clamped && !primal)
+              expected += 3 * holders[v].size();
+          }
+        check(rows.n_rows() == expected, label + ": " + std::to_string(rows.n_rows()) +
+                                           " rows of B_E (expected " + std::to_string(expected) + ")");
+        if (primal && expected_primal_rows > 0)
+          check(rows.n_rows() == expected_primal_rows,
+                label + ": the seed's brick has 2 interfaces × 25 nodes × 3 = 150 gluing rows");
+
+        // B_E B_Eᵀ = I.
+        std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>> by_dof;
+        for (unsigned int r = 0; r < rows.n_rows(); ++r)
+          for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+            {
+              const auto &e = rows.entries[k];
+              by_dof[{e.subdomain, e.body_vertex, e.component}].emplace_back(r, e.value);
+            }
+        std::map<std::pair<unsigned, unsigned>, double> BBt;
+        for (const auto &[dof, list] : by_dof)
+          for (const auto &[r, a] : list)
+            for (const auto &[s, b] : list)
+              BBt[{r, s}] += a * b;
+        double deviation = 0;
+        for (unsigned int r = 0; r < rows.n_rows(); ++r)
+          deviation = std::max(deviation, std::abs(BBt[{r, r}] - 1));
+        for (const auto &[rs, value] : BBt)
+          if (rs.first != rs.second)
+            deviation = std::max(deviation, std::abs(value));
+        check(deviation < 1e-14, label + ": |B_E B_Eᵀ − I| = " + sci(deviation));
+
+        // Gluing rows vanish on a continuous field u(vertex, component).
+        double on_continuous = 0;
+        for (unsigned int r = 0; r < rows.n_rows(); ++r)
+          if (rows.row_start[r + 1] - rows.row_start[r] > 1)
+            {
+              double s = 0;
+              for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+                s += rows.entries[k].value *
+                     std::sin(1.0 + rows.entries[k].body_vertex + 7.0 * rows.entries[k].component);
+              on_continuous = std::max(on_continuous, std::abs(s));
+            }
+        check(on_continuous < 1e-14, label + ": gluing rows on a continuous field: " + sci(on_continuous));
+
+        // The dual problem.
+        std::vector<std::unique_ptr<Subdomain>> subdomains;
+        std::vector<Subdomain *>                owned;
+        std::vector<unsigned int>               mode_offset{0};
+        for (unsigned int p = 0; p < n_sub; ++p)
+          {
+            subdomains.push_back(std::make_unique<Subdomain>(*bodies[0], p, p, primal, fe));
+            subdomains.back()->assemble(mapping);
+            subdomains.back()->factorize("cholmod");
+            owned.push_back(subdomains.back().get());
+            mode_offset.push_back(mode_offset.back() + subdomains.back()->R.n());
+          }
+        DualProblem dual(MPI_COMM_WORLD, owned, mode_offset, rows);
+        const unsigned int m = dual.size();
+        Vector<double>     x(m), y(m), Fx(m), Fy(m);
+        for (unsigned int i = 0; i < m; ++i)
+          {
+            x[i] = uniform(random);
+            y[i] = uniform(random);
+          }
+        dual.apply_F(x, Fx);
+        dual.apply_F(y, Fy);
+        const double asym = std::abs(x * Fy - y * Fx) / (Fx.l2_norm() * y.l2_norm());
+        check(asym < 1e-12, label + ": F symmetric, |xᵀFy − yᵀFx|/(‖Fx‖‖y‖) = " + sci(asym));
+        check(x * Fx >= -1e-14 * Fx.l2_norm() * x.l2_norm(), label + ": xᵀFx ≥ 0");
+
+        Vector<double> Px(x), PPx, GPx;
+        dual.coarse.project(Px);
+        PPx = Px;
+        dual.coarse.project(PPx);
+        PPx -= Px;
+        check(PPx.l2_norm() <= 1e-13 * x.l2_norm(), label + ": ‖P²x − Px‖/‖x‖ = " + sci(PPx.l2_norm() / x.l2_norm()));
+        dual.coarse.apply_G(Px, GPx);
+        Vector<double> Gx;
+        dual.coarse.apply_G(x, Gx);
+        if (Gx.size() > 0)
+          check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(), label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
+        const auto     lambda0 = dual.coarse.least_norm_solution(dual.e);
+        Vector<double> Gl;
+        dual.coarse.apply_G(lambda0, Gl);
+        if (dual.e.size() > 0)
+          {
+            Gl -= dual.e;
+            check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(), label + ": ‖Gλ₀ − e‖/‖e‖ = " + sci(Gl.l2_norm() / dual.e.l2_norm()));
+          }
+      }
+  std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
+  return n_failures;
+}

@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
 
 #include <feticontact/postprocessing/solution_output.h>
 #include <feticontact/postprocessing/stresses.h>
@@ -13,6 +14,42 @@ namespace FetiContact
 
   namespace
   {
+    /**
+     * The Cauchy stress σ = λ tr(ε) I + 2μ ε as a tensor field for DataOut, from the gradients
+     * of the displacement (constant per cell for P1, so the output is the exact cell stress).
+     */
+    class StressPostprocessor : public DataPostprocessorTensor<3>
+    {
+    public:
+      StressPostprocessor(const double lambda, const double mu)
+        : DataPostprocessorTensor<3>("stress", update_gradients)
+        , lambda(lambda)
+        , mu(mu)
+      {}
+
+      void
+      evaluate_vector_field(const DataPostprocessorInputs::Vector<3> &input,
+                            std::vector<Vector<double>> &computed) const override
+      {
+        for (unsigned int q = 0; q < input.solution_gradients.size(); ++q)
+          {
+            Tensor<2, 3> grad;
+            for (unsigned int c = 0; c < 3; ++c)
+              grad[c] = input.solution_gradients[q][c];
+            const SymmetricTensor<2, 3> eps   = symmetrize(grad);
+            const SymmetricTensor<2, 3> sigma = lambda * trace(eps) * unit_symmetric_tensor<3>() +
+                                                2 * mu * eps;
+            for (unsigned int a = 0; a < 3; ++a)
+              for (unsigned int b = 0; b < 3; ++b)
+                computed[q][Tensor<2, 3>::component_to_unrolled_index(TableIndices<2>(a, b))] =
+                  sigma[a][b];
+          }
+      }
+
+    private:
+      const double lambda, mu;
+    };
+
     std::string
     piece_name(const unsigned int s)
     {
@@ -33,9 +70,6 @@ namespace FetiContact
     const std::vector<std::string> displacement_names(3, "displacement");
     const std::vector<DataComponentInterpretation::DataComponentInterpretation> interpretation(
       3, DataComponentInterpretation::component_is_part_of_vector);
-    const char *stress_names[6] = {"stress_xx", "stress_yy", "stress_zz",
-                                   "stress_xy", "stress_yz", "stress_xz"};
-    const unsigned int stress_index[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 
     std::vector<std::string> pieces;
     for (unsigned int i = 0; i < owned.size(); ++i)
@@ -43,12 +77,9 @@ namespace FetiContact
         const Subdomain   &s       = *owned[i];
         const unsigned int n_cells = s.mesh.n_active_cells();
         const auto         sigma   = cell_stresses(s, mapping, u[i]);
-        std::vector<Vector<double>> stress(6, Vector<double>(n_cells));
         Vector<double> mises(n_cells), subdomain_id(n_cells), body_id(n_cells);
         for (unsigned int c = 0; c < n_cells; ++c)
           {
-            for (unsigned int k = 0; k < 6; ++k)
-              stress[k][c] = sigma[c][stress_index[k][0]][stress_index[k][1]];
             mises[c]        = von_mises(sigma[c]);
             subdomain_id[c] = s.global_index;
             body_id[c]      = s.body.index;
@@ -57,8 +88,9 @@ namespace FetiContact
         data_out.attach_dof_handler(s.dof_handler);
         data_out.add_data_vector(u[i], displacement_names, DataOut<3>::type_dof_data,
                                  interpretation);
-        for (unsigned int k = 0; k < 6; ++k)
-          data_out.add_data_vector(stress[k], stress_names[k], DataOut<3>::type_cell_data);
+        const StressPostprocessor stress(s.body.parameters.material.lambda(),
+                                         s.body.parameters.material.mu());
+        data_out.add_data_vector(u[i], stress);
         data_out.add_data_vector(mises, "von_mises", DataOut<3>::type_cell_data);
         data_out.add_data_vector(subdomain_id, "subdomain", DataOut<3>::type_cell_data);
         data_out.add_data_vector(body_id, "body", DataOut<3>::type_cell_data);

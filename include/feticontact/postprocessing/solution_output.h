@@ -14,8 +14,8 @@ namespace FetiContact
 {
   /**
    * Writes the solution for ParaView: one `solution_NNNN.vtu` per subdomain (written by the rank
-   * that owns it) with the displacement, the stress components, the von Mises stress, the
-   * subdomain id and the body id (cell data), and on rank 0 `solution.pvtu` listing them and
+   * that owns it) with the displacement, the stress tensor, the von Mises stress, the
+   * subdomain id and the body id (the last three as cell data), and on rank 0 `solution.pvtu` listing them and
    * `solution.pvd` (one time step) pointing to it.
    */
   void

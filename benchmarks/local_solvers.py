@@ -1,0 +1,154 @@
+#!/usr/bin/python3
+"""Runs local_solver_benchmark for every local solver backend on the unit cube with
+N = 6, 10, 14, 21, 31 cubes per edge (3(N+1)^3 = 1029 ... 98304 DoFs), once with OpenBLAS's
+default number of threads and once with OPENBLAS_NUM_THREADS=1, and writes
+doc/data/local_solvers.csv and the plot doc/local_solvers.png (factorization time against DoFs).
+
+A backend whose factorization took longer than --skip-after seconds (any repetition) at one size
+is not run at the larger sizes of that thread setting; those rows have status 'skipped'.
+
+Run with Debian's Python (numpy and matplotlib), after building the benchmark:
+  cmake --build build --target local_solver_benchmark
+  /usr/bin/python3 benchmarks/local_solvers.py
+"""
+
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BACKENDS = ["cholmod", "amesos2-klu2", "amesos-mumps", "umfpack"]
+FIELDS = ["openblas_threads", "backend", "n_cubes", "n_dofs", "nnz", "factorize_median_s",
+          "solve_median_s", "factorize_max_s", "relative_residual", "load_average_1min",
+          "status"]
+
+
+def run_one(exe, backend, n_cubes, repeat, env, timeout):
+    """Runs the benchmark once; returns the row fields (without thread setting)."""
+    n_dofs = 3 * (n_cubes + 1) ** 3
+    row = {"backend": backend, "n_cubes": n_cubes, "n_dofs": n_dofs,
+           "load_average_1min": "%.2f" % os.getloadavg()[0]}
+    try:
+        p = subprocess.run([exe, "--backend", backend, "--cubes", str(n_cubes),
+                            "--repeat", str(repeat)], env=env, capture_output=True, text=True,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired:
+        row["status"] = "failed: timeout after %d s" % timeout
+        return row, None
+    sys.stderr.write(p.stderr)
+    lines = [l for l in p.stdout.splitlines() if l.strip()]
+    if p.returncode != 0 or len(lines) != 1:
+        row["status"] = "failed: exit status %d" % p.returncode
+        return row, None
+    name, dofs, nnz, t_f, t_s, residual = lines[0].split(",")
+    assert name == backend and int(dofs) == n_dofs, lines[0]
+    times = [float(t) for t in re.findall(r"factorize ([0-9.eE+-]+) s", p.stderr)]
+    row.update(nnz=int(nnz), factorize_median_s=t_f, solve_median_s=t_s,
+               factorize_max_s="%.6e" % max(times), relative_residual=residual,
+               status="ok" if float(residual) < 1e-8 else "inaccurate")
+    return row, max(times)
+
+
+def plot(rows, filename):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    settings = list(dict.fromkeys(r["openblas_threads"] for r in rows))
+    fig, axes = plt.subplots(1, len(settings), figsize=(6 * len(settings), 4.8), sharey=True,
+                             squeeze=False)
+    for ax, setting in zip(axes[0], settings):
+        for i, backend in enumerate(BACKENDS):
+            pts = [(int(r["n_dofs"]), float(r["factorize_median_s"])) for r in rows
+                   if r["openblas_threads"] == setting and r["backend"] == backend
+                   and r["status"] == "ok"]
+            if pts:
+                ax.loglog(*zip(*pts), marker="os^D"[i], label=backend)
+        ax.set_title("OPENBLAS_NUM_THREADS=%s" % setting if setting != "default"
+                     else "OpenBLAS default threads (%d cores)" % os.cpu_count())
+        ax.set_xlabel("DoFs (3(N+1)$^3$)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    axes[0][0].set_ylabel("factorization time, median of repetitions (s)")
+    fig.suptitle("Local solver backends: P1 elasticity on the unit cube, one subdomain")
+    fig.tight_layout()
+    fig.savefig(filename, dpi=120)
+
+
+def markdown(rows):
+    """Prints one table per thread setting (times in seconds)."""
+    for setting in dict.fromkeys(r["openblas_threads"] for r in rows):
+        sub = [r for r in rows if r["openblas_threads"] == setting]
+        print("\nOPENBLAS_NUM_THREADS=%s\n" % setting)
+        print("| DoFs | nnz | " + " | ".join("%s factorize / solve" % b for b in BACKENDS)
+              + " |")
+        print("|---:|---:|" + "---:|" * len(BACKENDS))
+        for n in dict.fromkeys(r["n_dofs"] for r in sub):
+            cells, nnz = [], ""
+            for b in BACKENDS:
+                r = next(r for r in sub if r["n_dofs"] == n and r["backend"] == b)
+                nnz = r.get("nnz") or nnz
+                cells.append("%.3g / %.3g" % (float(r["factorize_median_s"]),
+                                              float(r["solve_median_s"]))
+                             if r["status"] == "ok" else r["status"])
+            print("| %s | %s | %s |" % (n, nnz, " | ".join(cells)))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--exe", default=os.path.join(SOURCE, "build", "benchmarks",
+                                                      "local_solver_benchmark"))
+    parser.add_argument("--cubes", default="6,10,14,21,31")
+    parser.add_argument("--backends", default=",".join(BACKENDS))
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--threads", default="default,1",
+                        help="OpenBLAS thread settings: 'default' (variable unset) or a number")
+    parser.add_argument("--skip-after", type=float, default=30.0)
+    parser.add_argument("--timeout", type=int, default=1800)
+    parser.add_argument("--csv", default=os.path.join(SOURCE, "doc", "data", "local_solvers.csv"))
+    parser.add_argument("--png", default=os.path.join(SOURCE, "doc", "local_solvers.png"))
+    args = parser.parse_args()
+
+    cubes = [int(n) for n in args.cubes.split(",")]
+    backends = args.backends.split(",")
+    rows = []
+    for setting in args.threads.split(","):
+        env = dict(os.environ)
+        env.pop("OPENBLAS_NUM_THREADS", None)
+        if setting != "default":
+            env["OPENBLAS_NUM_THREADS"] = setting
+        too_slow = {}  # backend -> why it is skipped at the larger sizes
+        for n in cubes:
+            for backend in backends:
+                if backend in too_slow:
+                    rows.append({"openblas_threads": setting, "backend": backend, "n_cubes": n,
+                                 "n_dofs": 3 * (n + 1) ** 3,
+                                 "status": too_slow[backend]})
+                    continue
+                row, t_max = run_one(args.exe, backend, n, args.repeat, env, args.timeout)
+                row["openblas_threads"] = setting
+                rows.append(row)
+                print(",".join(str(row.get(f, "")) for f in FIELDS), flush=True)
+                if t_max is None:
+                    too_slow[backend] = "skipped (failed at %d DoFs)" % row["n_dofs"]
+                elif t_max > args.skip_after:
+                    too_slow[backend] = ("skipped (a factorization took %.0f s > %g s at %d DoFs)"
+                                         % (t_max, args.skip_after, row["n_dofs"]))
+
+    os.makedirs(os.path.dirname(args.csv), exist_ok=True)
+    with open(args.csv, "w", newline="") as out:
+        writer = csv.DictWriter(out, fieldnames=FIELDS)
+        writer.writeheader()
+        for r in rows:
+            writer.writerow({f: r.get(f, "") for f in FIELDS})
+    plot(rows, args.png)
+    markdown(rows)
+    return 0 if all(r["status"] == "ok" or r["status"].startswith("skipped") for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

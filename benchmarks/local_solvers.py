@@ -16,14 +16,29 @@ import argparse
 import csv
 import os
 import re
+import resource
 import subprocess
 import sys
+import time
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BACKENDS = ["cholmod", "amesos2-klu2", "amesos-mumps", "umfpack"]
 FIELDS = ["openblas_threads", "backend", "n_cubes", "n_dofs", "nnz", "factorize_median_s",
           "solve_median_s", "factorize_max_s", "relative_residual", "load_average_1min",
-          "status"]
+          "other_cpu_share", "status"]
+
+
+def busy_cpu_seconds():
+    """CPU time (s) spent by all processes of the machine, from /proc/stat."""
+    with open("/proc/stat") as stat:
+        user, nice, system, idle, iowait, irq, softirq, steal = map(
+            int, stat.readline().split()[1:9])
+    return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+
+
+def children_cpu_seconds():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def run_one(exe, backend, n_cubes, repeat, env, timeout):
@@ -31,6 +46,7 @@ def run_one(exe, backend, n_cubes, repeat, env, timeout):
     n_dofs = 3 * (n_cubes + 1) ** 3
     row = {"backend": backend, "n_cubes": n_cubes, "n_dofs": n_dofs,
            "load_average_1min": "%.2f" % os.getloadavg()[0]}
+    busy0, own0, wall0 = busy_cpu_seconds(), children_cpu_seconds(), time.monotonic()
     try:
         p = subprocess.run([exe, "--backend", backend, "--cubes", str(n_cubes),
                             "--repeat", str(repeat)], env=env, capture_output=True, text=True,
@@ -38,6 +54,10 @@ def run_one(exe, backend, n_cubes, repeat, env, timeout):
     except subprocess.TimeoutExpired:
         row["status"] = "failed: timeout after %d s" % timeout
         return row, None
+    # The share of the machine's CPU capacity used by other processes during the run (0: the
+    # machine was otherwise idle); a check that the timings were not disturbed.
+    other = (busy_cpu_seconds() - busy0) - (children_cpu_seconds() - own0)
+    row["other_cpu_share"] = "%.3f" % max(0.0, other / ((time.monotonic() - wall0) * os.cpu_count()))
     sys.stderr.write(p.stderr)
     lines = [l for l in p.stdout.splitlines() if l.strip()]
     if p.returncode != 0 or len(lines) != 1:

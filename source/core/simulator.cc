@@ -161,6 +161,8 @@ namespace FetiContact
                 << std::scientific << std::setprecision(3) << residual << std::defaultfloat
                 << std::endl;
       });
+    const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
+    summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;
     pcout << "Projected CG: " << (converged ? "converged" : "NOT converged") << " after "

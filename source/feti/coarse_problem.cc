@@ -129,6 +129,20 @@ namespace FetiContact
     return lambda;
   }
 
+  double
+  CoarseProblem::restore_feasibility(Vector<double> &lambda, const Vector<double> &e) const
+  {
+    if (n_rows == 0)
+      return 0;
+    Vector<double> r(e), Gl;
+    apply_G(lambda, Gl);
+    r -= Gl;
+    const double norm_e = e.l2_norm();
+    const double misfit = norm_e > 0 ? r.l2_norm() / norm_e : r.l2_norm();
+    lambda += least_norm_solution(r);
+    return misfit;
+  }
+
   Vector<double>
   CoarseProblem::coarse_coefficients(const Vector<double> &x) const
   {

@@ -10,11 +10,13 @@ namespace FetiContact::Parameters
   Feti::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("FETI");
-    prm.declare_entry("Dirichlet treatment", "primal", Patterns::Selection("primal|total"),
-                      "'primal': Dirichlet conditions are eliminated in the subdomains (the "
-                      "seed paper's way: subdomains touching a clamped face are anchored). "
+    prm.declare_entry("Dirichlet treatment", "total", Patterns::Selection("primal|total"),
                       "'total': TFETI, Dirichlet conditions are rows of B_E and every subdomain "
-                      "floats.");
+                      "floats (robust: the default). 'primal': Dirichlet conditions are "
+                      "eliminated in the subdomains (the seed paper's way: subdomains touching a "
+                      "clamped face are anchored); subdomains that touch Γ_u in a few vertices "
+                      "only are then nearly floating and limit the attainable accuracy "
+                      "(doc/feti.md).");
     prm.declare_entry("Local solver", "cholmod",
                       Patterns::Selection(LocalSolver::available_backends()),
                       "Sparse direct solver for the regularized subdomain stiffness matrices: "

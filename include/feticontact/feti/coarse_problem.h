@@ -58,6 +58,15 @@ namespace FetiContact
     /** The least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
     dealii::Vector<double>
     least_norm_solution(const dealii::Vector<double> &e) const;
+    /**
+     * λ ← λ + Gᵀ(GGᵀ)⁻¹(e − Gλ): removes the drift from Gλ = e that rounding accumulates over
+     * many projected iterations (without it the force balance of floating subdomains is off by
+     * about ‖Gλ − e‖/‖e‖, seen here up to 1e-10 after 150 iterations). Returns ‖Gλ − e‖/‖e‖ before
+     * the correction.
+     */
+    double
+    restore_feasibility(dealii::Vector<double> &lambda, const dealii::Vector<double> &e) const;
+
     /** α = (GGᵀ)⁻¹ G x (the coefficients of the rigid modes in the primal recovery). */
     dealii::Vector<double>
     coarse_coefficients(const dealii::Vector<double> &x) const;

@@ -19,7 +19,7 @@ namespace FetiContact::Parameters
       primal,
       total
     };
-    DirichletTreatment dirichlet_treatment = DirichletTreatment::primal;
+    DirichletTreatment dirichlet_treatment = DirichletTreatment::total;
 
     /** The backend that factorizes the regularized subdomain stiffness matrices. */
     std::string local_solver = "cholmod";

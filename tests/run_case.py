@@ -3,7 +3,7 @@
 
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
-  run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]...
+  run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance). With several ranks (--np 1,2,3)
@@ -123,6 +123,8 @@ def bad(args):
     while i < len(args):
         if args[i] == "--set":
             sets += ["--set", args[i + 1]]
+        elif args[i] == "--flag":
+            sets.append(args[i + 1])
         elif args[i] == "--message":
             message = args[i + 1]
         elif args[i] == "--np":

@@ -25,20 +25,21 @@ namespace
   void
   print_usage(std::ostream &out)
   {
-    out << "Usage: feticontact [--validate] [--set PATH=VALUE]... FILE.prm\n"
-           "       feticontact --print-parameters\n"
-           "       feticontact --help\n\n"
-           "Solves the scene described by the deal.II parameter file FILE.prm (linear elastic\n"
-           "bodies on P1 tetrahedra, decomposed into FETI subdomains) and writes log.txt,\n"
-           "summary.json, the effective parameters and ParaView files into the folder given by\n"
-           "'subsection Output / set Directory'. Run under mpirun for several ranks.\n\n"
-           "  --validate           parse and check the parameter file and the meshes it names,\n"
-           "                       then exit (status 0 if valid)\n"
-           "  --set PATH=VALUE     override an entry after reading the file, e.g.\n"
-           "                       --set \"Body 1/Mesh/Subdivisions=24, 8, 8\"\n"
-           "  --print-parameters   print every parameter with its default and documentation\n"
-           "  --help               this text\n\n"
-           "Exit status: 0 success, 1 bad input, 2 the solver did not converge, 3 internal error.\n";
+    out
+      << "Usage: feticontact [--validate] [--set PATH=VALUE]... FILE.prm\n"
+         "       feticontact --print-parameters\n"
+         "       feticontact --help\n\n"
+         "Solves the scene described by the deal.II parameter file FILE.prm (linear elastic\n"
+         "bodies on P1 tetrahedra, decomposed into FETI subdomains) and writes log.txt,\n"
+         "summary.json, the effective parameters and ParaView files into the folder given by\n"
+         "'subsection Output / set Directory'. Run under mpirun for several ranks.\n\n"
+         "  --validate           parse and check the parameter file and the meshes it names,\n"
+         "                       then exit (status 0 if valid)\n"
+         "  --set PATH=VALUE     override an entry after reading the file, e.g.\n"
+         "                       --set \"Body 1/Mesh/Subdivisions=24, 8, 8\"\n"
+         "  --print-parameters   print every parameter with its default and documentation\n"
+         "  --help               this text\n\n"
+         "Exit status: 0 success, 1 bad input, 2 the solver did not converge, 3 internal error.\n";
   }
 } // namespace
 
@@ -47,8 +48,8 @@ main(int argc, char **argv)
 {
   using namespace FetiContact;
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm comm = MPI_COMM_WORLD;
-  const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  const MPI_Comm                           comm = MPI_COMM_WORLD;
+  const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
 
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     validate_only = false;
@@ -127,7 +128,7 @@ main(int argc, char **argv)
       std::ostringstream verbatim;
       verbatim << in.rdbuf();
 
-      Simulator simulator(comm, scene, effective.str(), verbatim.str());
+      Simulator  simulator(comm, scene, effective.str(), verbatim.str());
       const bool converged = simulator.run();
       if (!converged)
         {

@@ -39,14 +39,13 @@ namespace FetiContact::InputParsing
   double
   parse_double(const std::string &text, const std::string &what)
   {
-    const std::string t = trim(text);
+    const std::string t   = trim(text);
     char             *end = nullptr;
     errno                 = 0;
     const double value    = std::strtod(t.c_str(), &end);
     require(!t.empty() && end != nullptr && *end == '\0' && errno != ERANGE,
-                (what + ": <" + t + "> is not a number."));
-    require(std::isfinite(value),
-                (what + ": <" + t + "> is not a finite number."));
+            (what + ": <" + t + "> is not a number."));
+    require(std::isfinite(value), (what + ": <" + t + "> is not a finite number."));
     return value;
   }
 
@@ -55,8 +54,8 @@ namespace FetiContact::InputParsing
   {
     const auto pieces = split(text, ',');
     require(pieces.size() == n,
-                (what + ": expected " + std::to_string(n) +
-                           " comma-separated numbers, got <" + trim(text) + ">."));
+            (what + ": expected " + std::to_string(n) + " comma-separated numbers, got <" +
+             trim(text) + ">."));
     std::vector<double> values;
     for (const auto &p : pieces)
       values.push_back(parse_double(p, what));
@@ -81,22 +80,20 @@ namespace FetiContact::InputParsing
   }
 
   std::vector<unsigned int>
-  parse_positive_integers(const std::string &text,
-                          const unsigned int n,
-                          const std::string &what)
+  parse_positive_integers(const std::string &text, const unsigned int n, const std::string &what)
   {
     const auto pieces = split(text, ',');
     require(pieces.size() == n,
-                (what + ": expected " + std::to_string(n) +
-                           " comma-separated positive integers, got <" + trim(text) + ">."));
+            (what + ": expected " + std::to_string(n) +
+             " comma-separated positive integers, got <" + trim(text) + ">."));
     std::vector<unsigned int> values;
     for (const auto &p : pieces)
       {
-        char *end     = nullptr;
-        errno         = 0;
-        const long  v = std::strtol(p.c_str(), &end, 10);
+        char *end    = nullptr;
+        errno        = 0;
+        const long v = std::strtol(p.c_str(), &end, 10);
         require(*end == '\0' && errno == 0 && v > 0 && v < (1L << 30),
-                    (what + ": <" + p + "> is not a positive integer."));
+                (what + ": <" + p + "> is not a positive integer."));
         values.push_back(static_cast<unsigned int>(v));
       }
     return values;

@@ -66,8 +66,8 @@ namespace FetiContact
         bodies.back()->check_held();
         first_subdomain.push_back(n_subdomains);
         n_subdomains += bodies.back()->partition.n_parts;
-        pcout << "Body '" << bodies.back()->parameters.name << "': "
-              << bodies.back()->mesh.n_active_cells() << " tetrahedra, "
+        pcout << "Body '" << bodies.back()->parameters.name
+              << "': " << bodies.back()->mesh.n_active_cells() << " tetrahedra, "
               << bodies.back()->mesh.n_used_vertices() << " vertices, "
               << bodies.back()->partition.n_parts << " subdomains" << std::endl;
       }
@@ -86,8 +86,9 @@ namespace FetiContact
         ++cells[first_subdomain[body->index] + p];
     std::vector<unsigned int> order(n);
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](unsigned int a, unsigned int b) { return cells[a] > cells[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) {
+      return cells[a] > cells[b];
+    });
     std::vector<std::size_t> load(n_ranks, 0);
     owner.assign(n, 0);
     for (const unsigned int s : order)
@@ -148,27 +149,28 @@ namespace FetiContact
   {
     TimerOutput::Scope scope(timer, "solve");
     lambda = dual->coarse.least_norm_solution(dual->e);
-    const auto report = QP::projected_conjugate_gradient(
-      [this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
-      [this](Vector<double> &x) { dual->coarse.project(x); },
-      dual->h,
-      lambda,
-      parameters.feti.relative_tolerance,
-      parameters.feti.max_iterations,
-      [this](unsigned int it, double residual) {
-        if (it % 50 == 0)
-          pcout << "  PCG iteration " << std::setw(5) << it << "   ‖P(Fλ − h)‖ / ‖Ph‖ = "
-                << std::scientific << std::setprecision(3) << residual << std::defaultfloat
-                << std::endl;
-      });
+    const auto report =
+      QP::projected_conjugate_gradient([this](const Vector<double> &x,
+                                              Vector<double>       &y) { dual->apply_F(x, y); },
+                                       [this](Vector<double> &x) { dual->coarse.project(x); },
+                                       dual->h,
+                                       lambda,
+                                       parameters.feti.relative_tolerance,
+                                       parameters.feti.max_iterations,
+                                       [this](unsigned int it, double residual) {
+                                         if (it % 50 == 0)
+                                           pcout << "  PCG iteration " << std::setw(5) << it
+                                                 << "   ‖P(Fλ − h)‖ / ‖Ph‖ = " << std::scientific
+                                                 << std::setprecision(3) << residual
+                                                 << std::defaultfloat << std::endl;
+                                       });
     const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;
     pcout << "Projected CG: " << (converged ? "converged" : "NOT converged") << " after "
-          << report.iterations << " iterations, relative projected gradient "
-          << std::scientific << std::setprecision(3) << report.relative_residual
-          << std::defaultfloat << std::endl;
+          << report.iterations << " iterations, relative projected gradient " << std::scientific
+          << std::setprecision(3) << report.relative_residual << std::defaultfloat << std::endl;
     summary.set("pcg_relative_residual", report.relative_residual);
   }
 
@@ -188,12 +190,12 @@ namespace FetiContact
     for (const auto &b : vertex_u)
       for (const auto &v : b)
         u_max = std::max(u_max, v.norm());
-    const auto residual = dual->constraint_residual(u);
-    const double jump   = residual.size() > 0 ? residual.linfty_norm() : 0.0;
+    const auto   residual = dual->constraint_residual(u);
+    const double jump     = residual.size() > 0 ? residual.linfty_norm() : 0.0;
     summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
 
     JsonObject equilibrium;
-    double     worst = 0;
+    double     worst   = 0;
     const auto balance = compute_force_balance(comm, bodies.size(), owned, u, mapping);
     for (const auto &body : bodies)
       {
@@ -312,8 +314,8 @@ namespace FetiContact
     factorize();
     build_dual_problem();
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s), "
-          << mode_offset.back() << " rigid body modes, " << dual->size()
-          << " dual unknowns" << std::endl;
+          << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
+          << std::endl;
     solve();
     postprocess();
     write_summary();

@@ -19,8 +19,8 @@ namespace FetiContact
                             const unsigned int        n_modes,
                             const unsigned int        n_columns)
   {
-    n_rows = n_modes;
-    n_cols = n_columns;
+    n_rows       = n_modes;
+    n_cols       = n_columns;
     auto entries = MPITools::all_gather(comm, local_entries);
     std::sort(entries.begin(), entries.end(), [](const Entry &a, const Entry &b) {
       return a.mode < b.mode || (a.mode == b.mode && a.column < b.column);

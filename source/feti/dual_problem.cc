@@ -85,7 +85,7 @@ namespace FetiContact
   void
   DualProblem::set_Bt(const unsigned int i, const Vector<double> &lambda, Vector<double> &x) const
   {
-    x = 0;
+    x             = 0;
     const auto &b = B[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
       x[b.dof[k]] += b.value[k] * lambda[b.row[k]];

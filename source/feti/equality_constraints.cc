@@ -25,8 +25,8 @@ namespace FetiContact
         std::vector<std::vector<unsigned int>> holders(body->mesh.n_vertices());
         for (const auto &cell : body->mesh.active_cell_iterators())
           {
-            const unsigned int s =
-              first_subdomain[body->index] + body->partition.part_of_cell[cell->active_cell_index()];
+            const unsigned int s = first_subdomain[body->index] +
+                                   body->partition.part_of_cell[cell->active_cell_index()];
             for (const unsigned int v : cell->vertex_indices())
               {
                 auto &h = holders[cell->vertex_index(v)];

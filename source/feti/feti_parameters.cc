@@ -10,24 +10,31 @@ namespace FetiContact::Parameters
   Feti::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("FETI");
-    prm.declare_entry("Dirichlet treatment", "total", Patterns::Selection("primal|total"),
+    prm.declare_entry("Dirichlet treatment",
+                      "total",
+                      Patterns::Selection("primal|total"),
                       "'total': TFETI, Dirichlet conditions are rows of B_E and every subdomain "
                       "floats (robust: the default). 'primal': Dirichlet conditions are "
                       "eliminated in the subdomains (the seed paper's way: subdomains touching a "
                       "clamped face are anchored); subdomains that touch Γ_u in a few vertices "
                       "only are then nearly floating and limit the attainable accuracy "
                       "(doc/feti.md).");
-    prm.declare_entry("Local solver", "cholmod",
+    prm.declare_entry("Local solver",
+                      "cholmod",
                       Patterns::Selection(LocalSolver::available_backends()),
                       "Sparse direct solver for the regularized subdomain stiffness matrices: "
                       "'cholmod' (SuiteSparse supernodal Cholesky), 'amesos2-klu2' (Trilinos "
                       "Amesos2 KLU2), 'amesos-mumps' (Trilinos Amesos MUMPS), 'umfpack' "
                       "(SuiteSparse UMFPACK through deal.II). See doc/local_solvers.md for "
                       "timings.");
-    prm.declare_entry("Relative tolerance", "1e-10", Patterns::Double(0, 1),
+    prm.declare_entry("Relative tolerance",
+                      "1e-10",
+                      Patterns::Double(0, 1),
                       "Projected CG stops when the projected dual gradient has dropped below "
                       "this fraction of its value at λ = 0: ‖P(Fλ − h)‖ ≤ tol ‖P h‖.");
-    prm.declare_entry("Maximum iterations", "5000", Patterns::Integer(1),
+    prm.declare_entry("Maximum iterations",
+                      "5000",
+                      Patterns::Integer(1),
                       "Largest number of projected CG iterations.");
     prm.leave_subsection();
   }
@@ -36,11 +43,10 @@ namespace FetiContact::Parameters
   Feti::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("FETI");
-    dirichlet_treatment = prm.get("Dirichlet treatment") == "primal" ?
-                            DirichletTreatment::primal :
-                            DirichletTreatment::total;
-    local_solver       = prm.get("Local solver");
-    relative_tolerance = prm.get_double("Relative tolerance");
+    dirichlet_treatment = prm.get("Dirichlet treatment") == "primal" ? DirichletTreatment::primal :
+                                                                       DirichletTreatment::total;
+    local_solver        = prm.get("Local solver");
+    relative_tolerance  = prm.get_double("Relative tolerance");
     require(relative_tolerance > 0,
             "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
     max_iterations = prm.get_integer("Maximum iterations");

@@ -80,8 +80,7 @@ namespace FetiContact
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
-    cholmod_solve2(CHOLMOD_A, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work,
-                   &common);
+    cholmod_solve2(CHOLMOD_A, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
     std::memcpy(v.begin(), x_work->x, n * sizeof(double));
   }
 

@@ -82,9 +82,9 @@ namespace FetiContact
 
   struct AmesosMumpsSolver::Data
   {
-    Epetra_LinearProblem                  problem;
-    std::unique_ptr<Amesos_BaseSolver>    solver;
-    std::unique_ptr<Epetra_MultiVector>   lhs, rhs;
+    Epetra_LinearProblem                problem;
+    std::unique_ptr<Amesos_BaseSolver>  solver;
+    std::unique_ptr<Epetra_MultiVector> lhs, rhs;
   };
 
   AmesosMumpsSolver::AmesosMumpsSolver()
@@ -108,8 +108,7 @@ namespace FetiContact
     Teuchos::ParameterList list;
     list.set("MatrixProperty", "SPD");
     data->solver->SetParameters(list);
-    require(data->solver->SymbolicFactorization() == 0 &&
-              data->solver->NumericFactorization() == 0,
+    require(data->solver->SymbolicFactorization() == 0 && data->solver->NumericFactorization() == 0,
             "Amesos MUMPS: the factorization failed.");
   }
 

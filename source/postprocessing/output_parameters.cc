@@ -9,14 +9,20 @@ namespace FetiContact::Parameters
   Output::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Output");
-    prm.declare_entry("Directory", "output", Patterns::Anything(),
+    prm.declare_entry("Directory",
+                      "output",
+                      Patterns::Anything(),
                       "Folder for all output (created if missing; relative to the current "
                       "working directory).");
-    prm.declare_entry("Write vtu", "true", Patterns::Bool(),
+    prm.declare_entry("Write vtu",
+                      "true",
+                      Patterns::Bool(),
                       "Write the solution for ParaView: solution.pvd → solution.pvtu → one "
                       ".vtu per subdomain (displacement, stress, von Mises stress, subdomain "
                       "and body id).");
-    prm.declare_entry("Write displacement csv", "false", Patterns::Bool(),
+    prm.declare_entry("Write displacement csv",
+                      "false",
+                      Patterns::Bool(),
                       "Write displacements.csv: body, x, y, z, ux, uy, uz for every mesh vertex.");
     prm.leave_subsection();
   }
@@ -36,7 +42,9 @@ namespace FetiContact::Parameters
   Verification::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Verification");
-    prm.declare_entry("Compare with monolithic solve", "false", Patterns::Bool(),
+    prm.declare_entry("Compare with monolithic solve",
+                      "false",
+                      Patterns::Bool(),
                       "Also solve the undecomposed problem on the same mesh with a sparse "
                       "direct solver and report the relative difference of the displacements "
                       "(summary.json: monolithic_difference).");

@@ -29,16 +29,16 @@ namespace FetiContact
 
       void
       evaluate_vector_field(const DataPostprocessorInputs::Vector<3> &input,
-                            std::vector<Vector<double>> &computed) const override
+                            std::vector<Vector<double>>              &computed) const override
       {
         for (unsigned int q = 0; q < input.solution_gradients.size(); ++q)
           {
             Tensor<2, 3> grad;
             for (unsigned int c = 0; c < 3; ++c)
               grad[c] = input.solution_gradients[q][c];
-            const SymmetricTensor<2, 3> eps   = symmetrize(grad);
-            const SymmetricTensor<2, 3> sigma = lambda * trace(eps) * unit_symmetric_tensor<3>() +
-                                                2 * mu * eps;
+            const SymmetricTensor<2, 3> eps = symmetrize(grad);
+            const SymmetricTensor<2, 3> sigma =
+              lambda * trace(eps) * unit_symmetric_tensor<3>() + 2 * mu * eps;
             for (unsigned int a = 0; a < 3; ++a)
               for (unsigned int b = 0; b < 3; ++b)
                 computed[q][Tensor<2, 3>::component_to_unrolled_index(TableIndices<2>(a, b))] =
@@ -77,7 +77,7 @@ namespace FetiContact
         const Subdomain   &s       = *owned[i];
         const unsigned int n_cells = s.mesh.n_active_cells();
         const auto         sigma   = cell_stresses(s, mapping, u[i]);
-        Vector<double> mises(n_cells), subdomain_id(n_cells), body_id(n_cells);
+        Vector<double>     mises(n_cells), subdomain_id(n_cells), body_id(n_cells);
         for (unsigned int c = 0; c < n_cells; ++c)
           {
             mises[c]        = von_mises(sigma[c]);
@@ -86,7 +86,9 @@ namespace FetiContact
           }
         DataOut<3> data_out;
         data_out.attach_dof_handler(s.dof_handler);
-        data_out.add_data_vector(u[i], displacement_names, DataOut<3>::type_dof_data,
+        data_out.add_data_vector(u[i],
+                                 displacement_names,
+                                 DataOut<3>::type_dof_data,
                                  interpretation);
         const StressPostprocessor stress(s.body.parameters.material.lambda(),
                                          s.body.parameters.material.mu());

@@ -12,10 +12,10 @@ namespace FetiContact
   std::vector<SymmetricTensor<2, 3>>
   cell_stresses(const Subdomain &subdomain, const Mapping<3> &mapping, const Vector<double> &u)
   {
-    const auto        &fe = subdomain.dof_handler.get_fe();
-    FEValues<3>        fe_values(mapping, fe, QGaussSimplex<3>(1), update_gradients);
-    const double       lambda = subdomain.body.parameters.material.lambda();
-    const double       mu     = subdomain.body.parameters.material.mu();
+    const auto                      &fe = subdomain.dof_handler.get_fe();
+    FEValues<3>                      fe_values(mapping, fe, QGaussSimplex<3>(1), update_gradients);
+    const double                     lambda = subdomain.body.parameters.material.lambda();
+    const double                     mu     = subdomain.body.parameters.material.mu();
     const FEValuesExtractors::Vector displacement(0);
     std::vector<SymmetricTensor<2, 3>> strain(1);
     std::vector<SymmetricTensor<2, 3>> stress(subdomain.mesh.n_active_cells());

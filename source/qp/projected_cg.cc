@@ -34,8 +34,7 @@ namespace FetiContact::QP
     P(Pb);
     A(x, Ax);
     ++report.hessian_multiplications;
-    const double noise =
-      64 * std::numeric_limits<double>::epsilon() * (b.l2_norm() + Ax.l2_norm());
+    const double noise = 64 * std::numeric_limits<double>::epsilon() * (b.l2_norm() + Ax.l2_norm());
     const double reference = std::max(Pb.l2_norm(), noise / tolerance);
     if (reference == 0)
       {
@@ -43,9 +42,9 @@ namespace FetiContact::QP
         return report;
       }
 
-    double ww = w * w;
+    double ww                = w * w;
     report.relative_residual = std::sqrt(ww) / reference;
-    p = w;
+    p                        = w;
     while (report.relative_residual > tolerance)
       {
         if (report.iterations >= max_iterations)

@@ -17,18 +17,28 @@ namespace FetiContact::Parameters
                       "Where the tetrahedral mesh comes from: 'box' generates the box between "
                       "the two corners, each of its cubes split into tetrahedra; 'gmsh' reads "
                       "'File'.");
-    prm.declare_entry("Lower corner", "0, 0, 0", Patterns::Anything(),
+    prm.declare_entry("Lower corner",
+                      "0, 0, 0",
+                      Patterns::Anything(),
                       "Box: the corner with the smallest coordinates (m).");
-    prm.declare_entry("Upper corner", "1, 1, 1", Patterns::Anything(),
+    prm.declare_entry("Upper corner",
+                      "1, 1, 1",
+                      Patterns::Anything(),
                       "Box: the corner with the largest coordinates (m).");
-    prm.declare_entry("Subdivisions", "4, 4, 4", Patterns::Anything(),
+    prm.declare_entry("Subdivisions",
+                      "4, 4, 4",
+                      Patterns::Anything(),
                       "Box: the number of cubes along x, y, z. Boundary ids of the box: "
                       "0 (x = xmin), 1 (x = xmax), 2 (y = ymin), 3 (y = ymax), 4 (z = zmin), "
                       "5 (z = zmax).");
-    prm.declare_entry("Tetrahedra per cube", "6", Patterns::Selection("5|6"),
+    prm.declare_entry("Tetrahedra per cube",
+                      "6",
+                      Patterns::Selection("5|6"),
                       "Box: 6 splits each cube around its main diagonal (all cubes alike); "
                       "5 is deal.II's split with alternating orientation.");
-    prm.declare_entry("File", "", Patterns::Anything(),
+    prm.declare_entry("File",
+                      "",
+                      Patterns::Anything(),
                       "Gmsh: the mesh file (.msh, relative to the parameter file's folder). "
                       "Tetrahedra only; boundary ids are the physical tags of its triangles.");
     prm.leave_subsection();
@@ -45,8 +55,9 @@ namespace FetiContact::Parameters
         upper_corner = InputParsing::parse_point(prm.get("Upper corner"), "Mesh/Upper corner");
         for (unsigned int d = 0; d < 3; ++d)
           require(upper_corner[d] > lower_corner[d],
-                      ("Mesh: 'Upper corner' must exceed 'Lower corner' in every "
-                                 "coordinate (coordinate " + std::to_string(d) + ")."));
+                  ("Mesh: 'Upper corner' must exceed 'Lower corner' in every "
+                   "coordinate (coordinate " +
+                   std::to_string(d) + ")."));
         const auto s =
           InputParsing::parse_positive_integers(prm.get("Subdivisions"), 3, "Mesh/Subdivisions");
         subdivisions        = {{s[0], s[1], s[2]}};
@@ -59,7 +70,7 @@ namespace FetiContact::Parameters
         if (std::filesystem::path(file).is_relative() && !base_directory.empty())
           file = (std::filesystem::path(base_directory) / file).string();
         require(std::filesystem::is_regular_file(file),
-                    ("Mesh/File: the mesh file <" + file + "> does not exist."));
+                ("Mesh/File: the mesh file <" + file + "> does not exist."));
       }
     prm.leave_subsection();
   }
@@ -68,9 +79,13 @@ namespace FetiContact::Parameters
   Material::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    prm.declare_entry("Young's modulus", "2.12e11", Patterns::Anything(),
+    prm.declare_entry("Young's modulus",
+                      "2.12e11",
+                      Patterns::Anything(),
                       "Young's modulus E (Pa), > 0.");
-    prm.declare_entry("Poisson's ratio", "0.277", Patterns::Anything(),
+    prm.declare_entry("Poisson's ratio",
+                      "0.277",
+                      Patterns::Anything(),
                       "Poisson's ratio ν, in (-1, 0.5).");
     prm.leave_subsection();
   }
@@ -79,16 +94,15 @@ namespace FetiContact::Parameters
   Material::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    youngs_modulus = InputParsing::parse_double(prm.get("Young's modulus"),
-                                                "Material/Young's modulus");
-    poissons_ratio = InputParsing::parse_double(prm.get("Poisson's ratio"),
-                                                "Material/Poisson's ratio");
+    youngs_modulus =
+      InputParsing::parse_double(prm.get("Young's modulus"), "Material/Young's modulus");
+    poissons_ratio =
+      InputParsing::parse_double(prm.get("Poisson's ratio"), "Material/Poisson's ratio");
     require(youngs_modulus > 0,
-                ("Material/Young's modulus must be positive; got " +
-                           prm.get("Young's modulus") + "."));
+            ("Material/Young's modulus must be positive; got " + prm.get("Young's modulus") + "."));
     require(poissons_ratio > -1 && poissons_ratio < 0.5,
-                ("Material/Poisson's ratio must lie in (-1, 0.5); got " +
-                           prm.get("Poisson's ratio") + "."));
+            ("Material/Poisson's ratio must lie in (-1, 0.5); got " + prm.get("Poisson's ratio") +
+             "."));
     prm.leave_subsection();
   }
 
@@ -96,18 +110,26 @@ namespace FetiContact::Parameters
   BoundaryConditions::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Boundary conditions");
-    prm.declare_entry("Clamped boundaries", "", Patterns::Anything(),
+    prm.declare_entry("Clamped boundaries",
+                      "",
+                      Patterns::Anything(),
                       "Parts of the boundary with zero displacement, separated by ';'. A part "
                       "is a boundary id (a Gmsh physical tag; 0…5 for the faces of a box) or a "
                       "plane such as 'x = xmin' or 'z = 0.25'.");
-    prm.declare_entry("Prescribed displacements", "", Patterns::Anything(),
+    prm.declare_entry("Prescribed displacements",
+                      "",
+                      Patterns::Anything(),
                       "Displacements (m) prescribed component by component, entries separated "
                       "by ';', each 'part: ux, uy, uz' where a component may be 'free', e.g. "
                       "'x = xmax: 0.001, free, free'.");
-    prm.declare_entry("Tractions", "", Patterns::Anything(),
+    prm.declare_entry("Tractions",
+                      "",
+                      Patterns::Anything(),
                       "Surface tractions (Pa), entries separated by ';', each "
                       "'part: tx, ty, tz', e.g. 'z = zmax: 2e7, 0, -1e8'.");
-    prm.declare_entry("Volume force", "0, 0, 0", Patterns::Anything(),
+    prm.declare_entry("Volume force",
+                      "0, 0, 0",
+                      Patterns::Anything(),
                       "Volume force density (N/m^3).");
     prm.leave_subsection();
   }
@@ -120,11 +142,10 @@ namespace FetiContact::Parameters
     {
       const auto colon = entry.rfind(':');
       require(colon != std::string::npos,
-                  (what + ": <" + entry + "> should read 'part: value, value, value'."));
+              (what + ": <" + entry + "> should read 'part: value, value, value'."));
       const auto selector = BoundarySelector::parse(entry.substr(0, colon), what);
       const auto values   = InputParsing::split(entry.substr(colon + 1), ',');
-      require(values.size() == 3,
-                  (what + ": <" + entry + "> needs three components."));
+      require(values.size() == 3, (what + ": <" + entry + "> needs three components."));
       return {selector, values};
     }
   } // namespace
@@ -144,7 +165,7 @@ namespace FetiContact::Parameters
       }
     for (const auto &entry : InputParsing::split(prm.get("Prescribed displacements"), ';'))
       {
-        const std::string what = "Boundary conditions/Prescribed displacements";
+        const std::string what  = "Boundary conditions/Prescribed displacements";
         auto [selector, values] = parse_boundary_entry(entry, what);
         PrescribedDisplacement p;
         p.boundary = selector;
@@ -155,7 +176,7 @@ namespace FetiContact::Parameters
       }
     for (const auto &entry : InputParsing::split(prm.get("Tractions"), ';'))
       {
-        const std::string what = "Boundary conditions/Tractions";
+        const std::string what  = "Boundary conditions/Tractions";
         auto [selector, values] = parse_boundary_entry(entry, what);
         Traction t;
         t.boundary = selector;
@@ -172,15 +193,18 @@ namespace FetiContact::Parameters
   Decomposition::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Decomposition");
-    prm.declare_entry("Method", "blocks", Patterns::Selection("blocks|metis"),
+    prm.declare_entry("Method",
+                      "blocks",
+                      Patterns::Selection("blocks|metis"),
                       "How the body is split into FETI subdomains: 'blocks' cuts its bounding "
                       "box into 'Blocks' equal boxes (cells go by their centroid); 'metis' "
                       "partitions the cells into 'Number of parts'. Parts that are not "
                       "face-connected are split into their connected components.");
-    prm.declare_entry("Blocks", "1, 1, 1", Patterns::Anything(),
+    prm.declare_entry("Blocks",
+                      "1, 1, 1",
+                      Patterns::Anything(),
                       "blocks: the number of blocks along x, y, z.");
-    prm.declare_entry("Number of parts", "1", Patterns::Integer(1),
-                      "metis: the number of parts.");
+    prm.declare_entry("Number of parts", "1", Patterns::Integer(1), "metis: the number of parts.");
     prm.leave_subsection();
   }
 
@@ -199,7 +223,9 @@ namespace FetiContact::Parameters
   void
   Body::declare_parameters(ParameterHandler &prm)
   {
-    prm.declare_entry("Name", "", Patterns::Anything(),
+    prm.declare_entry("Name",
+                      "",
+                      Patterns::Anything(),
                       "A name for messages and output (default: 'body N').");
     Mesh::declare_parameters(prm);
     Material::declare_parameters(prm);

@@ -18,12 +18,12 @@ namespace FetiContact
     const auto eq          = text.find('=');
     if (eq == std::string::npos)
       {
-        char     *end = nullptr;
-        const long v  = std::strtol(text.c_str(), &end, 10);
+        char      *end = nullptr;
+        const long v   = std::strtol(text.c_str(), &end, 10);
         require(!text.empty() && *end == '\0' && v >= 0 && v < interface_boundary_id,
-                    (what + ": <" + text +
-                               "> is neither a boundary id (0…253) nor a plane such as "
-                               "'x = xmin' or 'z = 0.5'."));
+                (what + ": <" + text +
+                 "> is neither a boundary id (0…253) nor a plane such as "
+                 "'x = xmin' or 'z = 0.5'."));
         s.kind = Kind::boundary_id;
         s.id   = static_cast<types::boundary_id>(v);
         return s;
@@ -31,7 +31,7 @@ namespace FetiContact
     const std::string lhs = InputParsing::trim(text.substr(0, eq));
     const std::string rhs = InputParsing::trim(text.substr(eq + 1));
     require(lhs == "x" || lhs == "y" || lhs == "z",
-                (what + ": <" + text + "> should start with x, y or z, as in 'x = xmin'."));
+            (what + ": <" + text + "> should start with x, y or z, as in 'x = xmin'."));
     s.kind = Kind::plane;
     s.axis = lhs[0] - 'x';
     if (rhs == lhs + "min")
@@ -53,9 +53,9 @@ namespace FetiContact
       {
         const auto ids = mesh.get_boundary_ids();
         require(std::find(ids.begin(), ids.end(), id) != ids.end(),
-                    ("Body '" + body_name + "': boundary id " + std::to_string(id) +
-                               " is used in the scene but the mesh has no boundary face with "
-                               "this id."));
+                ("Body '" + body_name + "': boundary id " + std::to_string(id) +
+                 " is used in the scene but the mesh has no boundary face with "
+                 "this id."));
         return;
       }
     const auto box = GridTools::compute_bounding_box(mesh);
@@ -76,8 +76,7 @@ namespace FetiContact
             break;
           }
     require(found,
-                ("Body '" + body_name + "': no boundary face lies in the plane <" +
-                           text + ">."));
+            ("Body '" + body_name + "': no boundary face lies in the plane <" + text + ">."));
   }
 
   bool

@@ -71,13 +71,15 @@ namespace FetiContact
     std::vector<unsigned int> part(mesh.n_active_cells(), 0);
     if (parameters.method == Parameters::Decomposition::Method::blocks)
       {
-        const auto box   = GridTools::compute_bounding_box(mesh);
-        const auto lower = box.get_boundary_points().first;
-        const auto upper = box.get_boundary_points().second;
-        const auto &nb   = parameters.blocks;
+        const auto  box   = GridTools::compute_bounding_box(mesh);
+        const auto  lower = box.get_boundary_points().first;
+        const auto  upper = box.get_boundary_points().second;
+        const auto &nb    = parameters.blocks;
         require(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2] <= mesh.n_active_cells(),
-                "Body '" + body_name + "': Decomposition/Blocks asks for more subdomains than "
-                "the mesh has cells (" + std::to_string(mesh.n_active_cells()) + ").");
+                "Body '" + body_name +
+                  "': Decomposition/Blocks asks for more subdomains than "
+                  "the mesh has cells (" +
+                  std::to_string(mesh.n_active_cells()) + ").");
         for (const auto &cell : mesh.active_cell_iterators())
           {
             const Point<3> c = cell->center();
@@ -85,8 +87,8 @@ namespace FetiContact
             for (unsigned int d = 0; d < 3; ++d)
               {
                 const double t = (c[d] - lower[d]) / (upper[d] - lower[d]);
-                b[d] = std::min<unsigned int>(nb[d] - 1, static_cast<unsigned int>(
-                                                           std::floor(t * nb[d])));
+                b[d]           = std::min<unsigned int>(nb[d] - 1,
+                                              static_cast<unsigned int>(std::floor(t * nb[d])));
               }
             part[cell->active_cell_index()] = b[0] + nb[0] * (b[1] + nb[1] * b[2]);
           }
@@ -100,7 +102,8 @@ namespace FetiContact
         if (parameters.n_parts > 1)
           {
             Triangulation<3> &m = const_cast<Triangulation<3> &>(mesh);
-            GridTools::partition_triangulation(parameters.n_parts, m,
+            GridTools::partition_triangulation(parameters.n_parts,
+                                               m,
                                                SparsityTools::Partitioner::metis);
             for (const auto &cell : mesh.active_cell_iterators())
               part[cell->active_cell_index()] = cell->subdomain_id();

@@ -71,7 +71,7 @@ namespace FetiContact::MeshGeneration
         for (unsigned int i = 0; i < n[0]; ++i)
           for (const auto &path : paths)
             {
-              CellData<3> cell(4);
+              CellData<3>             cell(4);
               std::array<Point<3>, 4> p;
               for (unsigned int v = 0; v < 4; ++v)
                 {
@@ -105,21 +105,26 @@ namespace FetiContact::MeshGeneration
     if (parameters.type == Parameters::Mesh::Type::box)
       {
         if (parameters.tetrahedra_per_cube == 6)
-          subdivided_box_kuhn(mesh, parameters.subdivisions, parameters.lower_corner,
+          subdivided_box_kuhn(mesh,
+                              parameters.subdivisions,
+                              parameters.lower_corner,
                               parameters.upper_corner);
         else
           {
             const std::vector<unsigned int> reps(parameters.subdivisions.begin(),
                                                  parameters.subdivisions.end());
-            GridGenerator::subdivided_hyper_rectangle_with_simplices(
-              mesh, reps, parameters.lower_corner, parameters.upper_corner);
+            GridGenerator::subdivided_hyper_rectangle_with_simplices(mesh,
+                                                                     reps,
+                                                                     parameters.lower_corner,
+                                                                     parameters.upper_corner);
             colorize_box_faces(mesh, parameters.lower_corner, parameters.upper_corner);
           }
       }
     else
       {
         std::ifstream in(parameters.file);
-        require(static_cast<bool>(in), where + "cannot open the mesh file <" + parameters.file + ">.");
+        require(static_cast<bool>(in),
+                where + "cannot open the mesh file <" + parameters.file + ">.");
         GridIn<3> grid_in;
         grid_in.attach_triangulation(mesh);
         try
@@ -132,8 +137,7 @@ namespace FetiContact::MeshGeneration
             const auto  pos = msg.find("Additional information:");
             if (pos != std::string::npos)
               msg = InputParsing::trim(msg.substr(pos + 23, msg.find("Stacktrace") - pos - 23));
-            throw InputError(where + "cannot read the Gmsh file <" + parameters.file +
-                             ">: " + msg);
+            throw InputError(where + "cannot read the Gmsh file <" + parameters.file + ">: " + msg);
           }
       }
 

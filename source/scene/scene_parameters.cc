@@ -12,7 +12,9 @@ namespace FetiContact::Parameters
   void
   Scene::declare_parameters(ParameterHandler &prm, const unsigned int n_bodies)
   {
-    prm.declare_entry("Number of bodies", "1", Patterns::Integer(1, 64),
+    prm.declare_entry("Number of bodies",
+                      "1",
+                      Patterns::Integer(1, 64),
                       "The number of elastic bodies; each is described in 'subsection Body N'.");
     for (unsigned int b = 1; b <= n_bodies; ++b)
       {
@@ -108,9 +110,9 @@ namespace FetiContact::Parameters
         for (unsigned int k = 0; k < path.size(); ++k)
           buffer << "end\n";
       }
-    const std::string text = buffer.str();
-    const auto file_lines = std::count(file_text.begin(), file_text.end(), '\n');
-    const auto describe   = [&](const std::exception &e) {
+    const std::string text       = buffer.str();
+    const auto        file_lines = std::count(file_text.begin(), file_text.end(), '\n');
+    const auto        describe   = [&](const std::exception &e) {
       std::string       msg   = user_part_of(e);
       const std::string label = "<input string>";
       for (auto pos = msg.find(label); pos != std::string::npos; pos = msg.find(label))

@@ -23,17 +23,17 @@ namespace FetiContact
     K.reinit(sparsity);
     f.reinit(dof_handler.n_dofs());
 
-    const auto        &fe = dof_handler.get_fe();
+    const auto            &fe = dof_handler.get_fe();
     const QGaussSimplex<3> quadrature(1); // P1: constant strains, linear test functions
     const QGaussSimplex<3> load_quadrature(2);
     const QGaussSimplex<2> face_quadrature(2);
-    FEValues<3>     fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
+    FEValues<3>            fe_values(mapping, fe, quadrature, update_gradients | update_JxW_values);
     FEValues<3>     load_values(mapping, fe, load_quadrature, update_values | update_JxW_values);
     FEFaceValues<3> face_values(mapping, fe, face_quadrature, update_values | update_JxW_values);
 
-    const double lambda = body.material.lambda();
-    const double mu     = body.material.mu();
-    const auto  &bc     = body.boundary_conditions;
+    const double lambda           = body.material.lambda();
+    const double mu               = body.material.mu();
+    const auto  &bc               = body.boundary_conditions;
     const bool   has_volume_force = bc.volume_force.norm() > 0;
 
     const unsigned int                   n = fe.n_dofs_per_cell();
@@ -59,8 +59,7 @@ namespace FetiContact
             const double JxW = fe_values.JxW(q);
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int j = 0; j <= i; ++j)
-                cell_matrix(i, j) +=
-                  (lambda * div[i] * div[j] + 2 * mu * (eps[i] * eps[j])) * JxW;
+                cell_matrix(i, j) += (lambda * div[i] * div[j] + 2 * mu * (eps[i] * eps[j])) * JxW;
           }
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = i + 1; j < n; ++j)
@@ -73,8 +72,8 @@ namespace FetiContact
               for (unsigned int i = 0; i < n; ++i)
                 {
                   const unsigned int c = fe.system_to_component_index(i).first;
-                  cell_rhs(i) += bc.volume_force[c] * load_values.shape_value(i, q) *
-                                 load_values.JxW(q);
+                  cell_rhs(i) +=
+                    bc.volume_force[c] * load_values.shape_value(i, q) * load_values.JxW(q);
                 }
           }
         for (const unsigned int face_no : cell->face_indices())
@@ -87,8 +86,8 @@ namespace FetiContact
                     for (unsigned int i = 0; i < n; ++i)
                       {
                         const unsigned int c = fe.system_to_component_index(i).first;
-                        cell_rhs(i) += traction.value[c] * face_values.shape_value(i, q) *
-                                       face_values.JxW(q);
+                        cell_rhs(i) +=
+                          traction.value[c] * face_values.shape_value(i, q) * face_values.JxW(q);
                       }
                 }
         cell->get_dof_indices(dofs);
@@ -104,7 +103,7 @@ namespace FetiContact
   std::vector<std::array<types::global_dof_index, 3>>
   vertex_dof_indices(const DoFHandler<3> &dof_handler)
   {
-    const auto &fe = dof_handler.get_fe();
+    const auto                                         &fe = dof_handler.get_fe();
     std::vector<std::array<types::global_dof_index, 3>> result(
       dof_handler.get_triangulation().n_vertices(),
       {{numbers::invalid_dof_index, numbers::invalid_dof_index, numbers::invalid_dof_index}});

@@ -62,8 +62,8 @@ namespace FetiContact
               if (A(p, q) == 0)
                 continue;
               const double theta = (A(q, q) - A(p, p)) / (2 * A(p, q));
-              const double t     = (theta >= 0 ? 1 : -1) /
-                               (std::abs(theta) + std::sqrt(theta * theta + 1));
+              const double t =
+                (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
               const double c = 1 / std::sqrt(t * t + 1), s = t * c;
               for (unsigned int k = 0; k < n; ++k)
                 {
@@ -111,8 +111,8 @@ namespace FetiContact
         for (unsigned int a = 0; a < 3; ++a)
           {
             Tensor<1, 3> omega;
-            omega[a]                = 1;
-            Q(i, 3 + a)             = cross_product_3d(omega, r)[c];
+            omega[a]    = 1;
+            Q(i, 3 + a) = cross_product_3d(omega, r)[c];
           }
       }
     orthonormalize_columns(Q);

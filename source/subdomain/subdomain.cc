@@ -11,11 +11,11 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  Subdomain::Subdomain(const Body               &body,
-                       const unsigned int        part,
-                       const unsigned int        global_index,
-                       const bool                eliminate_prescribed,
-                       const FiniteElement<3>   &fe)
+  Subdomain::Subdomain(const Body             &body,
+                       const unsigned int      part,
+                       const unsigned int      global_index,
+                       const bool              eliminate_prescribed,
+                       const FiniteElement<3> &fe)
     : body(body)
     , part(part)
     , global_index(global_index)
@@ -78,9 +78,9 @@ namespace FetiContact
         const auto it = body.prescribed.find(body_vertex[v]);
         for (unsigned int c = 0; c < 3; ++c)
           {
-            const auto dof      = vertex_dofs[v][c];
-            dof_vertex[dof]     = v;
-            dof_component[dof]  = c;
+            const auto dof     = vertex_dofs[v][c];
+            dof_vertex[dof]    = v;
+            dof_component[dof] = c;
             if (it != body.prescribed.end())
               prescribed[dof] = it->second[c];
           }
@@ -138,7 +138,8 @@ namespace FetiContact
   {
     if (!prescribed_eliminated)
       return dof_handler.n_dofs();
-    return std::count_if(prescribed.begin(), prescribed.end(),
-                         [](const auto &p) { return !p.has_value(); });
+    return std::count_if(prescribed.begin(), prescribed.end(), [](const auto &p) {
+      return !p.has_value();
+    });
   }
 } // namespace FetiContact

@@ -24,10 +24,10 @@ using namespace FetiContact;
 int
 main(int argc, char **argv)
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const FESystem<3>  fe(FE_SimplexP<3>(1), 3);
-  const MappingFE<3> mapping(FE_SimplexP<3>(1));
-  std::mt19937       random(7);
+  Utilities::MPI::MPI_InitFinalize       mpi(argc, argv, 1);
+  const FESystem<3>                      fe(FE_SimplexP<3>(1), 3);
+  const MappingFE<3>                     mapping(FE_SimplexP<3>(1));
+  std::mt19937                           random(7);
   std::uniform_real_distribution<double> uniform(-1, 1);
 
   for (const auto &[name, decomposition, expected_primal_rows] :
@@ -36,8 +36,8 @@ main(int argc, char **argv)
          {"METIS 8", "set Method = metis\nset Number of parts = 8", 0}})
     for (const bool primal : {true, false})
       {
-        const std::string label = name + (primal ? ", primal" : ", TFETI");
-        const auto        scene = scene_from_text(brick_text(decomposition));
+        const std::string                  label = name + (primal ? ", primal" : ", TFETI");
+        const auto                         scene = scene_from_text(brick_text(decomposition));
         std::vector<std::unique_ptr<Body>> bodies;
         bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
         bodies[0]->setup();
@@ -50,7 +50,7 @@ main(int argc, char **argv)
         for (const auto &cell : bodies[0]->mesh.active_cell_iterators())
           for (const unsigned int v : cell->vertex_indices())
             {
-              auto &h = holders[cell->vertex_index(v)];
+              auto              &h = holders[cell->vertex_index(v)];
               const unsigned int p = bodies[0]->partition.part_of_cell[cell->active_cell_index()];
               if (std::find(h.begin(), h.end(), p) == h.end())
                 h.push_back(p);
@@ -64,14 +64,16 @@ main(int argc, char **argv)
             if (clamped && !primal)
               expected += 3 * holders[v].size();
           }
-        check(rows.n_rows() == expected, label + ": " + std::to_string(rows.n_rows()) +
-                                           " rows of B_E (expected " + std::to_string(expected) + ")");
+        check(rows.n_rows() == expected,
+              label + ": " + std::to_string(rows.n_rows()) + " rows of B_E (expected " +
+                std::to_string(expected) + ")");
         if (primal && expected_primal_rows > 0)
           check(rows.n_rows() == expected_primal_rows,
                 label + ": the seed's brick has 2 interfaces × 25 nodes × 3 = 150 gluing rows");
 
         // B_E B_Eᵀ = I.
-        std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>> by_dof;
+        std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>>
+          by_dof;
         for (unsigned int r = 0; r < rows.n_rows(); ++r)
           for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
             {
@@ -102,7 +104,8 @@ main(int argc, char **argv)
                      std::sin(1.0 + rows.entries[k].body_vertex + 7.0 * rows.entries[k].component);
               on_continuous = std::max(on_continuous, std::abs(s));
             }
-        check(on_continuous < 1e-14, label + ": gluing rows on a continuous field: " + sci(on_continuous));
+        check(on_continuous < 1e-14,
+              label + ": gluing rows on a continuous field: " + sci(on_continuous));
 
         // The dual problem.
         std::vector<std::unique_ptr<Subdomain>> subdomains;
@@ -116,7 +119,7 @@ main(int argc, char **argv)
             owned.push_back(subdomains.back().get());
             mode_offset.push_back(mode_offset.back() + subdomains.back()->R.n());
           }
-        DualProblem dual(MPI_COMM_WORLD, owned, mode_offset, rows);
+        DualProblem        dual(MPI_COMM_WORLD, owned, mode_offset, rows);
         const unsigned int m = dual.size();
         Vector<double>     x(m), y(m), Fx(m), Fy(m);
         for (unsigned int i = 0; i < m; ++i)
@@ -135,19 +138,22 @@ main(int argc, char **argv)
         PPx = Px;
         dual.coarse.project(PPx);
         PPx -= Px;
-        check(PPx.l2_norm() <= 1e-13 * x.l2_norm(), label + ": ‖P²x − Px‖/‖x‖ = " + sci(PPx.l2_norm() / x.l2_norm()));
+        check(PPx.l2_norm() <= 1e-13 * x.l2_norm(),
+              label + ": ‖P²x − Px‖/‖x‖ = " + sci(PPx.l2_norm() / x.l2_norm()));
         dual.coarse.apply_G(Px, GPx);
         Vector<double> Gx;
         dual.coarse.apply_G(x, Gx);
         if (Gx.size() > 0)
-          check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(), label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
+          check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(),
+                label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
         const auto     lambda0 = dual.coarse.least_norm_solution(dual.e);
         Vector<double> Gl;
         dual.coarse.apply_G(lambda0, Gl);
         if (dual.e.size() > 0)
           {
             Gl -= dual.e;
-            check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(), label + ": ‖Gλ₀ − e‖/‖e‖ = " + sci(Gl.l2_norm() / dual.e.l2_norm()));
+            check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(),
+                  label + ": ‖Gλ₀ − e‖/‖e‖ = " + sci(Gl.l2_norm() / dual.e.l2_norm()));
           }
       }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;

@@ -17,10 +17,10 @@ using namespace FetiContact;
 int
 main()
 {
-  const unsigned int n = 40, k = 4;
-  std::mt19937       random(3);
+  const unsigned int                     n = 40, k = 4;
+  std::mt19937                           random(3);
   std::uniform_real_distribution<double> uniform(-1, 1);
-  FullMatrix<double> M(n, n), A(n, n), G(k, n);
+  FullMatrix<double>                     M(n, n), A(n, n), G(k, n);
   for (unsigned int i = 0; i < n; ++i)
     for (unsigned int j = 0; j < n; ++j)
       M(i, j) = uniform(random);
@@ -85,15 +85,20 @@ main()
   // b in range(Gᵀ): the solution of the projected problem is x₀ + the A-correction; with A = I
   // and b = Gᵀc the minimizer over Gx = e is x₀ itself.
   const FullMatrix<double> I{IdentityMatrix(n)};
-  Vector<double>     c(k), b2(n), x2(n);
+  Vector<double>           c(k), b2(n), x2(n);
   c[0] = 1;
   G.Tvmult(b2, c);
   x2 = 0;
   G.Tvmult(x2, mu);
   const Vector<double> x0(x2);
-  const auto report2 = QP::projected_conjugate_gradient(
-    [&](const Vector<double> &v, Vector<double> &w) { I.vmult(w, v); }, project, b2, x2, 1e-12, 100);
-  Vector<double> d(x2);
+  const auto           report2 = QP::projected_conjugate_gradient([&](const Vector<double> &v,
+                                                            Vector<double> &w) { I.vmult(w, v); },
+                                                        project,
+                                                        b2,
+                                                        x2,
+                                                        1e-12,
+                                                        100);
+  Vector<double>       d(x2);
   d -= x0;
   check(report2.converged && d.l2_norm() <= 1e-14 * x0.l2_norm(),
         "Pb = 0, A = I: stays at x₀ (‖x − x₀‖ = " + sci(d.l2_norm()) + ")");

@@ -36,24 +36,29 @@ main(int argc, char **argv)
   };
   struct Case
   {
-    std::string                                        name;
+    std::string                                         name;
     std::function<bool(const Point<3> &, unsigned int)> fixed;
-    unsigned int                                       expected;
+    unsigned int                                        expected;
   };
   const std::vector<Case> cases = {
     {"nothing fixed", [](const Point<3> &, unsigned int) { return false; }, 6},
     {"one node fixed", [](const Point<3> &p, unsigned int) { return p.norm() == 0; }, 3},
     {"face x = 0 clamped", [](const Point<3> &p, unsigned int) { return p[0] == 0; }, 0},
-    {"roller: u_z = 0 on z = 0", [](const Point<3> &p, unsigned int c) { return p[2] == 0 && c == 2; }, 3},
-    {"edge x = y = 0 clamped", [](const Point<3> &p, unsigned int) { return p[0] == 0 && p[1] == 0; }, 1},
+    {"roller: u_z = 0 on z = 0",
+     [](const Point<3> &p, unsigned int c) { return p[2] == 0 && c == 2; },
+     3},
+    {"edge x = y = 0 clamped",
+     [](const Point<3> &p, unsigned int) { return p[0] == 0 && p[1] == 0; },
+     1},
     {"u_x = 0 everywhere", [](const Point<3> &, unsigned int c) { return c == 0; }, 3},
   };
   for (const auto &c : cases)
     {
       const auto fixed = fixed_where(c.fixed);
       const auto R     = rigid_body_modes(points, components, fixed);
-      check(R.n() == c.expected, c.name + ": " + std::to_string(R.n()) + " modes (expected " +
-                                   std::to_string(c.expected) + ")");
+      check(R.n() == c.expected,
+            c.name + ": " + std::to_string(R.n()) + " modes (expected " +
+              std::to_string(c.expected) + ")");
       double on_fixed = 0;
       for (unsigned int i = 0; i < points.size(); ++i)
         if (fixed[i])
@@ -74,9 +79,10 @@ main(int argc, char **argv)
           const Tensor<1, 3> omega({dy[2], -dx[2], dx[1]});
           double             misfit = 0;
           for (unsigned int node = 0; node < 27; ++node)
-            misfit = std::max(misfit, (r(node) - a - cross_product_3d(omega, points[3 * node])).norm());
-          check(misfit < 1e-12, c.name + ", mode " + std::to_string(j) + ": rigid (misfit " +
-                                  sci(misfit) + ")");
+            misfit =
+              std::max(misfit, (r(node) - a - cross_product_3d(omega, points[3 * node])).norm());
+          check(misfit < 1e-12,
+                c.name + ", mode " + std::to_string(j) + ": rigid (misfit " + sci(misfit) + ")");
         }
     }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;

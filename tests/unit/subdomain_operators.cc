@@ -23,10 +23,10 @@ using namespace FetiContact;
 int
 main(int argc, char **argv)
 {
-  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const FESystem<3>  fe(FE_SimplexP<3>(1), 3);
-  const MappingFE<3> mapping(FE_SimplexP<3>(1));
-  std::mt19937       random(42);
+  Utilities::MPI::MPI_InitFinalize       mpi(argc, argv, 1);
+  const FESystem<3>                      fe(FE_SimplexP<3>(1), 3);
+  const MappingFE<3>                     mapping(FE_SimplexP<3>(1));
+  std::mt19937                           random(42);
   std::uniform_real_distribution<double> uniform(-1, 1);
 
   const std::vector<std::pair<std::string, std::string>> decompositions = {
@@ -46,8 +46,8 @@ main(int argc, char **argv)
               Subdomain s(body, p, p, primal, fe);
               s.assemble(mapping);
               s.factorize(backend);
-              const std::string label = name + (primal ? ", primal" : ", TFETI") +
-                                        ", subdomain " + std::to_string(p) + ", " + backend;
+              const std::string label = name + (primal ? ", primal" : ", TFETI") + ", subdomain " +
+                                        std::to_string(p) + ", " + backend;
 
               bool touches_clamp = false;
               for (const auto &v : s.prescribed)

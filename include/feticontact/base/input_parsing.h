@@ -63,7 +63,5 @@ namespace FetiContact::InputParsing
 
   /** A comma-separated list of exactly @p n positive integers. */
   std::vector<unsigned int>
-  parse_positive_integers(const std::string &text,
-                          const unsigned int n,
-                          const std::string &what);
+  parse_positive_integers(const std::string &text, const unsigned int n, const std::string &what);
 } // namespace FetiContact::InputParsing

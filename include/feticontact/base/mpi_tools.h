@@ -1,7 +1,6 @@
 #pragma once
 
 #include <mpi.h>
-
 #include <type_traits>
 #include <vector>
 
@@ -21,8 +20,8 @@ namespace FetiContact::MPITools
     for (int r = 0; r < n_ranks; ++r)
       offsets[r + 1] = offsets[r] + counts[r];
     std::vector<T> all(offsets[n_ranks] / sizeof(T));
-    MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(),
-                   MPI_BYTE, comm);
+    MPI_Allgatherv(
+      local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm);
     return all;
   }
 

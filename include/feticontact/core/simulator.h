@@ -75,7 +75,7 @@ namespace FetiContact
     dealii::ConditionalOStream pcout;
     dealii::TimerOutput        timer;
 
-    const dealii::FESystem<3> fe;
+    const dealii::FESystem<3>  fe;
     const dealii::MappingFE<3> mapping;
 
     std::vector<std::unique_ptr<Body>>      bodies;
@@ -90,7 +90,7 @@ namespace FetiContact
     dealii::Vector<double>              lambda;
     std::vector<dealii::Vector<double>> u;
     JsonObject                          summary;
-    bool                                converged = false;
+    bool                                converged  = false;
     unsigned int                        iterations = 0;
   };
 } // namespace FetiContact

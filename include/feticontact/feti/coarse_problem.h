@@ -5,7 +5,6 @@
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <mpi.h>
-
 #include <vector>
 
 namespace FetiContact
@@ -32,10 +31,10 @@ namespace FetiContact
      * Throws InputError if GGᵀ is singular: some rigid motion is not restrained by B.
      */
     void
-    initialize(const MPI_Comm             comm,
-               const std::vector<Entry>  &local_entries,
-               const unsigned int         n_modes,
-               const unsigned int         n_columns);
+    initialize(const MPI_Comm            comm,
+               const std::vector<Entry> &local_entries,
+               const unsigned int        n_modes,
+               const unsigned int        n_columns);
 
     unsigned int
     n_modes() const
@@ -72,10 +71,10 @@ namespace FetiContact
     coarse_coefficients(const dealii::Vector<double> &x) const;
 
   private:
-    unsigned int              n_rows = 0, n_cols = 0;
-    std::vector<unsigned int> row_start, column;
-    std::vector<double>       value;
-    CholmodSolver             GGt;
+    unsigned int                   n_rows = 0, n_cols = 0;
+    std::vector<unsigned int>      row_start, column;
+    std::vector<double>            value;
+    CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
   };
 } // namespace FetiContact

@@ -7,7 +7,6 @@
 #include <feticontact/subdomain/subdomain.h>
 
 #include <mpi.h>
-
 #include <vector>
 
 namespace FetiContact
@@ -29,10 +28,10 @@ namespace FetiContact
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
      * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c.
      */
-    DualProblem(const MPI_Comm                    comm,
-                const std::vector<Subdomain *>   &owned,
-                const std::vector<unsigned int>  &mode_offset,
-                const DualRows                   &rows);
+    DualProblem(const MPI_Comm                   comm,
+                const std::vector<Subdomain *>  &owned,
+                const std::vector<unsigned int> &mode_offset,
+                const DualRows                  &rows);
 
     /** The number of dual unknowns m. */
     unsigned int
@@ -71,12 +70,14 @@ namespace FetiContact
     void
     add_B(const unsigned int i, const dealii::Vector<double> &u, dealii::Vector<double> &y) const;
     void
-    set_Bt(const unsigned int i, const dealii::Vector<double> &lambda, dealii::Vector<double> &x) const;
+    set_Bt(const unsigned int            i,
+           const dealii::Vector<double> &lambda,
+           dealii::Vector<double>       &x) const;
 
-    MPI_Comm                     comm;
-    std::vector<Subdomain *>     owned;
-    std::vector<LocalBlock>      B;
-    std::vector<unsigned int>    first_mode;
+    MPI_Comm                                    comm;
+    std::vector<Subdomain *>                    owned;
+    std::vector<LocalBlock>                     B;
+    std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;
   };
 } // namespace FetiContact

@@ -9,8 +9,8 @@ namespace FetiContact::Parameters
   /** `subsection Output`: what a run writes, and where. */
   struct Output
   {
-    std::string directory = "output";
-    bool        write_vtu = true;
+    std::string directory              = "output";
+    bool        write_vtu              = true;
     bool        write_displacement_csv = false;
 
     static void

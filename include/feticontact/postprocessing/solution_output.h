@@ -6,7 +6,6 @@
 #include <feticontact/subdomain/subdomain.h>
 
 #include <mpi.h>
-
 #include <string>
 #include <vector>
 
@@ -15,12 +14,12 @@ namespace FetiContact
   /**
    * Writes the solution for ParaView: one `solution_NNNN.vtu` per subdomain (written by the rank
    * that owns it) with the displacement, the stress tensor, the von Mises stress, the
-   * subdomain id and the body id (the last three as cell data), and on rank 0 `solution.pvtu` listing them and
-   * `solution.pvd` (one time step) pointing to it.
+   * subdomain id and the body id (the last three as cell data), and on rank 0 `solution.pvtu`
+   * listing them and `solution.pvd` (one time step) pointing to it.
    */
   void
-  write_solution_vtu(const MPI_Comm                            comm,
-                     const std::vector<Subdomain *>           &owned,
+  write_solution_vtu(const MPI_Comm                             comm,
+                     const std::vector<Subdomain *>            &owned,
                      const std::vector<dealii::Vector<double>> &u,
                      const unsigned int                         n_subdomains,
                      const dealii::Mapping<3>                  &mapping,

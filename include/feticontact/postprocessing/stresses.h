@@ -15,7 +15,8 @@ namespace FetiContact
    * P1 elements), by active cell index.
    */
   std::vector<dealii::SymmetricTensor<2, 3>>
-  cell_stresses(const Subdomain &subdomain, const dealii::Mapping<3> &mapping,
+  cell_stresses(const Subdomain              &subdomain,
+                const dealii::Mapping<3>     &mapping,
                 const dealii::Vector<double> &u);
 
   /** The von Mises equivalent stress √(3/2 s:s), s the deviator of σ. */

@@ -9,7 +9,6 @@
 #include <feticontact/subdomain/subdomain.h>
 
 #include <mpi.h>
-
 #include <vector>
 
 namespace FetiContact
@@ -20,10 +19,10 @@ namespace FetiContact
    * the value of the lowest-numbered one. Replicated on every rank.
    */
   std::vector<std::vector<dealii::Tensor<1, 3>>>
-  gather_vertex_displacements(const MPI_Comm                            comm,
-                              const std::vector<std::unique_ptr<Body>> &bodies,
-                              const std::vector<unsigned int>          &first_subdomain,
-                              const std::vector<Subdomain *>           &owned,
+  gather_vertex_displacements(const MPI_Comm                             comm,
+                              const std::vector<std::unique_ptr<Body>>  &bodies,
+                              const std::vector<unsigned int>           &first_subdomain,
+                              const std::vector<Subdomain *>            &owned,
                               const std::vector<dealii::Vector<double>> &u);
 
   /**
@@ -32,7 +31,8 @@ namespace FetiContact
    * displacement of every vertex.
    */
   std::vector<dealii::Tensor<1, 3>>
-  solve_monolithic(const Body &body, const dealii::Mapping<3> &mapping,
+  solve_monolithic(const Body                     &body,
+                   const dealii::Mapping<3>       &mapping,
                    const dealii::FiniteElement<3> &fe);
 
   /**

@@ -9,9 +9,9 @@ namespace FetiContact::QP
   /** What a QP solver reports. */
   struct SolverReport
   {
-    unsigned int iterations             = 0;
+    unsigned int iterations              = 0;
     unsigned int hessian_multiplications = 0;
-    bool         converged              = false;
+    bool         converged               = false;
     /** ‖projected gradient‖ / reference at the end. */
     double relative_residual = 0;
   };
@@ -30,10 +30,10 @@ namespace FetiContact::QP
   SolverReport
   projected_conjugate_gradient(
     const std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)> &A,
-    const std::function<void(dealii::Vector<double> &)>                              &P,
-    const dealii::Vector<double>                                                      &b,
-    dealii::Vector<double>                                                            &x,
-    const double                                                                       tolerance,
-    const unsigned int                                                                 max_iterations,
+    const std::function<void(dealii::Vector<double> &)>                                 &P,
+    const dealii::Vector<double>                                                        &b,
+    dealii::Vector<double>                                                              &x,
+    const double                                                                         tolerance,
+    const unsigned int                               max_iterations,
     const std::function<void(unsigned int, double)> &monitor = {});
 } // namespace FetiContact::QP

@@ -39,10 +39,10 @@ namespace FetiContact
     unsigned int
     n_free_dofs() const;
 
-    Parameters::Body                 parameters;
-    unsigned int                     index;
-    dealii::Triangulation<3>         mesh;
+    Parameters::Body                   parameters;
+    unsigned int                       index;
+    dealii::Triangulation<3>           mesh;
     std::map<unsigned int, Prescribed> prescribed; ///< by mesh vertex index
-    CellPartition                    partition;
+    CellPartition                      partition;
   };
 } // namespace FetiContact

@@ -54,8 +54,7 @@ namespace FetiContact::Parameters
     double
     lambda() const
     {
-      return youngs_modulus * poissons_ratio /
-             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
+      return youngs_modulus * poissons_ratio / ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
     }
     double
     mu() const

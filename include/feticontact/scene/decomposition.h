@@ -22,7 +22,7 @@ namespace FetiContact
 
   /** Partitions @p mesh as @p parameters asks (structured blocks or METIS). */
   CellPartition
-  partition_cells(const dealii::Triangulation<3>      &mesh,
-                  const Parameters::Decomposition     &parameters,
-                  const std::string                   &body_name);
+  partition_cells(const dealii::Triangulation<3>  &mesh,
+                  const Parameters::Decomposition &parameters,
+                  const std::string               &body_name);
 } // namespace FetiContact

@@ -13,7 +13,7 @@ namespace FetiContact::MeshGeneration
    * does not use the reserved interface id. Throws InputError naming the cause.
    */
   void
-  create_mesh(const Parameters::Mesh &parameters,
+  create_mesh(const Parameters::Mesh   &parameters,
               dealii::Triangulation<3> &mesh,
               const std::string        &body_name);
 

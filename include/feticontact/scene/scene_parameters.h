@@ -37,8 +37,8 @@ namespace FetiContact::Parameters
      * are applied after the file, as if appended to it.
      */
     static void
-    read_parameter_file(dealii::ParameterHandler        &prm,
-                        const std::string               &filename,
+    read_parameter_file(dealii::ParameterHandler       &prm,
+                        const std::string              &filename,
                         const std::vector<std::string> &overrides = {});
   };
 } // namespace FetiContact::Parameters

@@ -12,6 +12,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/contact_geometry.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/scene/scene_parameters.h>
 
@@ -67,7 +68,7 @@ main(int argc, char **argv)
       if (a == "--print-parameters")
         {
           dealii::ParameterHandler prm;
-          Parameters::Scene::declare_parameters(prm, 1);
+          Parameters::Scene::declare_parameters(prm, 1, 1);
           if (root)
             prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
           return 0;
@@ -110,13 +111,16 @@ main(int argc, char **argv)
 
       if (validate_only)
         {
-          // The meshes and boundary parts are checked too: create them without solving.
+          // The meshes, boundary parts and contact surfaces are checked too, without solving.
+          std::vector<std::unique_ptr<Body>> bodies;
           for (unsigned int b = 0; b < scene.bodies.size(); ++b)
             {
-              Body body(scene.bodies[b], b);
-              body.setup();
-              body.check_held();
+              bodies.push_back(std::make_unique<Body>(scene.bodies[b], b));
+              bodies.back()->setup();
+              if (!in_contact(scene.contact, b))
+                bodies.back()->check_held();
             }
+          find_contact_nodes(bodies, scene.contact);
           if (root)
             std::cout << "The parameter file <" << filename << "> is valid." << std::endl;
           return 0;

@@ -63,7 +63,8 @@ namespace FetiContact
       {
         bodies.push_back(std::make_unique<Body>(parameters.bodies[b], b));
         bodies.back()->setup();
-        bodies.back()->check_held();
+        if (!in_contact(parameters.contact, b))
+          bodies.back()->check_held();
         first_subdomain.push_back(n_subdomains);
         n_subdomains += bodies.back()->partition.n_parts;
         pcout << "Body '" << bodies.back()->parameters.name

@@ -13,6 +13,15 @@ namespace FetiContact
     c.push_back(rhs);
   }
 
+  void
+  DualRows::append(const DualRows &other)
+  {
+    for (unsigned int r = 0; r < other.n_rows(); ++r)
+      add_row(std::vector<DualRowEntry>(other.entries.begin() + other.row_start[r],
+                                        other.entries.begin() + other.row_start[r + 1]),
+              other.c[r]);
+  }
+
   DualRows
   build_equality_rows(const std::vector<std::unique_ptr<Body>> &bodies,
                       const std::vector<unsigned int>          &first_subdomain,
@@ -22,25 +31,16 @@ namespace FetiContact
     for (const auto &body : bodies)
       {
         // The subdomains that hold each vertex, in increasing order.
-        std::vector<std::vector<unsigned int>> holders(body->mesh.n_vertices());
-        for (const auto &cell : body->mesh.active_cell_iterators())
-          {
-            const unsigned int s = first_subdomain[body->index] +
-                                   body->partition.part_of_cell[cell->active_cell_index()];
-            for (const unsigned int v : cell->vertex_indices())
-              {
-                auto &h = holders[cell->vertex_index(v)];
-                if (std::find(h.begin(), h.end(), s) == h.end())
-                  h.push_back(s);
-              }
-          }
+        auto holders = parts_of_vertices(body->mesh, body->partition);
+        for (auto &h : holders)
+          for (auto &p : h)
+            p += first_subdomain[body->index];
         std::vector<DualRowEntry> row;
         for (unsigned int v = 0; v < holders.size(); ++v)
           {
-            auto &h = holders[v];
+            const auto &h = holders[v];
             if (h.empty())
               continue;
-            std::sort(h.begin(), h.end());
             const auto it = body->prescribed.find(v);
             for (unsigned int c = 0; c < 3; ++c)
               {

@@ -23,12 +23,10 @@ namespace FetiContact
         result[body->index].resize(body->mesh.n_vertices());
         auto &low = lowest[body->index];
         low.assign(body->mesh.n_vertices(), numbers::invalid_unsigned_int);
-        for (const auto &cell : body->mesh.active_cell_iterators())
-          for (const unsigned int v : cell->vertex_indices())
-            low[cell->vertex_index(v)] =
-              std::min(low[cell->vertex_index(v)],
-                       first_subdomain[body->index] +
-                         body->partition.part_of_cell[cell->active_cell_index()]);
+        const auto parts = parts_of_vertices(body->mesh, body->partition);
+        for (unsigned int v = 0; v < parts.size(); ++v)
+          if (!parts[v].empty())
+            low[v] = first_subdomain[body->index] + parts[v].front();
       }
     for (unsigned int i = 0; i < owned.size(); ++i)
       {

@@ -63,6 +63,25 @@ namespace FetiContact
     }
   } // namespace
 
+  std::vector<std::vector<unsigned int>>
+  parts_of_vertices(const Triangulation<3> &mesh, const CellPartition &partition)
+  {
+    std::vector<std::vector<unsigned int>> parts(mesh.n_vertices());
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        const unsigned int p = partition.part_of_cell[cell->active_cell_index()];
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            auto &list = parts[cell->vertex_index(v)];
+            if (std::find(list.begin(), list.end(), p) == list.end())
+              list.push_back(p);
+          }
+      }
+    for (auto &list : parts)
+      std::sort(list.begin(), list.end());
+    return parts;
+  }
+
   CellPartition
   partition_cells(const Triangulation<3>          &mesh,
                   const Parameters::Decomposition &parameters,

@@ -10,7 +10,9 @@ namespace FetiContact::Parameters
   using namespace dealii;
 
   void
-  Scene::declare_parameters(ParameterHandler &prm, const unsigned int n_bodies)
+  Scene::declare_parameters(ParameterHandler &prm,
+                            const unsigned int n_bodies,
+                            const unsigned int n_zones)
   {
     prm.declare_entry("Number of bodies",
                       "1",
@@ -22,6 +24,7 @@ namespace FetiContact::Parameters
         Body::declare_parameters(prm);
         prm.leave_subsection();
       }
+    Contact::declare_parameters(prm, n_zones);
     Feti::declare_parameters(prm);
     Output::declare_parameters(prm);
     Verification::declare_parameters(prm);
@@ -48,6 +51,7 @@ namespace FetiContact::Parameters
         if (bodies[b].name.empty())
           bodies[b].name = "body " + std::to_string(b + 1);
       }
+    contact.parse_parameters(prm, n_bodies);
     feti.parse_parameters(prm);
     output.parse_parameters(prm);
     verification.parse_parameters(prm);
@@ -124,10 +128,13 @@ namespace FetiContact::Parameters
     };
 
     // First pass: the number of bodies, everything else skipped.
-    unsigned int n_bodies = 1;
+    unsigned int n_bodies = 1, n_zones = 0;
     {
       ParameterHandler first;
       first.declare_entry("Number of bodies", "1", Patterns::Integer(1, 64), "");
+      first.enter_subsection("Contact");
+      first.declare_entry("Number of zones", "0", Patterns::Integer(0, 256), "");
+      first.leave_subsection();
       try
         {
           first.parse_input_from_string(text, "", true);
@@ -137,9 +144,12 @@ namespace FetiContact::Parameters
           throw InputError(describe(e));
         }
       n_bodies = first.get_integer("Number of bodies");
+      first.enter_subsection("Contact");
+      n_zones = first.get_integer("Number of zones");
+      first.leave_subsection();
     }
 
-    declare_parameters(prm, n_bodies);
+    declare_parameters(prm, n_bodies, n_zones);
     try
       {
         prm.parse_input_from_string(text, "", false);

@@ -34,6 +34,9 @@ namespace FetiContact
     }
     void
     add_row(const std::vector<DualRowEntry> &row, const double rhs);
+    /** Appends all rows of @p other after these. */
+    void
+    append(const DualRows &other);
   };
 
   /**

@@ -20,6 +20,13 @@ namespace FetiContact
     unsigned int              n_parts = 0;
   };
 
+  /**
+   * For every vertex of @p mesh, the parts of @p partition whose cells contain it, in increasing
+   * order (empty for unused vertices). A vertex with more than one part lies on an interface.
+   */
+  std::vector<std::vector<unsigned int>>
+  parts_of_vertices(const dealii::Triangulation<3> &mesh, const CellPartition &partition);
+
   /** Partitions @p mesh as @p parameters asks (structured blocks or METIS). */
   CellPartition
   partition_cells(const dealii::Triangulation<3>  &mesh,

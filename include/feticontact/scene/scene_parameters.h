@@ -5,6 +5,7 @@
 #include <feticontact/feti/feti_parameters.h>
 #include <feticontact/postprocessing/output_parameters.h>
 #include <feticontact/scene/body_parameters.h>
+#include <feticontact/scene/contact_parameters.h>
 
 #include <string>
 #include <vector>
@@ -18,19 +19,22 @@ namespace FetiContact::Parameters
   struct Scene
   {
     std::vector<Body> bodies;
+    Contact           contact;
     Feti              feti;
     Output            output;
     Verification      verification;
 
-    /** Declares everything for a scene with @p n_bodies bodies. */
+    /** Declares everything for a scene with @p n_bodies bodies and @p n_zones contact zones. */
     static void
-    declare_parameters(dealii::ParameterHandler &prm, const unsigned int n_bodies);
+    declare_parameters(dealii::ParameterHandler &prm,
+                       const unsigned int        n_bodies,
+                       const unsigned int        n_zones = 0);
     void
     parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
 
     /**
-     * Reads @p filename into @p prm: first `Number of bodies` alone, then everything with that
-     * many body subsections declared. Throws InputError naming the line for malformed input,
+     * Reads @p filename into @p prm: first `Number of bodies` and `Contact/Number of zones`
+     * alone, then everything with that many body and zone subsections declared. Throws InputError naming the line for malformed input,
      * unknown entries and values that do not match their pattern.
      *
      * @p overrides ("Body 1/Mesh/Subdivisions=24, 8, 8", from the command line option --set)

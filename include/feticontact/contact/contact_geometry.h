@@ -1,0 +1,51 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <feticontact/scene/body.h>
+#include <feticontact/scene/contact_parameters.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * A contact node x_k of a slave surface Γ_c (DESIGN.md §1): the vertex, its partner χ(x_k)
+   * (a vertex of the master surface, or the projection on a rigid plane), the critical direction
+   * n_k, tangents t1_k, t2_k ({n, t1, t2} orthonormal), the initial gap d_k = (χ(x_k) − x_k)·n_k
+   * and the coefficient of friction F of its zone.
+   */
+  struct ContactNode
+  {
+    unsigned int zone;
+    unsigned int body;
+    unsigned int vertex;
+    /** Body pair: the master body and vertex χ(x_k); empty for a rigid obstacle. */
+    std::optional<std::pair<unsigned int, unsigned int>> master;
+    dealii::Point<3>                                     x;
+    dealii::Tensor<1, 3>                                 n, t1, t2;
+    double                                               gap;
+    double                                               friction;
+  };
+
+  /**
+   * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
+   * displacement component (a vertex in two zones belongs to the first), in zone order and by
+   * vertex number. Rigid plane: χ(x_k) is the orthogonal projection of x_k on the plane and n_k
+   * the plane's normal pointing into the obstacle. Body pair: n_k is from x_k towards χ(x_k)
+   * when the gap is positive and the outer unit normal of Γ_c (the area-weighted mean of the
+   * adjacent face normals) when it is zero. For a
+   * body pair every slave node must have a master vertex opposite it along its normal; otherwise
+   * the surfaces do not match and InputError names the node.
+   */
+  std::vector<ContactNode>
+  find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
+                     const Parameters::Contact                &contact);
+
+  /** Unit vectors t1, t2 completing the unit vector n to a right-handed orthonormal basis. */
+  std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
+  tangent_basis(const dealii::Tensor<1, 3> &n);
+} // namespace FetiContact

@@ -1,0 +1,171 @@
+#include <deal.II/grid/grid_tools.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/contact_geometry.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  std::pair<Tensor<1, 3>, Tensor<1, 3>>
+  tangent_basis(const Tensor<1, 3> &n)
+  {
+    // Start from the coordinate axis least aligned with n.
+    unsigned int axis = 0;
+    for (unsigned int d = 1; d < 3; ++d)
+      if (std::abs(n[d]) < std::abs(n[axis]))
+        axis = d;
+    Tensor<1, 3> a;
+    a[axis]         = 1;
+    Tensor<1, 3> t1 = a - (a * n) * n;
+    t1 /= t1.norm();
+    return {t1, cross_product_3d(n, t1)};
+  }
+
+  namespace
+  {
+    /**
+     * The vertices of the boundary faces of @p mesh in @p surface, with the area-weighted sum of
+     * the outward normals of those faces, and the mean edge length of the faces.
+     */
+    struct Surface
+    {
+      std::map<unsigned int, Tensor<1, 3>> normal_sum;
+      double                               mean_edge = 0;
+    };
+
+    Surface
+    collect_surface(const Triangulation<3> &mesh, const BoundarySelector &surface)
+    {
+      Surface      s;
+      unsigned int n_edges = 0;
+      for (const auto &cell : mesh.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && surface.contains(*face))
+            {
+              const Point<3> a = face->vertex(0), b = face->vertex(1), c = face->vertex(2);
+              Tensor<1, 3>   area_normal = 0.5 * cross_product_3d(b - a, c - a);
+              if (area_normal * (face->center() - cell->center()) < 0)
+                area_normal = -area_normal;
+              for (const unsigned int v : face->vertex_indices())
+                s.normal_sum[face->vertex_index(v)] += area_normal;
+              s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
+              n_edges += 3;
+            }
+      if (n_edges > 0)
+        s.mean_edge /= n_edges;
+      return s;
+    }
+
+    std::string
+    point_text(const Point<3> &p)
+    {
+      std::ostringstream out;
+      out << '(' << p[0] << ", " << p[1] << ", " << p[2] << ')';
+      return out.str();
+    }
+  } // namespace
+
+  std::vector<ContactNode>
+  find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
+                     const Parameters::Contact                &contact)
+  {
+    std::vector<ContactNode>                         nodes;
+    std::set<std::pair<unsigned int, unsigned int>> taken; // (body, vertex)
+    for (unsigned int z = 0; z < contact.zones.size(); ++z)
+      {
+        const auto       &zone  = contact.zones[z];
+        const std::string where = "Contact zone " + std::to_string(z + 1) + ": ";
+        const Body       &body  = *bodies[zone.body];
+        BoundarySelector  surface(zone.surface);
+        surface.resolve(body.mesh, body.parameters.name);
+        const Surface slave = collect_surface(body.mesh, surface);
+
+        Surface           master;
+        const Body       *master_body = nullptr;
+        if (zone.type == Parameters::ContactZone::Type::body)
+          {
+            master_body = bodies[zone.master_body].get();
+            BoundarySelector master_surface(zone.master_surface);
+            master_surface.resolve(master_body->mesh, master_body->parameters.name);
+            master = collect_surface(master_body->mesh, master_surface);
+          }
+
+        unsigned int n_in_zone = 0;
+        for (const auto &[vertex, normal_sum] : slave.normal_sum)
+          {
+            const auto it = body.prescribed.find(vertex);
+            if (it != body.prescribed.end())
+              continue; // a Dirichlet node is not a contact node
+            if (!taken.insert({zone.body, vertex}).second)
+              continue;
+            ContactNode node;
+            node.zone     = z;
+            node.body     = zone.body;
+            node.vertex   = vertex;
+            node.x        = body.mesh.get_vertices()[vertex];
+            node.friction = zone.friction_coefficient;
+            const Tensor<1, 3> outer = normal_sum / normal_sum.norm();
+            if (zone.type == Parameters::ContactZone::Type::rigid_plane)
+              {
+                // χ(x): the orthogonal projection of x on the plane, so the critical direction
+                // is the plane's normal (towards the obstacle) for every node.
+                const double distance = (node.x - zone.plane_point) * zone.plane_normal;
+                require(distance >= -1e-10 * slave.mean_edge,
+                        where + "the node at " + point_text(node.x) +
+                          " lies inside the rigid obstacle (initial penetration " +
+                          std::to_string(-distance) + " m).");
+                node.gap = std::max(distance, 0.0);
+                node.n   = -zone.plane_normal;
+              }
+            else
+              {
+                // χ(x): the master vertex opposite x along the outer normal.
+                double       best_offset = std::numeric_limits<double>::max();
+                unsigned int best        = numbers::invalid_unsigned_int;
+                for (const auto &[mv, unused] : master.normal_sum)
+                  {
+                    const Tensor<1, 3> d      = master_body->mesh.get_vertices()[mv] - node.x;
+                    const double       along  = d * outer;
+                    const double       offset = (d - along * outer).norm();
+                    if (along >= -1e-8 * slave.mean_edge && offset < best_offset)
+                      {
+                        best_offset = offset;
+                        best        = mv;
+                      }
+                  }
+                require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
+                        where + "the node at " + point_text(node.x) + " of body '" +
+                          body.parameters.name + "' has no node of the master surface of body '" +
+                          master_body->parameters.name +
+                          "' opposite it: the meshes of the two surfaces do not match (they must "
+                          "be conforming node to node).");
+                node.master          = std::make_pair(zone.master_body, best);
+                const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
+                if (d.norm() > 1e-8 * slave.mean_edge)
+                  {
+                    node.n   = d / d.norm();
+                    node.gap = d.norm();
+                  }
+                else
+                  {
+                    node.n   = outer;
+                    node.gap = 0;
+                  }
+              }
+            std::tie(node.t1, node.t2) = tangent_basis(node.n);
+            nodes.push_back(node);
+            ++n_in_zone;
+          }
+        require(n_in_zone > 0,
+                where + "the surface <" + zone.surface.name() + "> of body '" +
+                  body.parameters.name + "' has no contact node (all its vertices are Dirichlet "
+                  "vertices or belong to an earlier zone).");
+      }
+    return nodes;
+  }
+} // namespace FetiContact

@@ -1,0 +1,125 @@
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/scene/contact_parameters.h>
+
+namespace FetiContact::Parameters
+{
+  using namespace dealii;
+
+  void
+  ContactZone::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Type",
+                      "rigid plane",
+                      Patterns::Selection("rigid plane|body"),
+                      "What the surface may touch: a 'rigid plane' (an obstacle given by a point "
+                      "and a normal) or another 'body' (its 'Master surface', matched node by "
+                      "node: the meshes must be conforming there).");
+    prm.declare_entry("Body", "1", Patterns::Integer(1), "The body whose surface this is (1, 2, …).");
+    prm.declare_entry("Surface",
+                      "z = zmin",
+                      Patterns::Anything(),
+                      "The candidate contact surface Γ_c of the body: a boundary id or a plane "
+                      "such as 'z = zmin'. Vertices with a prescribed displacement component are "
+                      "not contact nodes.");
+    prm.declare_entry("Friction coefficient",
+                      "0",
+                      Patterns::Anything(),
+                      "Coulomb's coefficient of friction F ≥ 0 (dimensionless); 0 is "
+                      "frictionless contact.");
+    prm.declare_entry("Plane point", "0, 0, 0", Patterns::Anything(), "Rigid plane: a point of the plane (m).");
+    prm.declare_entry("Plane normal",
+                      "0, 0, 1",
+                      Patterns::Anything(),
+                      "Rigid plane: its normal pointing out of the obstacle, towards the body "
+                      "(normalized on input).");
+    prm.declare_entry("Master body", "2", Patterns::Integer(1), "Body pair: the other body.");
+    prm.declare_entry("Master surface",
+                      "z = zmax",
+                      Patterns::Anything(),
+                      "Body pair: the surface of the other body facing this one.");
+  }
+
+  void
+  ContactZone::parse_parameters(ParameterHandler &prm, const unsigned int n_bodies)
+  {
+    type = prm.get("Type") == "rigid plane" ? Type::rigid_plane : Type::body;
+    body = prm.get_integer("Body") - 1;
+    require(body < n_bodies,
+            "Body = " + prm.get("Body") + " but the scene has " + std::to_string(n_bodies) +
+              " bodies.");
+    surface = BoundarySelector::parse(prm.get("Surface"), "Surface");
+    friction_coefficient =
+      InputParsing::parse_double(prm.get("Friction coefficient"), "Friction coefficient");
+    require(friction_coefficient >= 0,
+            "Friction coefficient must not be negative; got " + prm.get("Friction coefficient") +
+              ".");
+    if (type == Type::rigid_plane)
+      {
+        plane_point  = InputParsing::parse_point(prm.get("Plane point"), "Plane point");
+        plane_normal = InputParsing::parse_vector(prm.get("Plane normal"), "Plane normal");
+        require(plane_normal.norm() > 0, "Plane normal must not be the zero vector.");
+        plane_normal /= plane_normal.norm();
+      }
+    else
+      {
+        master_body = prm.get_integer("Master body") - 1;
+        require(master_body < n_bodies,
+                "Master body = " + prm.get("Master body") + " but the scene has " +
+                  std::to_string(n_bodies) + " bodies.");
+        require(master_body != body, "Master body must differ from Body.");
+        master_surface = BoundarySelector::parse(prm.get("Master surface"), "Master surface");
+      }
+  }
+
+  void
+  Contact::declare_parameters(ParameterHandler &prm, const unsigned int n_zones)
+  {
+    prm.enter_subsection("Contact");
+    prm.declare_entry("Number of zones",
+                      "0",
+                      Patterns::Integer(0, 256),
+                      "The number of contact zones, each described in 'subsection Zone N'.");
+    for (unsigned int z = 1; z <= n_zones; ++z)
+      {
+        prm.enter_subsection("Zone " + std::to_string(z));
+        ContactZone::declare_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+  }
+
+  void
+  Contact::parse_parameters(ParameterHandler &prm, const unsigned int n_bodies)
+  {
+    prm.enter_subsection("Contact");
+    zones.resize(prm.get_integer("Number of zones"));
+    for (unsigned int z = 0; z < zones.size(); ++z)
+      {
+        const std::string section = "Zone " + std::to_string(z + 1);
+        prm.enter_subsection(section);
+        try
+          {
+            zones[z].parse_parameters(prm, n_bodies);
+          }
+        catch (const InputError &e)
+          {
+            throw InputError("subsection Contact/" + section + ": " + e.what());
+          }
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+  }
+} // namespace FetiContact::Parameters
+
+namespace FetiContact
+{
+  bool
+  in_contact(const Parameters::Contact &contact, const unsigned int b)
+  {
+    for (const auto &zone : contact.zones)
+      if (zone.body == b ||
+          (zone.type == Parameters::ContactZone::Type::body && zone.master_body == b))
+        return true;
+    return false;
+  }
+} // namespace FetiContact

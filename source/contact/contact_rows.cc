@@ -1,4 +1,8 @@
+#include <deal.II/base/numbers.h>
+
 #include <feticontact/contact/contact_rows.h>
+
+#include <cmath>
 
 namespace FetiContact
 {
@@ -8,7 +12,8 @@ namespace FetiContact
   build_contact_rows(const std::vector<ContactNode>           &nodes,
                      const std::vector<std::unique_ptr<Body>> &bodies,
                      const std::vector<unsigned int>          &first_subdomain,
-                     DualLayout                               &layout)
+                     DualLayout                               &layout,
+                     const unsigned int                        polygon_directions)
   {
     std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
     for (const auto &body : bodies)
@@ -37,12 +42,25 @@ namespace FetiContact
     DualRows rows;
     layout.normal_row.assign(nodes.size(), 0);
     layout.tangential_row.assign(nodes.size(), numbers::invalid_unsigned_int);
+    layout.tangential_per_node = polygon_directions > 0 ? polygon_directions : 2;
+    layout.polygonal           = polygon_directions > 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       if (nodes[k].friction > 0)
         {
           layout.tangential_row[k] = rows.n_rows();
-          rows.add_row(row_of(nodes[k], nodes[k].t1), 0.0);
-          rows.add_row(row_of(nodes[k], nodes[k].t2), 0.0);
+          if (polygon_directions == 0)
+            {
+              rows.add_row(row_of(nodes[k], nodes[k].t1), 0.0);
+              rows.add_row(row_of(nodes[k], nodes[k].t2), 0.0);
+            }
+          else
+            for (unsigned int j = 0; j < polygon_directions; ++j)
+              {
+                const double angle = numbers::PI * j / polygon_directions;
+                rows.add_row(row_of(nodes[k],
+                                    std::cos(angle) * nodes[k].t1 + std::sin(angle) * nodes[k].t2),
+                             0.0);
+              }
         }
     layout.n_tangential = rows.n_rows();
     for (unsigned int k = 0; k < nodes.size(); ++k)

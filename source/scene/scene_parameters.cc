@@ -25,6 +25,7 @@ namespace FetiContact::Parameters
         prm.leave_subsection();
       }
     Contact::declare_parameters(prm, n_zones);
+    ContactSolver::declare_parameters(prm);
     Feti::declare_parameters(prm);
     Output::declare_parameters(prm);
     Verification::declare_parameters(prm);
@@ -52,6 +53,7 @@ namespace FetiContact::Parameters
           bodies[b].name = "body " + std::to_string(b + 1);
       }
     contact.parse_parameters(prm, n_bodies);
+    contact_solver.parse_parameters(prm);
     feti.parse_parameters(prm);
     output.parse_parameters(prm);
     verification.parse_parameters(prm);

@@ -16,13 +16,17 @@ namespace FetiContact
    */
   struct DualLayout
   {
-    unsigned int n_tangential = 0; ///< 2 × the number of contact nodes with F > 0
+    unsigned int n_tangential = 0; ///< tangential rows: per node with F > 0, 2 (disc) or s
+    /** Tangential rows per node with friction: 2 for the disc, s for the polygonal baseline. */
+    unsigned int tangential_per_node = 2;
+    /** Whether the tangential rows are the polygonal baseline's s directions. */
+    bool polygonal = false;
     unsigned int n_normal     = 0; ///< the number of contact nodes
     unsigned int n_equality   = 0;
 
     /** Per contact node: its row in λ_N (absolute index in λ). */
     std::vector<unsigned int> normal_row;
-    /** Per contact node: the first of its two tangential rows, or invalid if F = 0. */
+    /** Per contact node: the first of its tangential rows, or invalid if F = 0. */
     std::vector<unsigned int> tangential_row;
 
     unsigned int
@@ -47,10 +51,15 @@ namespace FetiContact
    * contact nodes: (u^p(x_k) − u^q(χ(x_k)))·v for v = t1_k, t2_k, n_k, or u^p(x_k)·v for a rigid
    * obstacle. A node on a subdomain interface uses the copy in its lowest-numbered subdomain
    * (the copies are glued). Fills @p layout except n_equality.
+   *
+   * With @p polygon_directions = s > 0 (the polygonal baseline of the seed's Table 3) a node
+   * with friction gets s tangential rows along d_j = cos(πj/s) t1 + sin(πj/s) t2, j = 0 … s−1,
+   * instead of the two rows along t1 and t2.
    */
   DualRows
   build_contact_rows(const std::vector<ContactNode>           &nodes,
                      const std::vector<std::unique_ptr<Body>> &bodies,
                      const std::vector<unsigned int>          &first_subdomain,
-                     DualLayout                               &layout);
+                     DualLayout                               &layout,
+                     const unsigned int                        polygon_directions = 0);
 } // namespace FetiContact

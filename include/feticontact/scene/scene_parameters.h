@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/contact/contact_solver_parameters.h>
 #include <feticontact/feti/feti_parameters.h>
 #include <feticontact/postprocessing/output_parameters.h>
 #include <feticontact/scene/body_parameters.h>
@@ -20,6 +21,7 @@ namespace FetiContact::Parameters
   {
     std::vector<Body> bodies;
     Contact           contact;
+    ContactSolver     contact_solver;
     Feti              feti;
     Output            output;
     Verification      verification;

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/json_writer.h>
+#include <feticontact/contact/contact_rows.h>
+
+#include <string>
+#include <vector>
+
+namespace FetiContact
+{
+  /** The state of a contact node after the solve. */
+  enum class ContactStatus
+  {
+    open,  ///< no normal force
+    stick, ///< pressed, ‖λ_T‖ < F λ_N
+    slip   ///< pressed, ‖λ_T‖ = F λ_N
+  };
+
+  /** Name of a status for output: "open", "stick", "slip". */
+  std::string
+  to_string(const ContactStatus status);
+
+  /**
+   * Forces and kinematics of one contact node, computed from the multipliers λ and the
+   * displacements u: normal force λ_N ≥ 0 (pushing the slave body away from the obstacle),
+   * tangential force (λ_T1, λ_T2) in the frame {t1, t2}, the current gap d − N u, the slip
+   * (T1 u, T2 u) (relative tangential displacement) and the status.
+   */
+  struct ContactNodeResult
+  {
+    double         lambda_N = 0;
+    double         lambda_T[2]{0, 0};
+    double         gap = 0;
+    double         slip[2]{0, 0};
+    ContactStatus  status = ContactStatus::open;
+  };
+
+  /**
+   * The independent check of a contact solution (issue 3, item 5), from u and the contact forces,
+   * all relative: largest penetration (max(N u − d)⁺ / max |u|), largest violation of
+   * ‖λ_T‖ ≤ F λ_N (/ max F λ_N), normal complementarity (max |λ_N (d − N u)| / (max λ_N max |u|)),
+   * and for slipping nodes the largest angle between λ_T and the slip (radians), plus totals.
+   */
+  struct ContactCheck
+  {
+    double               penetration       = 0;
+    double               cone_violation    = 0;
+    double               complementarity   = 0;
+    double               slip_angle        = 0;
+    double               negative_normal   = 0; ///< max (−λ_N)⁺ / max λ_N
+    dealii::Tensor<1, 3> normal_force, tangential_force;
+    unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
+
+    /** The check as a JSON object for summary.json. */
+    JsonObject
+    json() const;
+  };
+
+  /**
+   * Evaluates every contact node. @p vertex_u: displacements per body and vertex; @p lambda in the
+   * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
+   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-6) F λ_N,
+   * else stick.
+   */
+  std::vector<ContactNodeResult>
+  evaluate_contact(const std::vector<ContactNode>                       &nodes,
+                   const DualLayout                                     &layout,
+                   const dealii::Vector<double>                         &lambda,
+                   const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
+                   ContactCheck                                         &check);
+
+  /** Writes contact.csv: x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status per node. */
+  void
+  write_contact_csv(const std::string                    &filename,
+                    const std::vector<ContactNode>       &nodes,
+                    const std::vector<ContactNodeResult> &results);
+} // namespace FetiContact

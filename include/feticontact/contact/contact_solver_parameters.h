@@ -1,0 +1,56 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+
+namespace FetiContact::Parameters
+{
+  /**
+   * `subsection Contact solver`: how the contact problem with friction is solved (DESIGN.md §3).
+   * Frictionless zones (F = 0) need no tangential multipliers; with Coulomb friction the slip
+   * bound g = F λ_N is found by the method of successive approximations (MSA).
+   */
+  struct ContactSolver
+  {
+    /** The friction law of the zones with F > 0. */
+    enum class FrictionLaw
+    {
+      coulomb, ///< g = F λ_N, the fixed point found by MSA
+      tresca   ///< given slip bound g (one value for every contact node)
+    };
+    FrictionLaw friction_law = FrictionLaw::coulomb;
+    /** Tresca: the slip bound per contact node (N: λ are nodal forces). */
+    double slip_bound = 0;
+
+    enum class Algorithm
+    {
+      algorithm_1, ///< MSA outer loop, SMALBE with block Gauss–Seidel (MPRGP on λ_c, KPG on λ_t)
+      algorithm_2, ///< MSA and the augmented Lagrangian merged in one loop (the seed's)
+      mpgp,        ///< MSA outer loop, SMALBE with one MPGP over bounds × discs
+      polygonal    ///< MSA outer loop, the disc replaced by a 2s-gon: bounds only (MPRGP)
+    };
+    Algorithm algorithm = Algorithm::algorithm_2;
+    /** Polygonal baseline: s tangential multipliers per node (a regular 2s-gon). */
+    unsigned int polygon_directions = 4;
+
+    /** SMALBE stops when ‖g^P‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖. */
+    double qp_tolerance = 1e-8;
+    /** MSA stops when ‖g_new − g‖ ≤ tol ‖g_new‖ (relative change of the slip bound). */
+    double msa_tolerance = 1e-6;
+    unsigned int max_msa_iterations   = 100;
+    unsigned int max_smalbe_iterations = 200;
+    unsigned int max_inner_iterations  = 10000;
+    /** Gauss–Seidel sweeps over (λ_c, λ_t) per inner problem (Algorithm 1). */
+    unsigned int gauss_seidel_sweeps = 1;
+    /** Relaxation ω of the slip-bound update g ← (1 − ω) g + ω F λ_N. */
+    double relaxation = 1;
+    /** SMALBE penalty ρ as a multiple of ‖F‖ (estimated). */
+    double penalty_factor = 1;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+} // namespace FetiContact::Parameters

@@ -1,0 +1,143 @@
+#include <feticontact/contact/contact_results.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  std::string
+  to_string(const ContactStatus status)
+  {
+    switch (status)
+      {
+        case ContactStatus::open:
+          return "open";
+        case ContactStatus::stick:
+          return "stick";
+        default:
+          return "slip";
+      }
+  }
+
+  JsonObject
+  ContactCheck::json() const
+  {
+    JsonObject kkt;
+    kkt.set("penetration", penetration)
+      .set("cone_violation", cone_violation)
+      .set("complementarity", complementarity)
+      .set("slip_angle", slip_angle)
+      .set("negative_normal_force", negative_normal);
+    return kkt;
+  }
+
+  std::vector<ContactNodeResult>
+  evaluate_contact(const std::vector<ContactNode>                &nodes,
+                   const DualLayout                              &layout,
+                   const Vector<double>                          &lambda,
+                   const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                   ContactCheck                                  &check)
+  {
+    std::vector<ContactNodeResult> results(nodes.size());
+    double                         u_max = 0, lambda_max = 0, bound_max = 0;
+    for (const auto &body : vertex_u)
+      for (const auto &u : body)
+        u_max = std::max(u_max, u.norm());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const auto &node = nodes[k];
+        auto       &r    = results[k];
+        r.lambda_N       = lambda[layout.normal_row[k]];
+        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+          {
+            const unsigned int first = layout.tangential_row[k];
+            if (!layout.polygonal)
+              {
+                r.lambda_T[0] = lambda[first];
+                r.lambda_T[1] = lambda[first + 1];
+              }
+            else
+              for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+                {
+                  const double angle = numbers::PI * j / layout.tangential_per_node;
+                  r.lambda_T[0] += std::cos(angle) * lambda[first + j];
+                  r.lambda_T[1] += std::sin(angle) * lambda[first + j];
+                }
+          }
+        Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
+        if (node.master)
+          relative -= vertex_u[node.master->first][node.master->second];
+        r.gap     = node.gap - relative * node.n;
+        r.slip[0] = relative * node.t1;
+        r.slip[1] = relative * node.t2;
+        lambda_max = std::max(lambda_max, r.lambda_N);
+        bound_max  = std::max(bound_max, node.friction * std::max(r.lambda_N, 0.0));
+      }
+
+    check = ContactCheck();
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const auto  &node = nodes[k];
+        auto        &r    = results[k];
+        const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
+        const double bound      = node.friction * std::max(r.lambda_N, 0.0);
+        if (r.lambda_N <= 1e-8 * lambda_max)
+          r.status = ContactStatus::open;
+        else if (node.friction > 0 && tangential >= (1 - 1e-6) * bound)
+          r.status = ContactStatus::slip;
+        else
+          r.status = ContactStatus::stick;
+
+        check.penetration = std::max(check.penetration, std::max(-r.gap, 0.0) / u_max);
+        if (bound_max > 0)
+          check.cone_violation = std::max(check.cone_violation, (tangential - bound) / bound_max);
+        if (lambda_max > 0)
+          {
+            check.complementarity =
+              std::max(check.complementarity, std::abs(r.lambda_N * r.gap) / (lambda_max * u_max));
+            check.negative_normal = std::max(check.negative_normal, -r.lambda_N / lambda_max);
+          }
+        const double slip = std::hypot(r.slip[0], r.slip[1]);
+        if (r.status == ContactStatus::slip && slip > 1e-6 * u_max && tangential > 0)
+          {
+            // The friction force λ_T on the multiplier side points along the slip (T u): the
+            // term λ_Tᵀ T u of the Lagrangian equals g ‖T u‖ at a slipping node.
+            const double cosine =
+              (r.lambda_T[0] * r.slip[0] + r.lambda_T[1] * r.slip[1]) / (tangential * slip);
+            check.slip_angle = std::max(check.slip_angle, std::acos(std::clamp(cosine, -1.0, 1.0)));
+          }
+        // Forces on the slave body: −(λ_N n + λ_T1 t1 + λ_T2 t2).
+        check.normal_force -= r.lambda_N * node.n;
+        check.tangential_force -= r.lambda_T[0] * node.t1 + r.lambda_T[1] * node.t2;
+        if (r.status == ContactStatus::open)
+          ++check.n_open;
+        else if (r.status == ContactStatus::stick)
+          ++check.n_stick;
+        else
+          ++check.n_slip;
+      }
+    return results;
+  }
+
+  void
+  write_contact_csv(const std::string                    &filename,
+                    const std::vector<ContactNode>       &nodes,
+                    const std::vector<ContactNodeResult> &results)
+  {
+    std::ofstream out(filename);
+    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status\n"
+        << std::setprecision(12);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const auto &n = nodes[k];
+        const auto &r = results[k];
+        out << n.zone + 1 << ',' << n.body + 1 << ',' << n.x[0] << ',' << n.x[1] << ',' << n.x[2]
+            << ',' << r.lambda_N << ',' << r.lambda_T[0] << ',' << r.lambda_T[1] << ',' << r.gap
+            << ',' << r.slip[0] << ',' << r.slip[1] << ',' << to_string(r.status) << '\n';
+      }
+  }
+} // namespace FetiContact

@@ -1,0 +1,93 @@
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/contact_solver_parameters.h>
+
+namespace FetiContact::Parameters
+{
+  using namespace dealii;
+
+  void
+  ContactSolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact solver");
+    prm.declare_entry("Friction law",
+                      "coulomb",
+                      Patterns::Selection("coulomb|tresca"),
+                      "For zones with a friction coefficient F > 0: 'coulomb' (slip bound "
+                      "g = F λ_N, found by successive approximations) or 'tresca' (the given "
+                      "'Slip bound').");
+    prm.declare_entry("Slip bound",
+                      "0",
+                      Patterns::Double(0),
+                      "Tresca: the slip bound g of every contact node with F > 0, a nodal force "
+                      "(N).");
+    prm.declare_entry("Algorithm",
+                      "algorithm 2",
+                      Patterns::Selection("algorithm 1|algorithm 2|mpgp|polygonal"),
+                      "'algorithm 1': MSA outer loop, each step SMALBE with block Gauss–Seidel "
+                      "(MPRGP on λ_N, λ_E, then KPG on the tangential discs); 'algorithm 2': the "
+                      "seed's combined loop (one MPRGP and one KPG solve and one multiplier "
+                      "update per iteration); 'mpgp': MSA with SMALBE and one MPGP over bounds × "
+                      "discs; 'polygonal': the disc replaced by a regular 2s-gon with s "
+                      "multipliers in boxes (the seed's Table 3 baseline).");
+    prm.declare_entry("Polygon directions",
+                      "4",
+                      Patterns::Integer(2),
+                      "polygonal: s, the number of tangential multipliers per node (2: square, "
+                      "4: octagon).");
+    prm.declare_entry("QP relative tolerance",
+                      "1e-8",
+                      Patterns::Double(0, 1),
+                      "SMALBE stops when ‖g^P(λ)‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖.");
+    prm.declare_entry("MSA relative tolerance",
+                      "1e-6",
+                      Patterns::Double(0, 1),
+                      "Successive approximations stop when the slip bound changes by less than "
+                      "this fraction: ‖g_new − g‖ ≤ tol ‖g_new‖.");
+    prm.declare_entry("Maximum MSA iterations", "100", Patterns::Integer(1), "");
+    prm.declare_entry("Maximum SMALBE iterations", "200", Patterns::Integer(1), "");
+    prm.declare_entry("Maximum inner iterations",
+                      "10000",
+                      Patterns::Integer(1),
+                      "Largest number of MPRGP/MPGP iterations per inner solve.");
+    prm.declare_entry("Gauss-Seidel sweeps",
+                      "1",
+                      Patterns::Integer(1),
+                      "algorithm 1: block Gauss–Seidel sweeps (λ_c, then λ_t) per inner problem.");
+    prm.declare_entry("Relaxation",
+                      "1",
+                      Patterns::Double(0, 1),
+                      "ω in the slip-bound update g ← (1 − ω) g + ω F λ_N (1: plain MSA).");
+    prm.declare_entry("Penalty factor",
+                      "1",
+                      Patterns::Double(0),
+                      "SMALBE's penalty ρ as a multiple of the estimated ‖F‖.");
+    prm.leave_subsection();
+  }
+
+  void
+  ContactSolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact solver");
+    friction_law = prm.get("Friction law") == "coulomb" ? FrictionLaw::coulomb : FrictionLaw::tresca;
+    slip_bound   = prm.get_double("Slip bound");
+    const std::string a = prm.get("Algorithm");
+    algorithm = a == "algorithm 1" ? Algorithm::algorithm_1 :
+                a == "algorithm 2" ? Algorithm::algorithm_2 :
+                a == "mpgp"        ? Algorithm::mpgp :
+                                     Algorithm::polygonal;
+    polygon_directions    = prm.get_integer("Polygon directions");
+    qp_tolerance          = prm.get_double("QP relative tolerance");
+    msa_tolerance         = prm.get_double("MSA relative tolerance");
+    require(qp_tolerance > 0 && msa_tolerance > 0,
+            "Contact solver: the relative tolerances must be positive.");
+    max_msa_iterations    = prm.get_integer("Maximum MSA iterations");
+    max_smalbe_iterations = prm.get_integer("Maximum SMALBE iterations");
+    max_inner_iterations  = prm.get_integer("Maximum inner iterations");
+    gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");
+    relaxation            = prm.get_double("Relaxation");
+    require(relaxation > 0, "Contact solver/Relaxation must be in (0, 1]; got 0.");
+    penalty_factor = prm.get_double("Penalty factor");
+    require(penalty_factor > 0, "Contact solver/Penalty factor must be positive.");
+    prm.leave_subsection();
+  }
+} // namespace FetiContact::Parameters

@@ -3,6 +3,8 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/contact/contact_results.h>
+#include <feticontact/contact/contact_solver.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/postprocessing/solution_output.h>
 #include <feticontact/postprocessing/verification.h>
@@ -116,7 +118,21 @@ namespace FetiContact
           }
       for (const auto &s : subdomains)
         owned.push_back(s.get());
-      rows = build_equality_rows(bodies, first_subdomain, !primal);
+      // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
+      contact_nodes = find_contact_nodes(bodies, parameters.contact);
+      const bool polygonal =
+        parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
+      rows = build_contact_rows(contact_nodes,
+                                bodies,
+                                first_subdomain,
+                                layout,
+                                polygonal ? parameters.contact_solver.polygon_directions : 0);
+      const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
+      layout.n_equality       = equality.n_rows();
+      rows.append(equality);
+      if (!contact_nodes.empty())
+        pcout << "Contact: " << contact_nodes.size() << " contact nodes, " << layout.n_normal
+              << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
     }
     TimerOutput::Scope scope(timer, "assembly");
     for (auto *s : owned)
@@ -148,6 +164,11 @@ namespace FetiContact
   void
   Simulator::solve()
   {
+    if (!contact_nodes.empty())
+      {
+        solve_contact();
+        return;
+      }
     TimerOutput::Scope scope(timer, "solve");
     lambda = dual->coarse.least_norm_solution(dual->e);
     const auto report =
@@ -176,11 +197,42 @@ namespace FetiContact
   }
 
   void
+  Simulator::solve_contact()
+  {
+    TimerOutput::Scope scope(timer, "solve");
+    std::ostringstream history;
+    ContactSolver      solver(*dual,
+                         layout,
+                         contact_nodes,
+                         parameters.contact_solver,
+                         pcout.get_stream(),
+                         rank == 0 ? parameters.output.directory + "/history.csv" : "");
+    const auto result = solver.solve();
+    lambda            = result.lambda;
+    // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
+    // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
+    // the equality rows and the gaps on the contact rows.
+    alpha = result.mu;
+    alpha *= -1.0;
+    alpha_given = true;
+    converged   = result.converged;
+    iterations  = result.outer_iterations;
+    n_bound     = result.n_bound;
+    n_disc      = result.n_disc;
+    pcout << "Contact solver: " << result.message << "; outer iterations "
+          << result.outer_iterations << ", SMALBE iterations " << result.smalbe_iterations
+          << ", Hessian multiplications " << result.n_bound << " (bound QP) + " << result.n_disc
+          << " (disc QP)" << std::endl;
+    summary.set("solver_message", result.message);
+    summary.set("smalbe_iterations", result.smalbe_iterations);
+  }
+
+  void
   Simulator::postprocess()
   {
     {
       TimerOutput::Scope scope(timer, "primal recovery");
-      u = dual->recover_primal(lambda);
+      u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
     }
     TimerOutput::Scope scope(timer, "output");
 
@@ -195,26 +247,66 @@ namespace FetiContact
     const double jump     = residual.size() > 0 ? residual.linfty_norm() : 0.0;
     summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
 
+    std::vector<Tensor<1, 3>> contact_forces(bodies.size());
+    if (!contact_nodes.empty())
+      {
+        ContactCheck check;
+        const auto   results = evaluate_contact(contact_nodes, layout, lambda, vertex_u, check);
+        for (unsigned int k = 0; k < contact_nodes.size(); ++k)
+          {
+            const auto        &node = contact_nodes[k];
+            const Tensor<1, 3> force =
+              -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
+                results[k].lambda_T[1] * node.t2);
+            contact_forces[node.body] += force;
+            if (node.master)
+              contact_forces[node.master->first] -= force;
+          }
+        if (rank == 0)
+          write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
+        summary.set("kkt", check.json());
+        JsonObject totals;
+        totals.set("normal_force", std::vector<double>(check.normal_force.begin_raw(), check.normal_force.end_raw()))
+          .set("tangential_force", std::vector<double>(check.tangential_force.begin_raw(), check.tangential_force.end_raw()))
+          .set("open", check.n_open)
+          .set("stick", check.n_stick)
+          .set("slip", check.n_slip);
+        summary.set("contact", totals);
+        pcout << "Contact: " << check.n_open << " open, " << check.n_stick << " stick, "
+              << check.n_slip << " slip; force of the contact on the bodies "
+              << check.normal_force + check.tangential_force << std::endl;
+        pcout << "Check: penetration " << check.penetration << ", cone violation "
+              << check.cone_violation << ", complementarity " << check.complementarity
+              << ", slip angle " << check.slip_angle << std::endl;
+      }
+
     JsonObject equilibrium;
     double     worst   = 0;
-    const auto balance = compute_force_balance(comm, bodies.size(), owned, u, mapping);
+    const auto balance =
+      compute_force_balance(comm, bodies.size(), owned, u, mapping, contact_forces);
     for (const auto &body : bodies)
       {
         const auto &fb = balance[body->index];
         JsonObject  b;
         b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
         b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
+        b.set("contact_force", std::vector<double>{fb.contact[0], fb.contact[1], fb.contact[2]});
         b.set("relative_imbalance", fb.relative_imbalance);
         equilibrium.set(body->parameters.name, b);
         worst = std::max(worst, fb.relative_imbalance);
         pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
-              << ", support force " << fb.support << ", relative imbalance "
+              << ", support force " << fb.support << ", contact force " << fb.contact
+              << ", relative imbalance "
               << fb.relative_imbalance << std::endl;
       }
     equilibrium.set("largest_relative_imbalance", worst);
     summary.set("equilibrium", equilibrium);
 
-    if (parameters.verification.compare_with_monolithic)
+    if (parameters.verification.compare_with_monolithic && !contact_nodes.empty())
+      pcout << "Comparison with a monolithic solve skipped: it is a linear solve and the scene "
+               "has contact."
+            << std::endl;
+    else if (parameters.verification.compare_with_monolithic)
       {
         double difference = 0;
         if (rank == 0)
@@ -290,9 +382,16 @@ namespace FetiContact
       .set("n_subdomains", first_subdomain.back())
       .set("n_rigid_modes", mode_offset.back())
       .set("m_total", dual->size())
-      .set("m_equality", dual->size())
+      .set("m_equality", layout.n_equality)
+      .set("m_contact", layout.n_normal + layout.n_tangential)
       .set("iterations", iterations)
-      .set("hessian_multiplications", dual->n_F_applications)
+      .set("outer_iterations", iterations)
+      .set("hessian_multiplications",
+           JsonObject()
+             .set("bound", contact_nodes.empty() ? dual->n_F_applications : n_bound)
+             .set("disc", n_disc)
+             .set("total", contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc)
+             .set("F_applications", dual->n_F_applications))
       .set("n_mpi_ranks", n_ranks)
       .set("dirichlet_treatment",
            parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal ?

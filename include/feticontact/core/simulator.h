@@ -8,6 +8,8 @@
 
 #include <feticontact/base/json_writer.h>
 #include <feticontact/base/tee_stream.h>
+#include <feticontact/contact/contact_geometry.h>
+#include <feticontact/contact/contact_rows.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
@@ -61,6 +63,8 @@ namespace FetiContact
     void
     solve();
     void
+    solve_contact();
+    void
     postprocess();
     void
     write_summary();
@@ -85,12 +89,18 @@ namespace FetiContact
     std::vector<Subdomain *>                owned;
     std::vector<unsigned int>               mode_offset;
     DualRows                                rows;
+    std::vector<ContactNode>                contact_nodes;
+    DualLayout                              layout;
     std::unique_ptr<DualProblem>            dual;
 
     dealii::Vector<double>              lambda;
+    /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */
+    dealii::Vector<double>              alpha;
+    bool                                alpha_given = false;
     std::vector<dealii::Vector<double>> u;
     JsonObject                          summary;
     bool                                converged  = false;
     unsigned int                        iterations = 0;
+    unsigned int                        n_bound = 0, n_disc = 0;
   };
 } // namespace FetiContact

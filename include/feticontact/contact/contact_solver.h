@@ -1,0 +1,107 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/contact/contact_rows.h>
+#include <feticontact/contact/contact_solver_parameters.h>
+#include <feticontact/feti/dual_problem.h>
+#include <feticontact/qp/mpgp.h>
+#include <feticontact/qp/separable_set.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The contact solvers of DESIGN.md §3 on the FETI dual problem
+   *
+   *   min ½λᵀFλ − λᵀh  s.t.  λ_N ≥ 0,  ‖λ_T,k‖ ≤ g_k,  λ_E free,  Gλ = e,
+   *
+   * λ = [λ_T; λ_N; λ_E] as in DualLayout. Frictionless zones have no λ_T. Tresca: g given.
+   * Coulomb: g = F λ_N by successive approximations (MSA) from g = 0 (the first MSA step is the
+   * frictionless problem), with relaxation g ← (1 − ω) g + ω F λ_N:
+   *
+   * - Algorithm 1: each MSA step is the Tresca problem solved by SMALBE whose inner problem is
+   *   split by block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] (λ_T fixed), then KPG (MPGP on the
+   *   discs) on λ_T.
+   * - Algorithm 2 (the seed's): MSA and the augmented Lagrangian in one loop: per SMALBE
+   *   iteration one MPRGP solve for λ_c, the radii set to F λ_N of the new λ_N, one KPG solve for
+   *   λ_T, one multiplier update; until the slip bound agrees with F λ_N.
+   * - mpgp: each MSA step by SMALBE with one MPGP over the product of bounds and discs.
+   * - polygonal: the disc replaced by a regular 2s-gon, s multipliers per node in boxes
+   *   |λ_j| ≤ g sin(π/2s) (the polygon's vertices lie on the circle ‖λ_T‖ = g), so MPRGP only.
+   *
+   * Counts the multiplications by the Hessian F + ρGᵀG in the bound QP (n_A^QPP) and in the disc
+   * QP (n_A^QPQ) as the seed does; the MPGP and polygonal variants count under `bound` when no
+   * split exists (the product set).
+   */
+  class ContactSolver
+  {
+  public:
+    struct Result
+    {
+      dealii::Vector<double> lambda;
+      /** The multiplier of Gλ = e; α = −μ in the primal recovery. */
+      dealii::Vector<double> mu;
+      unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
+      unsigned int           smalbe_iterations = 0;
+      unsigned int           n_bound = 0, n_disc = 0;
+      bool                   converged = false;
+      std::string            message;
+    };
+
+    ContactSolver(const DualProblem                 &dual,
+                  const DualLayout                  &layout,
+                  const std::vector<ContactNode>    &nodes,
+                  const Parameters::ContactSolver   &parameters,
+                  std::ostream                      &out,
+                  const std::string                 &history_file);
+
+    Result
+    solve();
+
+  private:
+    /** The slip bound candidate F λ_N per node (0 where F = 0). */
+    std::vector<double>
+    coulomb_bound(const dealii::Vector<double> &lambda) const;
+    /** Sets the tangential constraints for the slip bounds g. */
+    void
+    set_slip_bounds(const std::vector<double> &g);
+    /** One SMALBE solve for the current slip bounds, warm-started from λ, μ. */
+    QP::SolverReport
+    solve_tresca(dealii::Vector<double> &lambda, dealii::Vector<double> &mu, Result &result);
+    /** The block Gauss–Seidel inner solver (Algorithm 1; Algorithm 2 updates the radii in it). */
+    QP::SolverReport
+    gauss_seidel(const QP::Operator           &A,
+                 const dealii::Vector<double> &b,
+                 dealii::Vector<double>       &lambda,
+                 const double                  tolerance,
+                 const bool                    update_radii,
+                 Result                       &result);
+    void
+    history_row(const unsigned int msa, const unsigned int smalbe, const double feasibility,
+                const double gradient, const double change, const dealii::Vector<double> &lambda,
+                const unsigned int inner);
+
+    const DualProblem               &dual;
+    const DualLayout                &layout;
+    const std::vector<ContactNode>  &nodes;
+    const Parameters::ContactSolver &parameters;
+    std::ostream                    &out;
+    std::unique_ptr<std::ostream>    history;
+    QP::SeparableSet                 set;     ///< Ω for all of λ
+    QP::SeparableSet                 set_c;   ///< bounds and free part, λ_c = [λ_N; λ_E]
+    QP::SeparableSet                 set_t;   ///< tangential part λ_T
+    std::vector<unsigned int>        disc_of_node;
+    std::vector<double>              slip_bound;
+    double                           F_norm = 0, G_norm = 0, rho = 0;
+    /** ‖F + ρGᵀG‖ ≤ ‖F‖ + ρ‖G‖², for the fixed step ᾱ of the block solves. */
+    double                           hessian_norm = 0;
+    /** λ after the last inner solve (for the status counts of the history). */
+    dealii::Vector<double>           last_lambda;
+    unsigned int                     msa_iteration = 0;
+    double                           last_change   = 0;
+  };
+} // namespace FetiContact

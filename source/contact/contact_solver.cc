@@ -1,0 +1,409 @@
+#include <feticontact/contact/contact_solver.h>
+#include <feticontact/qp/smalbe.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  ContactSolver::ContactSolver(const DualProblem               &dual,
+                               const DualLayout                &layout,
+                               const std::vector<ContactNode>  &nodes,
+                               const Parameters::ContactSolver &parameters,
+                               std::ostream                    &out,
+                               const std::string               &history_file)
+    : dual(dual)
+    , layout(layout)
+    , nodes(nodes)
+    , parameters(parameters)
+    , out(out)
+    , set(layout.size())
+    , set_c(layout.size() - layout.n_tangential)
+    , set_t(layout.n_tangential)
+    , disc_of_node(nodes.size(), numbers::invalid_unsigned_int)
+    , slip_bound(nodes.size(), 0.0)
+  {
+    if (!history_file.empty())
+      {
+        history = std::make_unique<std::ofstream>(history_file);
+        *history << "msa_iteration,smalbe_iteration,feasibility,projected_gradient,"
+                    "slip_bound_change,open,stick,slip,inner_iterations\n";
+      }
+    const unsigned int n_T = layout.n_tangential;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int r = layout.normal_row[k];
+        set.set_lower_bound(r, 0.0);
+        set_c.set_lower_bound(r - n_T, 0.0);
+        const unsigned int t = layout.tangential_row[k];
+        if (t == numbers::invalid_unsigned_int)
+          continue;
+        if (!layout.polygonal)
+          {
+            disc_of_node[k] = set.add_disc(t, t + 1, {{0.0, 0.0}}, 0.0);
+            set_t.add_disc(t, t + 1, {{0.0, 0.0}}, 0.0);
+          }
+      }
+    set_slip_bounds(slip_bound);
+    F_norm = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
+                                          Vector<double>       &y) { dual.apply_F(x, y); },
+                                      layout.size(),
+                                      10);
+    const unsigned int n_modes = dual.coarse.n_modes();
+    if (n_modes > 0)
+      {
+        const double GtG = QP::estimate_norm(
+          [&](const Vector<double> &x, Vector<double> &y) {
+            Vector<double> Gx;
+            dual.coarse.apply_G(x, Gx);
+            dual.coarse.apply_Gt(Gx, y);
+          },
+          layout.size(),
+          10);
+        G_norm = std::sqrt(1.05 * GtG);
+      }
+    rho          = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
+    hessian_norm = F_norm + rho * G_norm * G_norm;
+  }
+
+  std::vector<double>
+  ContactSolver::coulomb_bound(const Vector<double> &lambda) const
+  {
+    std::vector<double> g(nodes.size(), 0.0);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      g[k] = nodes[k].friction * std::max(lambda[layout.normal_row[k]], 0.0);
+    return g;
+  }
+
+  void
+  ContactSolver::set_slip_bounds(const std::vector<double> &g)
+  {
+    slip_bound                  = g;
+    const unsigned int s        = layout.tangential_per_node;
+    const double       shrink   = std::sin(numbers::PI / (2.0 * s));
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int t = layout.tangential_row[k];
+        if (t == numbers::invalid_unsigned_int)
+          continue;
+        if (layout.polygonal)
+          for (unsigned int j = 0; j < s; ++j)
+            {
+              set.set_interval(t + j, -shrink * g[k], shrink * g[k]);
+              set_t.set_interval(t + j, -shrink * g[k], shrink * g[k]);
+            }
+        else
+          {
+            set.set_disc_radius(disc_of_node[k], g[k]);
+            set_t.set_disc_radius(disc_of_node[k], g[k]);
+          }
+      }
+  }
+
+  QP::SolverReport
+  ContactSolver::gauss_seidel(const QP::Operator   &A,
+                              const Vector<double> &b,
+                              Vector<double>       &lambda,
+                              const double          tolerance,
+                              const bool            update_radii,
+                              Result               &result)
+  {
+    const unsigned int m = lambda.size(), n_T = layout.n_tangential, n_c = m - n_T;
+    Vector<double>     full(m), Afull(m);
+    // A restricted to a block: pad with zeros, multiply, extract.
+    const auto block_operator = [&](const unsigned int first, const unsigned int n,
+                                    unsigned int &counter) {
+      return [&, first, n](const Vector<double> &x, Vector<double> &y) {
+        full = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          full[first + i] = x[i];
+        A(full, Afull);
+        ++counter;
+        y.reinit(n);
+        for (unsigned int i = 0; i < n; ++i)
+          y[i] = Afull[first + i];
+      };
+    };
+    // b_block − A_{block, other} λ_other.
+    const auto block_rhs = [&](const unsigned int first, const unsigned int n, unsigned int &counter) {
+      Vector<double> rhs(n);
+      full = lambda;
+      for (unsigned int i = 0; i < n; ++i)
+        full[first + i] = 0;
+      if (full.l2_norm() > 0)
+        {
+          A(full, Afull);
+          ++counter;
+        }
+      else
+        Afull = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        rhs[i] = b[first + i] - Afull[first + i];
+      return rhs;
+    };
+
+    QP::SolverReport report;
+    report.converged = true;
+    QP::MpgpOptions options;
+    options.tolerance      = tolerance;
+    options.max_iterations = parameters.max_inner_iterations;
+    options.step           = 1.9 / hessian_norm;
+    for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
+      {
+        // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
+        {
+          Vector<double> x(n_c);
+          for (unsigned int i = 0; i < n_c; ++i)
+            x[i] = lambda[n_T + i];
+          const Vector<double> rhs = block_rhs(n_T, n_c, result.n_bound);
+          const auto r = QP::mpgp(block_operator(n_T, n_c, result.n_bound), rhs, set_c, x, options);
+          for (unsigned int i = 0; i < n_c; ++i)
+            lambda[n_T + i] = x[i];
+          report.iterations += r.iterations;
+          report.converged &= r.converged;
+        }
+        if (n_T == 0)
+          break;
+        if (update_radii)
+          {
+            const auto         target = coulomb_bound(lambda);
+            std::vector<double> g(nodes.size());
+            for (unsigned int k = 0; k < nodes.size(); ++k)
+              g[k] = (1 - parameters.relaxation) * slip_bound[k] + parameters.relaxation * target[k];
+            set_slip_bounds(g);
+          }
+        // λ_T by KPG (MPGP on the discs) with λ_c fixed.
+        {
+          Vector<double> x(n_T);
+          for (unsigned int i = 0; i < n_T; ++i)
+            x[i] = lambda[i];
+          const Vector<double> rhs = block_rhs(0, n_T, result.n_disc);
+          const auto r = QP::mpgp(block_operator(0, n_T, result.n_disc), rhs, set_t, x, options);
+          for (unsigned int i = 0; i < n_T; ++i)
+            lambda[i] = x[i];
+          report.iterations += r.iterations;
+          report.converged &= r.converged;
+        }
+      }
+    return report;
+  }
+
+  void
+  ContactSolver::history_row(const unsigned int    msa,
+                             const unsigned int    smalbe,
+                             const double          feasibility,
+                             const double          gradient,
+                             const double          change,
+                             const Vector<double> &lambda,
+                             const unsigned int    inner)
+  {
+    unsigned int n_open = 0, n_stick = 0, n_slip = 0;
+    double       lambda_max = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      lambda_max = std::max(lambda_max, lambda[layout.normal_row[k]]);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const double       lN = lambda[layout.normal_row[k]];
+        const unsigned int t  = layout.tangential_row[k];
+        double             lT = 0;
+        if (t != numbers::invalid_unsigned_int)
+          for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+            lT += lambda[t + j] * lambda[t + j];
+        lT = std::sqrt(lT);
+        if (lN <= 1e-8 * lambda_max)
+          ++n_open;
+        else if (t != numbers::invalid_unsigned_int && lT >= (1 - 1e-6) * slip_bound[k] &&
+                 slip_bound[k] > 0)
+          ++n_slip;
+        else
+          ++n_stick;
+      }
+    if (history)
+      *history << msa << ',' << smalbe << ',' << feasibility << ',' << gradient << ',' << change
+               << ',' << n_open << ',' << n_stick << ',' << n_slip << ',' << inner << '\n';
+    out << "  " << (msa > 0 ? "MSA " + std::to_string(msa) + ", " : std::string())
+        << "SMALBE " << std::setw(3) << smalbe << ": ‖Gλ − e‖ " << std::scientific
+        << std::setprecision(2) << feasibility << ", ‖g^P‖ " << gradient
+        << ", slip bound change " << change << std::defaultfloat << ", open/stick/slip "
+        << n_open << '/' << n_stick << '/' << n_slip << ", inner " << inner << std::endl;
+  }
+
+  QP::SolverReport
+  ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
+  {
+    const auto algorithm = parameters.algorithm;
+    using A              = Parameters::ContactSolver::Algorithm;
+    QP::SmalbeOptions options;
+    options.tolerance             = parameters.qp_tolerance;
+    options.feasibility_tolerance = parameters.qp_tolerance;
+    options.max_outer_iterations  = parameters.max_smalbe_iterations;
+    options.rho                   = rho;
+    options.F_norm                = F_norm;
+    options.G_norm                = G_norm;
+    options.inner.max_iterations  = parameters.max_inner_iterations;
+    options.inner.step            = 1.9 / hessian_norm;
+    const bool split   = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
+    const bool combined = algorithm == A::algorithm_2;
+    if (combined)
+      options.max_inner_calls = 1;
+    options.inner_solver = [&](const QP::Operator   &op,
+                               const Vector<double> &b,
+                               Vector<double>       &x,
+                               const double          tolerance) {
+      QP::SolverReport r;
+      if (split && layout.n_tangential > 0)
+        r = gauss_seidel(op, b, x, tolerance, combined, result);
+      else
+        {
+          unsigned int   calls   = 0;
+          QP::Operator   counted = [&](const Vector<double> &v, Vector<double> &y) {
+            op(v, y);
+            ++calls;
+          };
+          QP::MpgpOptions o = options.inner;
+          o.tolerance       = tolerance;
+          r                 = QP::mpgp(counted, b, set, x, o);
+          result.n_bound += calls;
+        }
+      last_lambda = x;
+      return r;
+    };
+    options.monitor = [&](const QP::SmalbeStep &step) {
+      const double change =
+        combined ? last_change : (msa_iteration > 0 ? last_change : 0.0);
+      if (combined)
+        {
+          // Algorithm 2: the slip bound moves inside the loop; report its change.
+          const auto   target = coulomb_bound(last_lambda);
+          double       d2 = 0, n2 = 0;
+          for (unsigned int k = 0; k < nodes.size(); ++k)
+            {
+              d2 += (target[k] - slip_bound[k]) * (target[k] - slip_bound[k]);
+              n2 += target[k] * target[k];
+            }
+          last_change = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+        }
+      history_row(combined ? 0 : msa_iteration,
+                  result.smalbe_iterations + step.outer_iteration + 1,
+                  step.relative_feasibility,
+                  step.relative_gradient,
+                  combined ? last_change : change,
+                  last_lambda,
+                  step.inner_iterations);
+    };
+    const QP::SmalbeReport report = QP::smalbe(
+      [&](const Vector<double> &x, Vector<double> &y) { dual.apply_F(x, y); },
+      dual.h,
+      set,
+      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_G(x, y); },
+      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_Gt(x, y); },
+      dual.e,
+      lambda,
+      mu,
+      options);
+    result.smalbe_iterations += report.iterations;
+    return report;
+  }
+
+  ContactSolver::Result
+  ContactSolver::solve()
+  {
+    Result result;
+    result.lambda.reinit(layout.size());
+    result.mu.reinit(dual.coarse.n_modes());
+    using Law          = Parameters::ContactSolver::FrictionLaw;
+    using A            = Parameters::ContactSolver::Algorithm;
+    const bool coulomb = parameters.friction_law == Law::coulomb && layout.n_tangential > 0;
+
+    if (!coulomb)
+      {
+        // Frictionless or Tresca: one QP.
+        if (layout.n_tangential > 0)
+          {
+            std::vector<double> g(nodes.size(), 0.0);
+            for (unsigned int k = 0; k < nodes.size(); ++k)
+              if (nodes[k].friction > 0)
+                g[k] = parameters.slip_bound;
+            set_slip_bounds(g);
+          }
+        const auto report = solve_tresca(result.lambda, result.mu, result);
+        result.outer_iterations = 1;
+        result.converged        = report.converged;
+        result.message = report.converged ? "converged" : "SMALBE did not converge";
+        return result;
+      }
+
+    if (parameters.algorithm == A::algorithm_2)
+      {
+        // The combined loop: SMALBE whose inner step updates the radii; repeated (warm) until
+        // the slip bound agrees with F λ_N.
+        for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
+          {
+            const auto report = solve_tresca(result.lambda, result.mu, result);
+            const auto target = coulomb_bound(result.lambda);
+            double     d2 = 0, n2 = 0;
+            for (unsigned int k = 0; k < nodes.size(); ++k)
+              {
+                d2 += (target[k] - slip_bound[k]) * (target[k] - slip_bound[k]);
+                n2 += target[k] * target[k];
+              }
+            last_change = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+            if (report.converged && last_change <= parameters.msa_tolerance)
+              {
+                result.converged = true;
+                break;
+              }
+            set_slip_bounds(target);
+          }
+        result.outer_iterations = result.smalbe_iterations;
+        result.message          = result.converged ?
+                                    "converged" :
+                                    "Algorithm 2 did not converge; last relative change of the "
+                                    "slip bound " + std::to_string(last_change);
+        return result;
+      }
+
+    // MSA: g = 0 (frictionless) first, then g ← (1 − ω) g + ω F λ_N.
+    std::vector<double> g(nodes.size(), 0.0);
+    set_slip_bounds(g);
+    for (msa_iteration = 1; msa_iteration <= parameters.max_msa_iterations; ++msa_iteration)
+      {
+        const auto report = solve_tresca(result.lambda, result.mu, result);
+        const auto target = coulomb_bound(result.lambda);
+        double     d2 = 0, n2 = 0;
+        for (unsigned int k = 0; k < nodes.size(); ++k)
+          {
+            const double next = (1 - parameters.relaxation) * g[k] + parameters.relaxation * target[k];
+            d2 += (next - g[k]) * (next - g[k]);
+            n2 += next * next;
+            g[k] = next;
+          }
+        last_change             = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+        result.outer_iterations = msa_iteration;
+        out << "MSA iteration " << msa_iteration << ": relative change of the slip bound "
+            << last_change << ", SMALBE " << (report.converged ? "converged" : "NOT converged")
+            << " in " << report.iterations << " iterations" << std::endl;
+        if (!report.converged)
+          {
+            result.message = "SMALBE did not converge in MSA iteration " +
+                             std::to_string(msa_iteration);
+            return result;
+          }
+        if (last_change <= parameters.msa_tolerance)
+          {
+            result.converged = true;
+            result.message   = "converged";
+            return result;
+          }
+        set_slip_bounds(g);
+      }
+    result.message = "MSA did not converge in " + std::to_string(parameters.max_msa_iterations) +
+                     " iterations; last relative change of the slip bound " +
+                     std::to_string(last_change);
+    return result;
+  }
+} // namespace FetiContact

@@ -111,8 +111,12 @@ namespace FetiContact
     Vector<double> gradient;
     apply_F(lambda, gradient);
     gradient -= h;
-    const Vector<double> alpha = coarse.coarse_coefficients(gradient);
+    return recover_primal(lambda, coarse.coarse_coefficients(gradient));
+  }
 
+  std::vector<Vector<double>>
+  DualProblem::recover_primal(const Vector<double> &lambda, const Vector<double> &alpha) const
+  {
     std::vector<Vector<double>> u(owned.size());
     for (unsigned int i = 0; i < owned.size(); ++i)
       {

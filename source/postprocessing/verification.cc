@@ -72,7 +72,8 @@ namespace FetiContact
                         const unsigned int                 n_bodies,
                         const std::vector<Subdomain *>    &owned,
                         const std::vector<Vector<double>> &u,
-                        const Mapping<3>                  &mapping)
+                        const Mapping<3>                  &mapping,
+                        const std::vector<Tensor<1, 3>>   &contact_forces)
   {
     std::vector<double> sums(6 * n_bodies, 0.0);
     for (unsigned int i = 0; i < owned.size(); ++i)
@@ -101,9 +102,12 @@ namespace FetiContact
             balance[b].applied[c] = sums[6 * b + c];
             balance[b].support[c] = sums[6 * b + 3 + c];
           }
-        const double scale = std::max(balance[b].applied.norm(), balance[b].support.norm());
+        if (b < contact_forces.size())
+          balance[b].contact = contact_forces[b];
+        const auto  &fb    = balance[b];
+        const double scale = std::max({fb.applied.norm(), fb.support.norm(), fb.contact.norm()});
         balance[b].relative_imbalance =
-          scale > 0 ? (balance[b].applied + balance[b].support).norm() / scale : 0.0;
+          scale > 0 ? (fb.applied + fb.support + fb.contact).norm() / scale : 0.0;
       }
     return balance;
   }

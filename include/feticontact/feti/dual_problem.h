@@ -51,6 +51,10 @@ namespace FetiContact
     std::vector<dealii::Vector<double>>
     recover_primal(const dealii::Vector<double> &lambda) const;
 
+    /** The same with given coefficients α of the rigid modes (e.g. from SMALBE's multiplier). */
+    std::vector<dealii::Vector<double>>
+    recover_primal(const dealii::Vector<double> &lambda, const dealii::Vector<double> &alpha) const;
+
     /** r = B u − c from the subdomain solutions of this rank, summed over the ranks. */
     dealii::Vector<double>
     constraint_residual(const std::vector<dealii::Vector<double>> &u) const;

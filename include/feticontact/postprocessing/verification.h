@@ -36,22 +36,26 @@ namespace FetiContact
                    const dealii::FiniteElement<3> &fe);
 
   /**
-   * Force balance of each body: the applied force Σ f (tractions and volume force) and the force
-   * of the supports Σ_{Γ_u} (K u − f), both summed over the subdomains and the ranks, with K and
-   * f assembled anew without elimination.
+   * Force balance of each body: the applied force Σ f (tractions and volume force), the force
+   * of the supports Σ_{Γ_u} (K u − f), both summed over the subdomains and the ranks with K and
+   * f assembled anew without elimination, and the contact force.
    */
   struct ForceBalance
   {
     dealii::Tensor<1, 3> applied;
     dealii::Tensor<1, 3> support;
-    /** ‖applied + support‖ / ‖applied‖ (or / ‖support‖ when nothing is applied). */
+    /** The force of the contacts on the body (given by the caller). */
+    dealii::Tensor<1, 3> contact;
+    /** ‖applied + support + contact‖ / the largest of the three norms. */
     double relative_imbalance = 0;
   };
 
+  /** @p contact_forces: the contact force on each body (empty: none). */
   std::vector<ForceBalance>
   compute_force_balance(const MPI_Comm                             comm,
                         const unsigned int                         n_bodies,
                         const std::vector<Subdomain *>            &owned,
                         const std::vector<dealii::Vector<double>> &u,
-                        const dealii::Mapping<3>                  &mapping);
+                        const dealii::Mapping<3>                  &mapping,
+                        const std::vector<dealii::Tensor<1, 3>>   &contact_forces = {});
 } // namespace FetiContact

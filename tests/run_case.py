@@ -3,6 +3,7 @@
 
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
+      [--reference-displacements CSV TOL]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
@@ -72,9 +73,28 @@ def read_displacements(path):
     return [[float(r[k]) for k in ("ux", "uy", "uz")] for r in rows]
 
 
+def compare_with_reference(ours_file, reference_file, tol):
+    """Nodal displacements against a reference CSV (x, y, z, ux, uy, uz), matched by position."""
+    def load(path):
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+        return {(round(float(r["x"]), 9), round(float(r["y"]), 9), round(float(r["z"]), 9)):
+                [float(r[k]) for k in ("ux", "uy", "uz")] for r in rows}
+    ours, ref = load(ours_file), load(reference_file)
+    if set(ours) != set(ref):
+        print("  FAILED: the nodes differ from the reference's")
+        return False
+    scale = max(abs(c) for u in ref.values() for c in u)
+    diff = max(abs(a - b) for p in ref for a, b in zip(ours[p], ref[p]))
+    good = diff <= tol * scale
+    print(f"  against {reference_file}: max |u - u_ref| / max |u_ref| = {diff / scale:.3e}"
+          f" (tolerance {tol:g}) -> {'ok' if good else 'FAILED'}")
+    return good
+
+
 def scene(args):
     exe, prm, outdir = args[:3]
-    nps, expectations, same_tol, sets = [1], [], None, []
+    nps, expectations, same_tol, sets, reference = [1], [], None, [], None
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -85,6 +105,9 @@ def scene(args):
             expectations.append(args[i + 1])
         elif args[i] == "--same-displacements":
             same_tol = float(args[i + 1])
+        elif args[i] == "--reference-displacements":
+            reference = (args[i + 1], float(args[i + 2]))
+            i += 1
         else:
             raise ValueError(args[i])
         i += 2
@@ -92,7 +115,8 @@ def scene(args):
     displacements = []
     for np in nps:
         d = outdir + (f"_np{np}" if len(nps) > 1 else "")
-        extra = sets + (["--set", "Output/Write displacement csv=true"] if same_tol else [])
+        want_csv = same_tol is not None or reference is not None
+        extra = sets + (["--set", "Output/Write displacement csv=true"] if want_csv else [])
         p = run(exe, prm, d, np, extra)
         if p.returncode != 0:
             print(f"FAILED: exit status {p.returncode} with {np} rank(s)")
@@ -104,6 +128,8 @@ def scene(args):
             ok &= check_expectation(summary, e)
         if same_tol is not None:
             displacements.append(read_displacements(os.path.join(d, "displacements.csv")))
+        if reference is not None:
+            ok &= compare_with_reference(os.path.join(d, "displacements.csv"), *reference)
     if same_tol is not None:
         ref = displacements[0]
         scale = max(abs(c) for row in ref for c in row)

@@ -102,6 +102,41 @@ namespace FetiContact
   }
 
   void
+  CoarseProblem::apply_G_orthonormal(const Vector<double> &x, Vector<double> &y) const
+  {
+    apply_G(x, y);
+    if (n_rows > 0)
+      GGt.solve_half(y, false);
+  }
+
+  void
+  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, Vector<double> &y) const
+  {
+    Vector<double> z(x);
+    if (n_rows > 0)
+      GGt.solve_half(z, true);
+    apply_Gt(z, y);
+  }
+
+  Vector<double>
+  CoarseProblem::multiplier_from_orthonormal(const Vector<double> &mu_tilde) const
+  {
+    Vector<double> mu(mu_tilde);
+    if (n_rows > 0)
+      GGt.solve_half(mu, true);
+    return mu;
+  }
+
+  Vector<double>
+  CoarseProblem::orthonormal_rhs(const Vector<double> &e) const
+  {
+    Vector<double> r(e);
+    if (n_rows > 0)
+      GGt.solve_half(r, false);
+    return r;
+  }
+
+  void
   CoarseProblem::solve_GGt(Vector<double> &x) const
   {
     if (n_rows > 0)

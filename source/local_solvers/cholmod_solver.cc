@@ -84,6 +84,21 @@ namespace FetiContact
     std::memcpy(v.begin(), x_work->x, n * sizeof(double));
   }
 
+  void
+  CholmodSolver::solve_half(Vector<double> &v, const bool transpose) const
+  {
+    if (n == 0)
+      return;
+    if (b_work == nullptr)
+      b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
+    std::memcpy(b_work->x, v.begin(), n * sizeof(double));
+    const int first = transpose ? CHOLMOD_Lt : CHOLMOD_P;
+    const int second = transpose ? CHOLMOD_Pt : CHOLMOD_L;
+    cholmod_solve2(first, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
+    cholmod_solve2(second, factor, x_work, nullptr, &b_work, nullptr, &y_work, &e_work, &common);
+    std::memcpy(v.begin(), b_work->x, n * sizeof(double));
+  }
+
   double
   CholmodSolver::reciprocal_condition_estimate() const
   {

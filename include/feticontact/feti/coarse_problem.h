@@ -48,6 +48,22 @@ namespace FetiContact
     /** y = Gᵀ x. */
     void
     apply_Gt(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    /**
+     * y = G̃x with G̃ = L⁻¹PG, where P GGᵀ Pᵀ = LLᵀ is the coarse factorization: G̃ has the row
+     * space of G and orthonormal rows (G̃G̃ᵀ = I), so Gλ = e ⟺ G̃λ = ẽ with ẽ = L⁻¹Pe. The
+     * augmented Lagrangian works with G̃ (Dostál's orthonormalized constraints).
+     */
+    void
+    apply_G_orthonormal(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    /** y = G̃ᵀx. */
+    void
+    apply_Gt_orthonormal(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    /** μ = PᵀL⁻ᵀμ̃: the multiplier of Gλ = e from that of G̃λ = ẽ (Gᵀμ = G̃ᵀμ̃). */
+    dealii::Vector<double>
+    multiplier_from_orthonormal(const dealii::Vector<double> &mu_tilde) const;
+    /** ẽ = L⁻¹P e. */
+    dealii::Vector<double>
+    orthonormal_rhs(const dealii::Vector<double> &e) const;
     /** x ← (GGᵀ)⁻¹ x. */
     void
     solve_GGt(dealii::Vector<double> &x) const;

@@ -27,6 +27,14 @@ namespace FetiContact
     }
 
     /**
+     * With the factorization P A Pᵀ = L Lᵀ (P the fill-reducing permutation): x ← L⁻¹ P x if
+     * @p transpose is false, x ← Pᵀ L⁻ᵀ x if true. Then A⁻¹ = (L⁻¹P)ᵀ(L⁻¹P), and for A = GGᵀ the
+     * rows of L⁻¹PG are orthonormal.
+     */
+    void
+    solve_half(dealii::Vector<double> &x, const bool transpose) const;
+
+    /**
      * An estimate of the reciprocal condition number from the diagonal of L (cholmod_rcond);
      * used to detect a singular coarse matrix GGᵀ.
      */

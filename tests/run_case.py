@@ -7,7 +7,7 @@
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
-into summary.json, e.g. equilibrium.largest_relative_imbalance). With several ranks (--np 1,2,3)
+into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
 every run is checked, and with --same-displacements the nodal displacements of all runs must
 agree to TOL relative (max norm).
 bad: the run must exit with status 1 (no signal, within the time limit), print TEXT
@@ -42,9 +42,12 @@ def run(exe, prm, outdir, np, extra=()):
 def lookup(summary, path):
     value = summary
     for key in path.split("."):
-        if not isinstance(value, dict) or key not in value:
+        if isinstance(value, list) and key.isdigit() and int(key) < len(value):
+            value = value[int(key)]
+        elif isinstance(value, dict) and key in value:
+            value = value[key]
+        else:
             raise KeyError(path)
-        value = value[key]
     return value
 
 

@@ -53,19 +53,8 @@ namespace FetiContact
                                           Vector<double>       &y) { dual.apply_F(x, y); },
                                       layout.size(),
                                       10);
-    const unsigned int n_modes = dual.coarse.n_modes();
-    if (n_modes > 0)
-      {
-        const double GtG = QP::estimate_norm(
-          [&](const Vector<double> &x, Vector<double> &y) {
-            Vector<double> Gx;
-            dual.coarse.apply_G(x, Gx);
-            dual.coarse.apply_Gt(Gx, y);
-          },
-          layout.size(),
-          10);
-        G_norm = std::sqrt(1.05 * GtG);
-      }
+    // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
+    G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
     rho          = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
     hessian_norm = F_norm + rho * G_norm * G_norm;
   }
@@ -237,7 +226,8 @@ namespace FetiContact
   {
     const auto algorithm = parameters.algorithm;
     using A              = Parameters::ContactSolver::Algorithm;
-    QP::SmalbeOptions options;
+    const Vector<double> e_tilde = dual.coarse.orthonormal_rhs(dual.e);
+    QP::SmalbeOptions    options;
     options.tolerance             = parameters.qp_tolerance;
     options.feasibility_tolerance = parameters.qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
@@ -299,9 +289,9 @@ namespace FetiContact
       [&](const Vector<double> &x, Vector<double> &y) { dual.apply_F(x, y); },
       dual.h,
       set,
-      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_G(x, y); },
-      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_Gt(x, y); },
-      dual.e,
+      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_G_orthonormal(x, y); },
+      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_Gt_orthonormal(x, y); },
+      e_tilde,
       lambda,
       mu,
       options);

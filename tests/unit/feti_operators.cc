@@ -2,7 +2,8 @@
 //  - B_E has orthonormal rows (B_E B_Eᵀ = I) and the expected number of rows;
 //  - gluing rows vanish on a continuous field;
 //  - F is symmetric and positive semidefinite, P is a projector onto ker G, Gλ₀ = e (to rounding:
-//    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50).
+//    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50);
+//  - the orthonormalized G̃ = L⁻¹PG has G̃G̃ᵀ = I (to 1e-10: rounding amplified by cond(L)).
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -146,6 +147,33 @@ main(int argc, char **argv)
         if (Gx.size() > 0)
           check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(),
                 label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
+        // Orthonormalized G̃ = L⁻¹PG: G̃G̃ᵀ = I and G̃ᵀ is its transpose.
+        {
+          const unsigned int k = dual.coarse.n_modes();
+          double             deviation = 0, transpose = 0;
+          Vector<double>     z(k), Gtz, GGtz, w(m), Gw;
+          for (unsigned int j = 0; j < k; ++j)
+            {
+              z    = 0;
+              z[j] = 1;
+              dual.coarse.apply_Gt_orthonormal(z, Gtz);
+              dual.coarse.apply_G_orthonormal(Gtz, GGtz);
+              GGtz -= z;
+              deviation = std::max(deviation, GGtz.linfty_norm());
+            }
+          for (unsigned int i = 0; i < m; ++i)
+            w[i] = uniform(random);
+          for (unsigned int j = 0; j < k; ++j)
+            z[j] = uniform(random);
+          dual.coarse.apply_G_orthonormal(w, Gw);
+          dual.coarse.apply_Gt_orthonormal(z, Gtz);
+          if (k > 0)
+            {
+              transpose = std::abs(Gw * z - Gtz * w) / (Gw.l2_norm() * z.l2_norm());
+              check(deviation < 1e-10, label + ": |G̃G̃ᵀ − I| = " + sci(deviation));
+              check(transpose < 1e-13, label + ": (G̃w)ᵀz = wᵀ(G̃ᵀz), relative " + sci(transpose));
+            }
+        }
         const auto     lambda0 = dual.coarse.least_norm_solution(dual.e);
         Vector<double> Gl;
         dual.coarse.apply_G(lambda0, Gl);

@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""The brick with Coulomb friction F = 0.3 on the Gmsh mesh of ../shared/reference/brick_k4,
+solved by every contact algorithm and compared with the independent reference solution
+(GetFEM, nodal contact, Newton to 1e-12). Writes doc/data/reference_comparison.md.
+
+    python3 benchmarks/reference_comparison.py [--exe build/feticontact]
+
+Standard library only; run from the repository root after building.
+"""
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+exe = "build/feticontact"
+if "--exe" in sys.argv:
+    exe = sys.argv[sys.argv.index("--exe") + 1]
+reference = "tests/reference/displacements_F0.3.csv"
+
+
+def load(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {(round(float(r["x"]), 9), round(float(r["y"]), 9), round(float(r["z"]), 9)):
+            [float(r[k]) for k in ("ux", "uy", "uz")] for r in rows}
+
+
+ref = load(reference)
+scale = max(abs(c) for u in ref.values() for c in u)
+rows = []
+with tempfile.TemporaryDirectory() as tmp:
+    for algorithm in ("algorithm 1", "algorithm 2", "mpgp", "polygonal"):
+        out = os.path.join(tmp, "run")
+        subprocess.run([exe, "--set", f"Output/Directory={out}", "--set",
+                        f"Contact solver/Algorithm={algorithm}", "--set", "Output/Write vtu=false",
+                        "--set", "Output/Write displacement csv=true",
+                        "prm/brick_gmsh_contact.prm"], check=True, capture_output=True)
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        ours = load(os.path.join(out, "displacements.csv"))
+        diff = max(abs(a - b) for p in ref for a, b in zip(ours[p], ref[p])) / scale
+        rows.append((algorithm, diff, s))
+        print(algorithm, diff, flush=True)
+
+lines = ["| algorithm | max ‖u − u_ref‖ / max ‖u_ref‖ | Iter | SMALBE iterations | n_A (bound + disc) "
+         "| open / stick / slip | penetration | cone violation | time (s) |",
+         "|---|---|---|---|---|---|---|---|---|"]
+for algorithm, diff, s in rows:
+    h = s["hessian_multiplications"]
+    c = s["contact"]
+    k = s["kkt"]
+    lines.append(f"| {algorithm} | {diff:.1e} | {s['outer_iterations']} | {s['smalbe_iterations']} "
+                 f"| {h['total']} ({h['bound']} + {h['disc']}) | {c['open']} / {c['stick']} / {c['slip']} "
+                 f"| {k['penetration']:.1e} | {k['cone_violation']:.1e} | {s['times']['solve']:.2f} |")
+os.makedirs("doc/data", exist_ok=True)
+with open("doc/data/reference_comparison.md", "w") as f:
+    f.write("<!-- written by: python3 benchmarks/reference_comparison.py -->\n")
+    f.write("\n".join(lines) + "\n")
+print("\n".join(lines))

@@ -1,0 +1,119 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/qp/projected_cg.h>
+#include <feticontact/qp/separable_set.h>
+
+#include <functional>
+
+namespace FetiContact::QP
+{
+  /** A symmetric linear operator given by its action y = A x. */
+  using Operator = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
+
+  /**
+   * An estimate of ‖A‖ (the largest eigenvalue of a symmetric positive semidefinite A) by the
+   * power method: `iterations` multiplications by A (at least one) from a fixed pseudo-random
+   * start vector (the same for every call with the same n), returning ‖A v‖ for the last unit
+   * iterate v. It is a lower bound of ‖A‖; callers add a safety factor. Returns 0 if A v = 0.
+   */
+  double
+  estimate_norm(const Operator &A, const unsigned int n, const unsigned int iterations = 10);
+
+  /** Parameters of MPGP. */
+  struct MpgpOptions
+  {
+    /** ε: stop when ‖g^P(x)‖ ≤ ε (absolute: the caller makes it relative, e.g. ε_rel ‖b‖). */
+    double tolerance = 0;
+    /** Largest number of steps (CG, expansion and proportioning steps together). */
+    unsigned int max_iterations = 10000;
+    /** Γ > 0 of the proportionality test ‖β‖² ≤ Γ² φ̃ᵀφ. */
+    double gamma = 1;
+    /**
+     * ᾱ ∈ (0, 2/‖A‖], the fixed step of expansion and projected proportioning steps. 0: ᾱ =
+     * 1.9/(1.05 ‖A‖_est) with ‖A‖_est = estimate_norm(A, n, norm_iterations).
+     */
+    double step = 0;
+    /**
+     * Step length of the projected proportioning step P_Ω(x − αβ) (β acting on a disc).
+     * true (default): α = βᵀg/(βᵀAβ + Σ_k σ_k‖β_k‖²/r_k), the minimizer of the second-order model
+     * of f along the arc α ↦ P_Ω(x − αβ) (σ_k = −g_k·ν_k > 0 on an active disc k whose β_k is
+     * tangential; SeparableSet::arc_curvature); one more multiplication by A per such step.
+     * false: α = ᾱ (Dostál–Kozubek); this step increases f when σ_k/r_k ≳ 2/ᾱ − ‖A‖ (small
+     * discs pressed hard outwards, as at the edge of a contact zone with friction) and is then
+     * replaced by P_Ω(x − ᾱg), which can stagnate (see tests/unit/qp_mpgp.cc). Either step is
+     * replaced by P_Ω(x − ᾱg) if it increased f.
+     */
+    bool proportioning_line_search = true;
+    /** Power iterations for ᾱ when step = 0. */
+    unsigned int norm_iterations = 10;
+    /** Called after every step with (step number, ‖g^P‖). */
+    std::function<void(unsigned int, double)> monitor;
+    /**
+     * An additional stopping test, evaluated at the start and after every step with (x, ‖g^P‖):
+     * MPGP stops (converged) when it returns true or ‖g^P‖ ≤ tolerance. SMALBE uses it for its
+     * inner stopping rule ‖g^P‖ ≤ min(M‖Gx − e‖, η), which depends on x.
+     */
+    std::function<bool(const dealii::Vector<double> &, double)> stop_when;
+  };
+
+  /**
+   * What MPGP reports. `iterations` counts all steps; `hessian_multiplications` counts every
+   * multiplication by A, including the norm_estimate_multiplications of the power method when
+   * ᾱ was estimated; relative_residual = ‖g^P‖/‖b‖ (‖g^P‖ when b = 0).
+   */
+  struct MpgpReport : SolverReport
+  {
+    /** Conjugate gradient steps (x − α_cg p stayed in Ω). */
+    unsigned int cg_steps = 0;
+    /** Expansion steps (feasible half step, then P_Ω(x − ᾱ φ)). */
+    unsigned int expansion_steps = 0;
+    /** Proportioning steps (along β: exact line search, or projected step with discs). */
+    unsigned int proportioning_steps = 0;
+    /**
+     * Projected proportioning steps P_Ω(x − αβ) that increased f (the curvature of an active
+     * disc) and were replaced by the projected gradient step P_Ω(x − ᾱ g).
+     */
+    unsigned int proportioning_fallbacks = 0;
+    /** Multiplications by A spent on the power method (part of hessian_multiplications). */
+    unsigned int norm_estimate_multiplications = 0;
+    /** ‖g^P(x)‖ at the end. */
+    double projected_gradient_norm = 0;
+    /** The step ᾱ used. */
+    double step = 0;
+  };
+
+  /**
+   * MPGP (modified proportioning with gradient projections; Dostál–Kozubek, Math. Program.
+   * 2012; on intervals it is MPRGP of Dostál–Schöberl, Comput. Optim. Appl. 2005):
+   *
+   *     min ½ xᵀA x − bᵀx   s.t.  x ∈ Ω   (Ω a SeparableSet, A symmetric positive definite).
+   *
+   * From x = P_Ω(x₀), g = Ax − b, p = φ(x), until ‖g^P(x)‖ ≤ ε (or MpgpOptions::stop_when):
+   *  - if x is proportional, ‖β(x)‖² ≤ Γ² φ̃(x)ᵀφ(x) with the reduced free gradient
+   *    φ̃(x) = (x − P_Ω(x − ᾱ φ(x)))/ᾱ: α_cg = gᵀp/pᵀAp, α_f = the largest feasible step along −p;
+   *    if α_cg ≤ α_f a CG step x ← x − α_cg p, g ← g − α_cg Ap, p ← φ − (φᵀAp/pᵀAp) p; otherwise
+   *    an expansion step x ← x − α_f p, g ← g − α_f Ap, x ← P_Ω(x − ᾱ φ(x)), g ← Ax − b, p ← φ;
+   *  - otherwise a proportioning step: if β(x) vanishes on all discs, the exact line search along
+   *    β (α = gᵀβ/βᵀAβ, cut at the feasible step so that a box's far end is respected); if β
+   *    acts on an active disc (a line along β leaves the curved set), the projected step
+   *    x ← P_Ω(x − αβ) with α from a second-order model of f along the projected arc, or α = ᾱ
+   *    as in Dostál–Kozubek (MpgpOptions::proportioning_line_search),
+   *    replaced by x ← P_Ω(x − ᾱ g) if f increased beyond its rounding level (only the latter
+   *    step is guaranteed to decrease f for ᾱ ≤ 2/‖A‖; the former needs
+   *    ᾱ ≤ 2/(‖A‖ + σ_k/r_k), which fails on strongly curved discs: small r_k, large
+   *    multiplier σ_k); then p ← φ.
+   * Iterates are kept in Ω exactly (projected after every update, which changes them only at the
+   * rounding level). A CG direction with gᵀp ≤ 0 or pᵀAp ≤ 0 is replaced by φ; pᵀAp ≤ 0 for
+   * p = φ ≠ 0 (A not positive definite) ends the solve unconverged.
+   *
+   * @param x in: x₀ (any point, projected first); out: the last iterate.
+   */
+  MpgpReport
+  mpgp(const Operator               &A,
+       const dealii::Vector<double> &b,
+       const SeparableSet           &set,
+       dealii::Vector<double>       &x,
+       const MpgpOptions            &options);
+} // namespace FetiContact::QP

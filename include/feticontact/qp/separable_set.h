@@ -1,0 +1,176 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <vector>
+
+namespace FetiContact::QP
+{
+  /**
+   * A closed convex set Ω = Ω_1 × … × Ω_s over the n components of a vector, each block one of
+   *  - a free component (Ω_i = R; the default for every component),
+   *  - an interval l ≤ x_i ≤ u on one component (either end may be ±∞; a lower bound x_i ≥ l is
+   *    the interval [l, +∞); l = u fixes the component),
+   *  - a disc on two components (i, j): ‖(x_i, x_j) − c‖ ≤ r with centre c ∈ R² and radius
+   *    r ≥ 0 (r = 0 fixes the block at c).
+   * In FETI contact: λ_N ≥ 0 (lower bounds), ‖(λ_t1, λ_t2)_k‖ ≤ g_k (discs centred at 0),
+   * λ_E free (DESIGN.md §2).
+   *
+   * The set supplies what MPRGP/MPGP need (DESIGN.md §3): the Euclidean projection P_Ω, the free
+   * gradient φ, the chopped gradient β, the projected gradient g^P = φ + β and the feasible step
+   * length. "Active" (on the boundary) is decided robustly: an interval end is active when x_i
+   * equals it or lies within 1e-14 times the interval's scale max(|l|, |u|) (finite ends only)
+   * of it; a disc is active when ‖x − c‖ ≥ r(1 − 1e-12); fixed blocks (l = u, r = 0) are always
+   * active, and so is an interval narrower than twice the interval tolerance. φ and β have disjoint
+   * supports (inactive blocks and active blocks).
+   */
+  class SeparableSet
+  {
+  public:
+    /** The set R^n: every component free. */
+    explicit SeparableSet(const unsigned int n);
+
+    /** n, the number of components. */
+    unsigned int
+    size() const;
+
+    /** Makes component i the interval block lower ≤ x_i ≤ upper (ends may be ±∞). */
+    void
+    set_interval(const unsigned int i, const double lower, const double upper);
+
+    /** Makes component i the lower bound x_i ≥ lower (the interval [lower, +∞)). */
+    void
+    set_lower_bound(const unsigned int i, const double lower);
+
+    /**
+     * Makes components (i, j) the disc block ‖(x_i, x_j) − centre‖ ≤ radius and returns its
+     * number k (0, 1, … in order of addition). Both components must still be free.
+     */
+    unsigned int
+    add_disc(const unsigned int           i,
+             const unsigned int           j,
+             const std::array<double, 2> &centre,
+             const double                 radius);
+
+    /** Changes the radius r ≥ 0 of disc k (in MSA: the slip bound g_k = F λ_N,k). */
+    void
+    set_disc_radius(const unsigned int k, const double radius);
+
+    /** Changes the centre of disc k. */
+    void
+    set_disc_centre(const unsigned int k, const double c1, const double c2);
+
+    /** The number of disc blocks. */
+    unsigned int
+    n_discs() const;
+
+    /** The components (i, j) of disc k. */
+    std::array<unsigned int, 2>
+    disc_components(const unsigned int k) const;
+
+    /** The centre of disc k. */
+    std::array<double, 2>
+    disc_centre(const unsigned int k) const;
+
+    /** The radius of disc k. */
+    double
+    disc_radius(const unsigned int k) const;
+
+    /**
+     * x ← P_Ω(x), the Euclidean projection, block by block: intervals clamp; a disc maps y
+     * outside to c + r (y − c)/‖y − c‖.
+     */
+    void
+    project(dealii::Vector<double> &x) const;
+
+    /**
+     * φ(x): the free gradient, g on the components of blocks where x is not on the boundary
+     * (free components, interior of intervals and discs), 0 on active blocks.
+     */
+    void
+    free_gradient(const dealii::Vector<double> &x,
+                  const dealii::Vector<double> &g,
+                  dealii::Vector<double>       &phi) const;
+
+    /**
+     * β(x): the chopped gradient, 0 on inactive blocks; an interval at its lower end
+     * min(g_i, 0), at its upper end max(g_i, 0); an active disc with outward unit normal
+     * ν = (x − c)/‖x − c‖: β = g − min(g·ν, 0) ν (the part of −g pointing out of the disc is
+     * removed); fixed blocks: 0.
+     */
+    void
+    chopped_gradient(const dealii::Vector<double> &x,
+                     const dealii::Vector<double> &g,
+                     dealii::Vector<double>       &beta) const;
+
+    /** g^P(x) = φ(x) + β(x), the projected gradient: zero exactly at a KKT point. */
+    void
+    projected_gradient(const dealii::Vector<double> &x,
+                       const dealii::Vector<double> &g,
+                       dealii::Vector<double>       &gP) const;
+
+    /**
+     * The largest α ≥ 0 with x − α d ∈ Ω (x ∈ Ω): the ratio test on intervals, the positive
+     * root of ‖x_k − c − α d_k‖ = r on discs, 0 for a fixed block with d ≠ 0 on it;
+     * +∞ when no block limits the step.
+     */
+    double
+    max_feasible_step(const dealii::Vector<double> &x, const dealii::Vector<double> &d) const;
+
+    /**
+     * Σ_k σ_k ‖t_k‖²/r_k over the active discs k with r_k > 0, where σ_k = max(−g_k·ν_k, 0) is
+     * the multiplier the gradient g presses the block outwards with and t_k the tangential part
+     * of d_k. It is what the curvature of the circles adds to the second derivative of f along
+     * the projected path: f(P_Ω(x − αd)) = f(x) − α gᵀd + ½α²(dᵀAd + arc_curvature) + O(α³)
+     * when d is tangential on the discs pressed outwards.
+     */
+    double
+    arc_curvature(const dealii::Vector<double> &x,
+                  const dealii::Vector<double> &g,
+                  const dealii::Vector<double> &d) const;
+
+    /** Whether some disc block has a non-zero component of v (MPGP: β acts on a disc). */
+    bool
+    nonzero_on_discs(const dealii::Vector<double> &v) const;
+
+    /**
+     * The largest violation of a block constraint: max(l − x_i, x_i − u, ‖x_k − c‖ − r, 0) over
+     * all blocks (an absolute number, for tests).
+     */
+    double
+    largest_violation(const dealii::Vector<double> &x) const;
+
+    /** x ∈ Ω up to largest_violation(x) ≤ relative_tolerance · ‖x‖_∞. */
+    bool
+    is_feasible(const dealii::Vector<double> &x, const double relative_tolerance) const;
+
+  private:
+    enum class Kind : unsigned char
+    {
+      free,
+      interval,
+      disc
+    };
+
+    struct Disc
+    {
+      unsigned int          i, j;
+      std::array<double, 2> centre;
+      double                radius;
+    };
+
+    /** Interval state of component i at value v: 0 inside, −1 at the lower end, +1 at the
+     * upper end, 2 fixed (l = u, or u − l within twice the activity tolerance). */
+    int
+    interval_state(const unsigned int i, const double v) const;
+
+    /** Whether disc d is active at x (on its boundary, or r = 0). */
+    bool
+    disc_active(const Disc &d, const dealii::Vector<double> &x) const;
+
+    std::vector<Kind>   kind;
+    std::vector<double> lower, upper, scale;
+    std::vector<Disc>   discs;
+  };
+} // namespace FetiContact::QP

@@ -1,0 +1,143 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/qp/mpgp.h>
+#include <feticontact/qp/projected_cg.h>
+#include <feticontact/qp/separable_set.h>
+
+#include <functional>
+
+namespace FetiContact::QP
+{
+  /**
+   * An inner QP solver of SMALBE: approximately solves min ½λᵀAλ − bᵀλ over λ ∈ Ω, starting from
+   * λ and overwriting it, until ‖g^P(λ)‖ ≤ tolerance (absolute). A is the Hessian F + ρGᵀG of
+   * the augmented Lagrangian; the solver must call it for every multiplication (SMALBE counts
+   * the calls) and knows the set Ω by itself (it captures it).
+   */
+  using InnerSolver = std::function<SolverReport(const Operator               &A,
+                                                 const dealii::Vector<double> &b,
+                                                 dealii::Vector<double>       &lambda,
+                                                 const double                  tolerance)>;
+
+  /** State of SMALBE after one outer iteration, for the monitor. */
+  struct SmalbeStep
+  {
+    /** k, counted from 0. */
+    unsigned int outer_iteration = 0;
+    /** Inner solver steps in this outer iteration, and the inner solver calls. */
+    unsigned int inner_iterations = 0, inner_calls = 0;
+    /** Multiplications by F + ρGᵀG so far. */
+    unsigned int hessian_multiplications = 0;
+    /** ‖g^P(λ_k, μ_k, ρ)‖ and ‖Gλ_k − e‖ over their references (see smalbe()). */
+    double relative_gradient = 0, relative_feasibility = 0;
+    /** L(λ_k, μ_k, ρ). */
+    double lagrangian = 0;
+    /** M_k (the one used in this inner solve); whether it was divided by β_M afterwards. */
+    double M           = 0;
+    bool   M_decreased = false;
+  };
+
+  /** Parameters of SMALBE-M. Zero for a scale-dependent value means "choose it" (see smalbe()). */
+  struct SmalbeOptions
+  {
+    /** ε_g: stop when ‖g^P‖ ≤ ε_g ‖h‖ (and the feasibility test holds). */
+    double tolerance = 1e-8;
+    /** ε_f: stop when ‖Gλ − e‖ ≤ ε_f ‖e‖ (‖G‖ ‖λ‖ when e = 0). */
+    double       feasibility_tolerance = 1e-8;
+    unsigned int max_outer_iterations  = 500;
+    /** Largest number of inner solver calls per outer iteration (see smalbe()). */
+    unsigned int max_inner_calls = 20;
+    /** ρ > 0, the penalty. 0: ‖F‖/‖G‖² (= ‖F‖ for normalized G). */
+    double rho = 0;
+    /** M_0 > 0. 0: M_0 = M0_factor · ρ ‖G‖. */
+    double M0        = 0;
+    double M0_factor = 1;
+    /** β_M > 1: M ← M/β_M when the Lagrangian did not increase enough. */
+    double beta_M = 10;
+    /** η > 0. 0: η = eta_factor · ‖h‖. */
+    double eta        = 0;
+    double eta_factor = 0.1;
+    /** ‖F‖ and ‖G‖ if known (0: power method with norm_iterations steps). */
+    double       F_norm = 0, G_norm = 0;
+    unsigned int norm_iterations = 10;
+    /**
+     * Options of the default inner solver (MPGP on the whole set); its tolerance is set by SMALBE,
+     * its step 0 means ᾱ = 1.9/(‖F‖ + ρ‖G‖²) with the norms below: ‖F‖ + ρ‖G‖² bounds
+     * ‖F + ρGᵀG‖ without power iterations on the inner operator.
+     */
+    MpgpOptions inner;
+    /** The inner solver; empty: MPGP with `inner` on the set passed to smalbe(). */
+    InnerSolver inner_solver;
+    /** Called after every outer iteration. */
+    std::function<void(const SmalbeStep &)> monitor;
+  };
+
+  /** What SMALBE reports. iterations = outer iterations; relative_residual = relative_gradient. */
+  struct SmalbeReport : SolverReport
+  {
+    /** Inner solver steps and calls summed over all outer iterations. */
+    unsigned int inner_iterations = 0, inner_calls = 0;
+    /** Multiplications by F spent on the estimate of ‖F‖ (not in hessian_multiplications). */
+    unsigned int norm_estimate_multiplications = 0;
+    /** Final ‖g^P(λ, μ_k, ρ)‖/ref_g and ‖Gλ − e‖/ref_e (see smalbe()). */
+    double relative_gradient = 0, relative_feasibility = 0;
+    /** ρ, the final M, and the norm estimates used. */
+    double rho = 0, M = 0, F_norm = 0, G_norm = 0;
+    /** μ, the multiplier of Gλ = e (a copy of the output argument). */
+    dealii::Vector<double> mu;
+  };
+
+  /**
+   * SMALBE-M (semimonotonic augmented Lagrangian for bound and equality constraints with
+   * adaptive precision control; Dostál, SIAM J. Numer. Anal. 2005; DESIGN.md §3) for
+   *
+   *     min ½λᵀFλ − λᵀh   s.t.  λ ∈ Ω,  Gλ = e,
+   *
+   * with G: R^m → R^k given by apply_G and its transpose by apply_Gt. With the augmented
+   * Lagrangian L(λ, μ, ρ) = ½λᵀFλ − λᵀh + μᵀ(Gλ − e) + ρ/2 ‖Gλ − e‖², whose Hessian in λ is
+   * A = F + ρGᵀG and whose linear term is h − Gᵀμ + ρGᵀe, outer iteration k:
+   *  1. λ_k ≈ argmin_{λ∈Ω} L(λ, μ_k, ρ), stopped when ‖g^P(λ)‖ ≤ max(min(M_k‖Gλ − e‖, η),
+   *     ε_g ref_g). The floor ε_g ref_g (the final gradient tolerance) avoids solving to a
+   *     precision the stopping test does not ask for. The default inner solver (MPGP) evaluates
+   *     this rule after every step (MpgpOptions::stop_when; one application of G per step). An
+   *     InnerSolver takes a fixed tolerance: it gets the rule evaluated at its start (η if λ is
+   *     feasible there) and is called again, warm, while the rule fails at its result, at most
+   *     max_inner_calls times or until a call makes no step or does not converge.
+   *  2. Stop if ‖g^P(λ_k)‖ ≤ ε_g ref_g and ‖Gλ_k − e‖ ≤ ε_f ref_e.
+   *  3. μ_{k+1} = μ_k + ρ(Gλ_k − e). (Then Fλ_k − h + Gᵀμ_{k+1} = g(λ_k, μ_k, ρ): μ_{k+1} is the
+   *     multiplier that goes with λ_k, and the one returned.)
+   *  4. If k > 0 and L(λ_k, μ_k, ρ) < L(λ_{k−1}, μ_{k−1}, ρ) + ρ/2 ‖Gλ_k − e‖²:
+   *     M_{k+1} = M_k/β_M, else M_{k+1} = M_k.
+   * After each inner solve one multiplication by A gives the gradient and L (counted).
+   *
+   * Every threshold is relative (DESIGN.md §4), so that multiplying F and h by s > 0 leaves λ
+   * and the iteration counts unchanged and multiplies μ by s, and scaling G and e leaves λ
+   * unchanged:
+   *  - ref_g = ‖h‖ (‖F‖‖λ‖ if h = 0), never below the rounding level 64 ε_mach ‖A‖‖λ‖/ε_g;
+   *  - ref_e = ‖e‖, never below 64 ε_mach ‖G‖‖λ‖/ε_f; if e = 0, ref_e = ‖G‖‖λ‖: ‖Gλ‖ cannot be
+   *    small in any absolute sense, only against the size ‖G‖‖λ‖ of the terms it sums;
+   *  - ρ = ‖F‖/‖G‖²: the penalty term ρGᵀG then has the norm of F (for G with orthonormal rows,
+   *    ρ = ‖F‖ as in Dostál's experiments), invariant under G ← sG;
+   *  - M_0 = ρ‖G‖ = ‖F‖/‖G‖: M converts a feasibility error into a gradient, and
+   *    ‖ρGᵀ(Gλ − e)‖ ≤ ρ‖G‖ ‖Gλ − e‖ is the gradient an infeasibility ‖Gλ − e‖ causes; this is
+   *    Dostál's M_0 = 1 for ‖F‖ = ‖G‖ = 1;
+   *  - η = 0.1 ‖h‖.
+   * ‖F‖ and ‖G‖ are power-method estimates (times 1.05) unless given. Without constraints
+   * (k = 0 or G = 0) ρ = ‖F‖ and M_0 = ‖F‖ (they have no effect then).
+   *
+   * @param lambda in: λ₀ (projected onto Ω by the inner solver); out: λ.
+   * @param mu     in: μ₀ (size k, or empty for 0); out: μ.
+   */
+  SmalbeReport
+  smalbe(const Operator               &F,
+         const dealii::Vector<double> &h,
+         const SeparableSet           &set,
+         const Operator               &apply_G,
+         const Operator               &apply_Gt,
+         const dealii::Vector<double> &e,
+         dealii::Vector<double>       &lambda,
+         dealii::Vector<double>       &mu,
+         const SmalbeOptions          &options);
+} // namespace FetiContact::QP

@@ -1,0 +1,233 @@
+#include <deal.II/base/exceptions.h>
+
+#include <feticontact/qp/mpgp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace FetiContact::QP
+{
+  using namespace dealii;
+
+  double
+  estimate_norm(const Operator &A, const unsigned int n, const unsigned int iterations)
+  {
+    if (n == 0)
+      return 0;
+    // Deterministic pseudo-random start (minstd_rand's sequence is fixed by the standard).
+    std::minstd_rand random(20120101);
+    Vector<double>   v(n), Av(n);
+    for (auto &vi : v)
+      vi = double(random()) / double(std::minstd_rand::max()) - 0.5;
+    v /= v.l2_norm();
+    double estimate = 0;
+    for (unsigned int k = 0; k < std::max(iterations, 1u); ++k)
+      {
+        A(v, Av);
+        estimate = Av.l2_norm();
+        if (!(estimate > 0) || !std::isfinite(estimate))
+          return estimate > 0 ? estimate : 0.;
+        v.equ(1. / estimate, Av);
+      }
+    return estimate;
+  }
+
+  MpgpReport
+  mpgp(const Operator       &A,
+       const Vector<double> &b,
+       const SeparableSet   &set,
+       Vector<double>       &x,
+       const MpgpOptions    &options)
+  {
+    const unsigned int n = b.size();
+    AssertThrow(set.size() == n && x.size() == n,
+                ExcMessage("MPGP: sizes of b (" + std::to_string(n) + "), x (" +
+                           std::to_string(x.size()) + ") and the set (" +
+                           std::to_string(set.size()) + ") differ."));
+    AssertThrow(options.gamma > 0, ExcMessage("MPGP: Γ must be positive."));
+
+    MpgpReport report;
+    const auto multiply = [&](const Vector<double> &v, Vector<double> &w) {
+      A(v, w);
+      ++report.hessian_multiplications;
+    };
+
+    double alpha_bar = options.step;
+    if (!(alpha_bar > 0))
+      {
+        const unsigned int iterations = std::max(options.norm_iterations, 1u);
+        const double       norm       = estimate_norm(A, n, iterations);
+        report.hessian_multiplications += iterations;
+        report.norm_estimate_multiplications = iterations;
+        if (!(norm > 0) || !std::isfinite(norm))
+          {
+            // A vanishes on the start vector (or n = 0): nothing sensible to iterate with.
+            report.converged = (n == 0);
+            return report;
+          }
+        alpha_bar = 1.9 / (1.05 * norm);
+      }
+    report.step = alpha_bar;
+
+    Vector<double> g(n), p(n), Ap(n), phi(n), beta(n), y(n), x_old, g_old;
+    const double   b_norm      = b.l2_norm();
+    double         norm_gP     = 0;
+    const auto     update_sets = [&]() {
+      set.free_gradient(x, g, phi);
+      set.chopped_gradient(x, g, beta);
+      norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // disjoint supports
+    };
+    const auto gradient = [&]() {
+      multiply(x, g);
+      g -= b;
+    };
+
+    set.project(x);
+    gradient();
+    update_sets();
+    p              = phi;
+    bool p_is_phi  = true;
+    bool breakdown = false;
+
+    const auto done = [&]() {
+      return norm_gP <= options.tolerance || (options.stop_when && options.stop_when(x, norm_gP));
+    };
+    bool converged = done();
+    while (!converged && std::isfinite(norm_gP) && !breakdown &&
+           report.iterations < options.max_iterations)
+      {
+        // Proportionality: ‖β‖² ≤ Γ² φ̃ᵀφ with φ̃ = (x − P_Ω(x − ᾱφ))/ᾱ.
+        y = x;
+        y.add(-alpha_bar, phi);
+        set.project(y);
+        double phi_tilde_phi = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          phi_tilde_phi += (x[i] - y[i]) * phi[i];
+        phi_tilde_phi /= alpha_bar;
+
+        if (beta.norm_sqr() <= options.gamma * options.gamma * phi_tilde_phi)
+          {
+            double gp = g * p;
+            if (!(gp > 0) && !p_is_phi)
+              {
+                p        = phi;
+                p_is_phi = true;
+                gp       = g * p;
+              }
+            multiply(p, Ap);
+            const double pAp = p * Ap;
+            if (!(pAp > 0) || !(gp > 0))
+              {
+                if (p_is_phi)
+                  breakdown = true; // A not positive definite on φ, or φ = 0 at rounding level
+                else
+                  {
+                    p        = phi;
+                    p_is_phi = true;
+                  }
+                continue;
+              }
+            const double alpha_cg = gp / pAp;
+            const double alpha_f  = set.max_feasible_step(x, p);
+            if (alpha_cg <= alpha_f)
+              {
+                // Conjugate gradient step.
+                x.add(-alpha_cg, p);
+                set.project(x);
+                g.add(-alpha_cg, Ap);
+                update_sets();
+                const double gamma_cg = (phi * Ap) / pAp;
+                p.sadd(-gamma_cg, 1., phi); // p ← φ − γ p
+                p_is_phi = false;
+                ++report.cg_steps;
+              }
+            else
+              {
+                // Expansion step: feasible half step, then the fixed-step projected step along φ.
+                x.add(-alpha_f, p);
+                set.project(x);
+                g.add(-alpha_f, Ap);
+                set.free_gradient(x, g, phi);
+                x.add(-alpha_bar, phi);
+                set.project(x);
+                gradient();
+                update_sets();
+                p        = phi;
+                p_is_phi = true;
+                ++report.expansion_steps;
+              }
+          }
+        else
+          {
+            // Proportioning step along the chopped gradient.
+            if (!set.nonzero_on_discs(beta))
+              {
+                multiply(beta, Ap);
+                const double dAd = beta * Ap;
+                if (!(dAd > 0))
+                  {
+                    breakdown = true;
+                    continue;
+                  }
+                const double alpha = std::min((g * beta) / dAd, set.max_feasible_step(x, beta));
+                x.add(-alpha, beta);
+                set.project(x);
+                g.add(-alpha, Ap);
+              }
+            else
+              {
+                x_old        = x;
+                g_old        = g;
+                double alpha = alpha_bar;
+                if (options.proportioning_line_search)
+                  {
+                    // Minimizer of the second-order model of f along the arc P_Ω(x − αβ).
+                    multiply(beta, Ap);
+                    const double curvature = beta * Ap + set.arc_curvature(x, g, beta);
+                    if (!(curvature > 0))
+                      {
+                        breakdown = true;
+                        continue;
+                      }
+                    alpha = (g * beta) / curvature;
+                  }
+                x.add(-alpha, beta);
+                set.project(x);
+                gradient();
+                // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old), against its rounding level (the
+                // projection onto a disc is exact only to ε r, times the multiplier g·ν).
+                double df = 0, noise = 0;
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    df += (x[i] - x_old[i]) * (g[i] + g_old[i]);
+                    noise += std::abs(x[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
+                  }
+                noise *= 32 * std::numeric_limits<double>::epsilon();
+                if (df > noise)
+                  {
+                    x = x_old;
+                    x.add(-alpha_bar, g_old);
+                    set.project(x);
+                    gradient();
+                    ++report.proportioning_fallbacks;
+                  }
+              }
+            update_sets();
+            p        = phi;
+            p_is_phi = true;
+            ++report.proportioning_steps;
+          }
+        ++report.iterations;
+        if (options.monitor)
+          options.monitor(report.iterations, norm_gP);
+        converged = done();
+      }
+
+    report.projected_gradient_norm = norm_gP;
+    report.relative_residual       = b_norm > 0 ? norm_gP / b_norm : norm_gP;
+    report.converged               = converged;
+    return report;
+  }
+} // namespace FetiContact::QP

@@ -1,0 +1,333 @@
+#include <deal.II/base/exceptions.h>
+
+#include <feticontact/qp/separable_set.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace FetiContact::QP
+{
+  using namespace dealii;
+
+  namespace
+  {
+    constexpr double infinity = std::numeric_limits<double>::infinity();
+    /** Relative distance to an interval end that counts as "at the end". */
+    constexpr double interval_activity_tolerance = 1e-14;
+    /** ‖x − c‖ ≥ r(1 − this) counts as "on the disc boundary". */
+    constexpr double disc_activity_tolerance = 1e-12;
+  } // namespace
+
+  SeparableSet::SeparableSet(const unsigned int n)
+    : kind(n, Kind::free)
+    , lower(n, -infinity)
+    , upper(n, infinity)
+    , scale(n, 0.)
+  {}
+
+  unsigned int
+  SeparableSet::size() const
+  {
+    return kind.size();
+  }
+
+  void
+  SeparableSet::set_interval(const unsigned int i, const double l, const double u)
+  {
+    AssertThrow(i < size(), ExcIndexRange(i, 0, size()));
+    AssertThrow(kind[i] != Kind::disc,
+                ExcMessage("SeparableSet: component " + std::to_string(i) +
+                           " belongs to a disc and cannot be an interval."));
+    AssertThrow(!std::isnan(l) && !std::isnan(u) && l <= u && l < infinity && u > -infinity,
+                ExcMessage("SeparableSet: bad interval [" + std::to_string(l) + ", " +
+                           std::to_string(u) + "] for component " + std::to_string(i) + "."));
+    lower[i] = l;
+    upper[i] = u;
+    kind[i]  = (l == -infinity && u == infinity) ? Kind::free : Kind::interval;
+    scale[i] = std::max(std::isfinite(l) ? std::abs(l) : 0., std::isfinite(u) ? std::abs(u) : 0.);
+  }
+
+  void
+  SeparableSet::set_lower_bound(const unsigned int i, const double l)
+  {
+    set_interval(i, l, infinity);
+  }
+
+  unsigned int
+  SeparableSet::add_disc(const unsigned int           i,
+                         const unsigned int           j,
+                         const std::array<double, 2> &centre,
+                         const double                 radius)
+  {
+    AssertThrow(i < size() && j < size() && i != j,
+                ExcMessage("SeparableSet: bad disc components (" + std::to_string(i) + ", " +
+                           std::to_string(j) + ")."));
+    AssertThrow(kind[i] == Kind::free && kind[j] == Kind::free,
+                ExcMessage("SeparableSet: disc components (" + std::to_string(i) + ", " +
+                           std::to_string(j) + ") already belong to a block."));
+    AssertThrow(std::isfinite(centre[0]) && std::isfinite(centre[1]),
+                ExcMessage("SeparableSet: disc centre not finite."));
+    AssertThrow(radius >= 0 && std::isfinite(radius),
+                ExcMessage("SeparableSet: disc radius must be finite and ≥ 0."));
+    kind[i] = kind[j] = Kind::disc;
+    discs.push_back(Disc{i, j, centre, radius});
+    return discs.size() - 1;
+  }
+
+  void
+  SeparableSet::set_disc_radius(const unsigned int k, const double radius)
+  {
+    AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
+    AssertThrow(radius >= 0 && std::isfinite(radius),
+                ExcMessage("SeparableSet: disc radius must be finite and ≥ 0."));
+    discs[k].radius = radius;
+  }
+
+  void
+  SeparableSet::set_disc_centre(const unsigned int k, const double c1, const double c2)
+  {
+    AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
+    AssertThrow(std::isfinite(c1) && std::isfinite(c2),
+                ExcMessage("SeparableSet: disc centre not finite."));
+    discs[k].centre = {{c1, c2}};
+  }
+
+  unsigned int
+  SeparableSet::n_discs() const
+  {
+    return discs.size();
+  }
+
+  std::array<unsigned int, 2>
+  SeparableSet::disc_components(const unsigned int k) const
+  {
+    AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
+    return {{discs[k].i, discs[k].j}};
+  }
+
+  std::array<double, 2>
+  SeparableSet::disc_centre(const unsigned int k) const
+  {
+    AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
+    return discs[k].centre;
+  }
+
+  double
+  SeparableSet::disc_radius(const unsigned int k) const
+  {
+    AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
+    return discs[k].radius;
+  }
+
+  int
+  SeparableSet::interval_state(const unsigned int i, const double v) const
+  {
+    const double l = lower[i], u = upper[i];
+    const double tolerance = interval_activity_tolerance * scale[i];
+    if (u - l <= 2 * tolerance) // fixed, or narrower than the resolution of "at an end"
+      return 2;
+    if (v <= l + tolerance)
+      return -1;
+    if (v >= u - tolerance)
+      return 1;
+    return 0;
+  }
+
+  bool
+  SeparableSet::disc_active(const Disc &d, const Vector<double> &x) const
+  {
+    if (d.radius == 0)
+      return true;
+    const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+    return std::hypot(y1, y2) >= d.radius * (1 - disc_activity_tolerance);
+  }
+
+  void
+  SeparableSet::project(Vector<double> &x) const
+  {
+    AssertDimension(x.size(), size());
+    for (unsigned int i = 0; i < size(); ++i)
+      if (kind[i] == Kind::interval)
+        x[i] = std::min(std::max(x[i], lower[i]), upper[i]);
+    for (const Disc &d : discs)
+      {
+        const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+        const double norm = std::hypot(y1, y2);
+        if (norm > d.radius)
+          {
+            // norm > r ≥ 0, so norm > 0.
+            const double s = d.radius / norm;
+            x[d.i]         = d.centre[0] + s * y1;
+            x[d.j]         = d.centre[1] + s * y2;
+          }
+      }
+  }
+
+  void
+  SeparableSet::free_gradient(const Vector<double> &x,
+                              const Vector<double> &g,
+                              Vector<double>       &phi) const
+  {
+    AssertDimension(x.size(), size());
+    AssertDimension(g.size(), size());
+    phi.reinit(size(), true);
+    for (unsigned int i = 0; i < size(); ++i)
+      switch (kind[i])
+        {
+          case Kind::free:
+            phi[i] = g[i];
+            break;
+          case Kind::interval:
+            phi[i] = interval_state(i, x[i]) == 0 ? g[i] : 0.;
+            break;
+          case Kind::disc:
+            break; // below
+        }
+    for (const Disc &d : discs)
+      {
+        const bool active = disc_active(d, x);
+        phi[d.i]          = active ? 0. : g[d.i];
+        phi[d.j]          = active ? 0. : g[d.j];
+      }
+  }
+
+  void
+  SeparableSet::chopped_gradient(const Vector<double> &x,
+                                 const Vector<double> &g,
+                                 Vector<double>       &beta) const
+  {
+    AssertDimension(x.size(), size());
+    AssertDimension(g.size(), size());
+    beta.reinit(size(), true);
+    for (unsigned int i = 0; i < size(); ++i)
+      switch (kind[i])
+        {
+          case Kind::free:
+            beta[i] = 0;
+            break;
+          case Kind::interval:
+            switch (interval_state(i, x[i]))
+              {
+                case -1:
+                  beta[i] = std::min(g[i], 0.);
+                  break;
+                case 1:
+                  beta[i] = std::max(g[i], 0.);
+                  break;
+                default: // inside or fixed
+                  beta[i] = 0;
+              }
+            break;
+          case Kind::disc:
+            break; // below
+        }
+    for (const Disc &d : discs)
+      {
+        beta[d.i] = beta[d.j] = 0;
+        if (d.radius == 0 || !disc_active(d, x))
+          continue;
+        const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+        const double norm = std::hypot(y1, y2);
+        const double n1 = y1 / norm, n2 = y2 / norm; // norm ≥ r(1 − 1e-12) > 0
+        const double gn = std::min(g[d.i] * n1 + g[d.j] * n2, 0.);
+        beta[d.i]       = g[d.i] - gn * n1;
+        beta[d.j]       = g[d.j] - gn * n2;
+      }
+  }
+
+  void
+  SeparableSet::projected_gradient(const Vector<double> &x,
+                                   const Vector<double> &g,
+                                   Vector<double>       &gP) const
+  {
+    Vector<double> beta;
+    free_gradient(x, g, gP);
+    chopped_gradient(x, g, beta);
+    gP += beta;
+  }
+
+  double
+  SeparableSet::max_feasible_step(const Vector<double> &x, const Vector<double> &d) const
+  {
+    AssertDimension(x.size(), size());
+    AssertDimension(d.size(), size());
+    double alpha = infinity;
+    for (unsigned int i = 0; i < size(); ++i)
+      if (kind[i] == Kind::interval && d[i] != 0)
+        {
+          // x_i − α d_i stays in [l, u].
+          const double a = d[i] > 0 ? (x[i] - lower[i]) / d[i] : (upper[i] - x[i]) / (-d[i]);
+          alpha          = std::min(alpha, std::max(a, 0.));
+        }
+    for (const Disc &disc : discs)
+      {
+        const double d1 = d[disc.i], d2 = d[disc.j];
+        if (d1 == 0 && d2 == 0)
+          continue;
+        if (disc.radius == 0)
+          return 0;
+        // ‖y − α d‖² = r²: α²‖d‖² − 2α y·d + ‖y‖² − r² = 0, the positive root.
+        const double y1 = x[disc.i] - disc.centre[0], y2 = x[disc.j] - disc.centre[1];
+        const double dd = d1 * d1 + d2 * d2;
+        const double yd = y1 * d1 + y2 * d2;
+        const double ny = std::hypot(y1, y2);
+        const double room = std::max((disc.radius - ny) * (disc.radius + ny), 0.); // r² − ‖y‖²
+        const double root = std::sqrt(yd * yd + dd * room);
+        // Stable form of (yd + root)/dd: when yd < 0 use room/(root − yd).
+        const double a = yd >= 0 ? (yd + root) / dd : (root - yd > 0 ? room / (root - yd) : 0.);
+        alpha          = std::min(alpha, std::max(a, 0.));
+      }
+    return alpha;
+  }
+
+  double
+  SeparableSet::arc_curvature(const Vector<double> &x,
+                              const Vector<double> &g,
+                              const Vector<double> &d) const
+  {
+    double curvature = 0;
+    for (const Disc &disc : discs)
+      {
+        if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
+          continue;
+        const double y1 = x[disc.i] - disc.centre[0], y2 = x[disc.j] - disc.centre[1];
+        const double norm = std::hypot(y1, y2);
+        const double n1 = y1 / norm, n2 = y2 / norm;
+        const double sigma = std::max(-(g[disc.i] * n1 + g[disc.j] * n2), 0.);
+        const double dn    = d[disc.i] * n1 + d[disc.j] * n2;
+        const double t1 = d[disc.i] - dn * n1, t2 = d[disc.j] - dn * n2;
+        curvature += sigma / disc.radius * (t1 * t1 + t2 * t2);
+      }
+    return curvature;
+  }
+
+  bool
+  SeparableSet::nonzero_on_discs(const Vector<double> &v) const
+  {
+    for (const Disc &d : discs)
+      if (v[d.i] != 0 || v[d.j] != 0)
+        return true;
+    return false;
+  }
+
+  double
+  SeparableSet::largest_violation(const Vector<double> &x) const
+  {
+    AssertDimension(x.size(), size());
+    double violation = 0;
+    for (unsigned int i = 0; i < size(); ++i)
+      if (kind[i] == Kind::interval)
+        violation = std::max({violation, lower[i] - x[i], x[i] - upper[i]});
+    for (const Disc &d : discs)
+      violation =
+        std::max(violation, std::hypot(x[d.i] - d.centre[0], x[d.j] - d.centre[1]) - d.radius);
+    return violation;
+  }
+
+  bool
+  SeparableSet::is_feasible(const Vector<double> &x, const double relative_tolerance) const
+  {
+    return largest_violation(x) <= relative_tolerance * x.linfty_norm();
+  }
+} // namespace FetiContact::QP

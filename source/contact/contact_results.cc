@@ -87,7 +87,7 @@ namespace FetiContact
         const double bound      = node.friction * std::max(r.lambda_N, 0.0);
         if (r.lambda_N <= 1e-8 * lambda_max)
           r.status = ContactStatus::open;
-        else if (node.friction > 0 && tangential >= (1 - 1e-6) * bound)
+        else if (node.friction > 0 && tangential >= (1 - 1e-4) * bound)
           r.status = ContactStatus::slip;
         else
           r.status = ContactStatus::stick;

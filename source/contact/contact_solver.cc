@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 
 namespace FetiContact
 {
@@ -205,7 +206,7 @@ namespace FetiContact
         lT = std::sqrt(lT);
         if (lN <= 1e-8 * lambda_max)
           ++n_open;
-        else if (t != numbers::invalid_unsigned_int && lT >= (1 - 1e-6) * slip_bound[k] &&
+        else if (t != numbers::invalid_unsigned_int && lT >= (1 - 1e-4) * slip_bound[k] &&
                  slip_bound[k] > 0)
           ++n_slip;
         else
@@ -357,8 +358,11 @@ namespace FetiContact
         return result;
       }
 
-    // MSA: g = 0 (frictionless) first, then g ← (1 − ω) g + ω F λ_N.
-    std::vector<double> g(nodes.size(), 0.0);
+    // MSA: the first step with unbounded tangential multipliers (the contact sticks: g = ∞, a
+    // problem that has a solution whenever the normal contact holds the bodies; g = 0, the
+    // frictionless problem, has none for a body held by friction), then
+    // g ← (1 − ω) g + ω F λ_N (the first update takes ω = 1).
+    std::vector<double> g(nodes.size(), std::numeric_limits<double>::infinity());
     set_slip_bounds(g);
     for (msa_iteration = 1; msa_iteration <= parameters.max_msa_iterations; ++msa_iteration)
       {
@@ -367,8 +371,10 @@ namespace FetiContact
         double     d2 = 0, n2 = 0;
         for (unsigned int k = 0; k < nodes.size(); ++k)
           {
-            const double next = (1 - parameters.relaxation) * g[k] + parameters.relaxation * target[k];
-            d2 += (next - g[k]) * (next - g[k]);
+            const double omega = msa_iteration == 1 ? 1.0 : parameters.relaxation;
+            const double next  = std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] :
+                                                       target[k];
+            d2 += std::isfinite(g[k]) ? (next - g[k]) * (next - g[k]) : next * next;
             n2 += next * next;
             g[k] = next;
           }

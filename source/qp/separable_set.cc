@@ -68,8 +68,8 @@ namespace FetiContact::QP
                            std::to_string(j) + ") already belong to a block."));
     AssertThrow(std::isfinite(centre[0]) && std::isfinite(centre[1]),
                 ExcMessage("SeparableSet: disc centre not finite."));
-    AssertThrow(radius >= 0 && std::isfinite(radius),
-                ExcMessage("SeparableSet: disc radius must be finite and ≥ 0."));
+    AssertThrow(radius >= 0 && !std::isnan(radius),
+                ExcMessage("SeparableSet: disc radius must be ≥ 0 (+∞: the block is free)."));
     kind[i] = kind[j] = Kind::disc;
     discs.push_back(Disc{i, j, centre, radius});
     return discs.size() - 1;
@@ -79,8 +79,8 @@ namespace FetiContact::QP
   SeparableSet::set_disc_radius(const unsigned int k, const double radius)
   {
     AssertThrow(k < discs.size(), ExcIndexRange(k, 0, discs.size()));
-    AssertThrow(radius >= 0 && std::isfinite(radius),
-                ExcMessage("SeparableSet: disc radius must be finite and ≥ 0."));
+    AssertThrow(radius >= 0 && !std::isnan(radius),
+                ExcMessage("SeparableSet: disc radius must be ≥ 0 (+∞: the block is free)."));
     discs[k].radius = radius;
   }
 

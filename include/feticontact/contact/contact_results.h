@@ -62,7 +62,8 @@ namespace FetiContact
   /**
    * Evaluates every contact node. @p vertex_u: displacements per body and vertex; @p lambda in the
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
-   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-6) F λ_N,
+   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) F λ_N
+   * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
    * else stick.
    */
   std::vector<ContactNodeResult>

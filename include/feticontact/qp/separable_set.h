@@ -13,7 +13,7 @@ namespace FetiContact::QP
    *  - an interval l ≤ x_i ≤ u on one component (either end may be ±∞; a lower bound x_i ≥ l is
    *    the interval [l, +∞); l = u fixes the component),
    *  - a disc on two components (i, j): ‖(x_i, x_j) − c‖ ≤ r with centre c ∈ R² and radius
-   *    r ≥ 0 (r = 0 fixes the block at c).
+   *    r ≥ 0 (r = 0 fixes the block at c; r = +∞ leaves it free, never active).
    * In FETI contact: λ_N ≥ 0 (lower bounds), ‖(λ_t1, λ_t2)_k‖ ≤ g_k (discs centred at 0),
    * λ_E free (DESIGN.md §2).
    *

@@ -13,6 +13,7 @@
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
 
+#include "qp_test_problems.h"
 #include "test_tools.h"
 
 #include <algorithm>
@@ -25,53 +26,7 @@ using namespace FetiContact;
 
 namespace
 {
-  const double infinity = std::numeric_limits<double>::infinity();
-
-  std::mt19937                           random_engine(7);
-  std::uniform_real_distribution<double> uniform(-1, 1);
-
-  double
-  random_in(const double a, const double b)
-  {
-    return a + (b - a) * (uniform(random_engine) + 1) / 2;
-  }
-
-  /** A = Q diag(λ) Qᵀ, Q orthogonal (Gram–Schmidt of a random matrix), λ log-spaced in
-   * [1, condition]. */
-  FullMatrix<double>
-  random_spd(const unsigned int n, const double condition)
-  {
-    FullMatrix<double> Q(n, n), A(n, n);
-    for (unsigned int i = 0; i < n; ++i)
-      for (unsigned int j = 0; j < n; ++j)
-        Q(i, j) = uniform(random_engine);
-    for (unsigned int j = 0; j < n; ++j)
-      for (unsigned int pass = 0; pass < 2; ++pass)
-        {
-          for (unsigned int l = 0; l < j; ++l)
-            {
-              double s = 0;
-              for (unsigned int i = 0; i < n; ++i)
-                s += Q(i, j) * Q(i, l);
-              for (unsigned int i = 0; i < n; ++i)
-                Q(i, j) -= s * Q(i, l);
-            }
-          double s = 0;
-          for (unsigned int i = 0; i < n; ++i)
-            s += Q(i, j) * Q(i, j);
-          for (unsigned int i = 0; i < n; ++i)
-            Q(i, j) /= std::sqrt(s);
-        }
-    for (unsigned int i = 0; i < n; ++i)
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          double s = 0;
-          for (unsigned int l = 0; l < n; ++l)
-            s += Q(i, l) * std::pow(condition, double(l) / (n - 1)) * Q(j, l);
-          A(i, j) = s;
-        }
-    return A;
-  }
+  using namespace QPTestProblems;
 
   enum class Role
   {

@@ -3,13 +3,14 @@
 
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
-      [--reference-displacements CSV TOL]
+      [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]...
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
 every run is checked, and with --same-displacements the nodal displacements of all runs must
-agree to TOL relative (max norm).
+agree to TOL relative (max norm). --alt-set adds one more run with further overrides, compared
+the same way (e.g. F = 0 against Tresca with slip bound 0).
 bad: the run must exit with status 1 (no signal, within the time limit), print TEXT
 (case-insensitive) on stderr, and leave no summary.json.
 Standard library only, so that any python3 runs it.
@@ -97,7 +98,7 @@ def compare_with_reference(ours_file, reference_file, tol):
 
 def scene(args):
     exe, prm, outdir = args[:3]
-    nps, expectations, same_tol, sets, reference = [1], [], None, [], None
+    nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -106,6 +107,8 @@ def scene(args):
             nps = [int(n) for n in args[i + 1].split(",")]
         elif args[i] == "--expect":
             expectations.append(args[i + 1])
+        elif args[i] == "--alt-set":
+            alt_sets += ["--set", args[i + 1]]
         elif args[i] == "--same-displacements":
             same_tol = float(args[i + 1])
         elif args[i] == "--reference-displacements":
@@ -116,10 +119,12 @@ def scene(args):
         i += 2
     ok = True
     displacements = []
-    for np in nps:
-        d = outdir + (f"_np{np}" if len(nps) > 1 else "")
+    # With --alt-set, a second run with those entries overridden too (same ranks as the first).
+    runs = [(np, []) for np in nps] + ([(nps[0], alt_sets)] if alt_sets else [])
+    for run_index, (np, more) in enumerate(runs):
+        d = outdir + (f"_run{run_index}" if len(runs) > 1 else "")
         want_csv = same_tol is not None or reference is not None
-        extra = sets + (["--set", "Output/Write displacement csv=true"] if want_csv else [])
+        extra = sets + more + (["--set", "Output/Write displacement csv=true"] if want_csv else [])
         p = run(exe, prm, d, np, extra)
         if p.returncode != 0:
             print(f"FAILED: exit status {p.returncode} with {np} rank(s)")
@@ -136,10 +141,11 @@ def scene(args):
     if same_tol is not None:
         ref = displacements[0]
         scale = max(abs(c) for row in ref for c in row)
-        for np, other in zip(nps[1:], displacements[1:]):
+        for (np, more), other in zip(runs[1:], displacements[1:]):
             diff = max(abs(a - b) for ra, rb in zip(ref, other) for a, b in zip(ra, rb))
             good = len(other) == len(ref) and diff <= same_tol * scale
-            print(f"  -np {np} against -np {nps[0]}: max difference {diff / scale:.3e} relative"
+            what = " ".join(more[1::2]) if more else f"-np {np}"
+            print(f"  {what} against the first run: max difference {diff / scale:.3e} relative"
                   f" -> {'ok' if good else 'FAILED'}")
             ok &= good
     return 0 if ok else 1

@@ -31,7 +31,8 @@ namespace FetiContact
       .set("cone_violation", cone_violation)
       .set("complementarity", complementarity)
       .set("slip_angle", slip_angle)
-      .set("negative_normal_force", negative_normal);
+      .set("negative_normal_force", negative_normal)
+      .set("pressed_slip", pressed_slip);
     return kkt;
   }
 
@@ -40,8 +41,14 @@ namespace FetiContact
                    const DualLayout                              &layout,
                    const Vector<double>                          &lambda,
                    const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
-                   ContactCheck                                  &check)
+                   ContactCheck                                  &check,
+                   const double                                   tresca_slip_bound)
   {
+    const auto slip_bound = [&](const ContactNode &node, const double lambda_N) {
+      if (tresca_slip_bound >= 0 && node.friction > 0)
+        return tresca_slip_bound;
+      return node.friction * std::max(lambda_N, 0.0);
+    };
     std::vector<ContactNodeResult> results(nodes.size());
     double                         u_max = 0, lambda_max = 0, bound_max = 0;
     for (const auto &body : vertex_u)
@@ -75,7 +82,7 @@ namespace FetiContact
         r.slip[0] = relative * node.t1;
         r.slip[1] = relative * node.t2;
         lambda_max = std::max(lambda_max, r.lambda_N);
-        bound_max  = std::max(bound_max, node.friction * std::max(r.lambda_N, 0.0));
+        bound_max  = std::max(bound_max, slip_bound(node, r.lambda_N));
       }
 
     check = ContactCheck();
@@ -84,10 +91,10 @@ namespace FetiContact
         const auto  &node = nodes[k];
         auto        &r    = results[k];
         const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
-        const double bound      = node.friction * std::max(r.lambda_N, 0.0);
+        const double bound      = slip_bound(node, r.lambda_N);
         if (r.lambda_N <= 1e-8 * lambda_max)
           r.status = ContactStatus::open;
-        else if (node.friction > 0 && tangential >= (1 - 1e-4) * bound)
+        else if (tangential >= (1 - 1e-4) * bound) // F = 0: a pressed node slides freely
           r.status = ContactStatus::slip;
         else
           r.status = ContactStatus::stick;
@@ -102,6 +109,8 @@ namespace FetiContact
             check.negative_normal = std::max(check.negative_normal, -r.lambda_N / lambda_max);
           }
         const double slip = std::hypot(r.slip[0], r.slip[1]);
+        if (r.status != ContactStatus::open)
+          check.pressed_slip = std::max(check.pressed_slip, slip / u_max);
         if (r.status == ContactStatus::slip && slip > 1e-6 * u_max && tangential > 0)
           {
             // The friction force λ_T on the multiplier side points along the slip (T u): the

@@ -206,8 +206,7 @@ namespace FetiContact
         lT = std::sqrt(lT);
         if (lN <= 1e-8 * lambda_max)
           ++n_open;
-        else if (t != numbers::invalid_unsigned_int && lT >= (1 - 1e-4) * slip_bound[k] &&
-                 slip_bound[k] > 0)
+        else if (t == numbers::invalid_unsigned_int || lT >= (1 - 1e-4) * slip_bound[k])
           ++n_slip;
         else
           ++n_stick;

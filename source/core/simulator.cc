@@ -251,7 +251,11 @@ namespace FetiContact
     if (!contact_nodes.empty())
       {
         ContactCheck check;
-        const auto   results = evaluate_contact(contact_nodes, layout, lambda, vertex_u, check);
+        const bool tresca = parameters.contact_solver.friction_law ==
+                            Parameters::ContactSolver::FrictionLaw::tresca;
+        const auto results =
+          evaluate_contact(contact_nodes, layout, lambda, vertex_u, check,
+                           tresca ? parameters.contact_solver.slip_bound : -1.0);
         for (unsigned int k = 0; k < contact_nodes.size(); ++k)
           {
             const auto        &node = contact_nodes[k];

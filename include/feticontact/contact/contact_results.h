@@ -51,6 +51,8 @@ namespace FetiContact
     double               complementarity   = 0;
     double               slip_angle        = 0;
     double               negative_normal   = 0; ///< max (−λ_N)⁺ / max λ_N
+    /** Largest relative tangential displacement ‖T u‖ of a pressed node, / max |u|. */
+    double               pressed_slip      = 0;
     dealii::Tensor<1, 3> normal_force, tangential_force;
     unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
 
@@ -64,14 +66,16 @@ namespace FetiContact
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
    * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) F λ_N
    * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
-   * else stick.
+   * else stick. With @p tresca_slip_bound ≥ 0 the bound of nodes with F > 0 is that given slip
+   * bound g instead of F λ_N (Tresca friction).
    */
   std::vector<ContactNodeResult>
   evaluate_contact(const std::vector<ContactNode>                       &nodes,
                    const DualLayout                                     &layout,
                    const dealii::Vector<double>                         &lambda,
                    const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
-                   ContactCheck                                         &check);
+                   ContactCheck                                         &check,
+                   const double tresca_slip_bound = -1);
 
   /** Writes contact.csv: x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status per node. */
   void

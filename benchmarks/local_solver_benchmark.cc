@@ -74,7 +74,9 @@ namespace
                              " subsection Mesh\n"
                              "  set Lower corner = 0, 0, 0\n"
                              "  set Upper corner = 1, 1, 1\n"
-                             "  set Subdivisions = " + n + ", " + n + ", " + n + "\n"
+                             "  set Subdivisions = " +
+                             n + ", " + n + ", " + n +
+                             "\n"
                              "  set Tetrahedra per cube = 6\n"
                              " end\n"
                              " subsection Boundary conditions\n"
@@ -172,15 +174,24 @@ main(int argc, char **argv)
           K.vmult(residual, x);
           residual -= f;
           relative_residual = residual.l2_norm() / f.l2_norm();
-          std::fprintf(stderr, "# %s n_dofs=%u repetition %u: factorize %.6f s, solve %.6f s, "
-                               "relative residual %.3e\n",
-                       backend.c_str(), K.m(), r + 1, t_factorize.back(), t_solve.back(),
+          std::fprintf(stderr,
+                       "# %s n_dofs=%u repetition %u: factorize %.6f s, solve %.6f s, "
+                       "relative residual %.3e\n",
+                       backend.c_str(),
+                       K.m(),
+                       r + 1,
+                       t_factorize.back(),
+                       t_solve.back(),
                        relative_residual);
         }
 
-      std::printf("%s,%u,%zu,%.6e,%.6e,%.3e\n", backend.c_str(), K.m(),
-                  static_cast<std::size_t>(K.n_nonzero_elements()), median(t_factorize),
-                  median(t_solve), relative_residual);
+      std::printf("%s,%u,%zu,%.6e,%.6e,%.3e\n",
+                  backend.c_str(),
+                  K.m(),
+                  static_cast<std::size_t>(K.n_nonzero_elements()),
+                  median(t_factorize),
+                  median(t_solve),
+                  relative_residual);
       std::fflush(stdout);
     }
   catch (const std::exception &e)

@@ -74,7 +74,7 @@ namespace FetiContact
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact)
   {
-    std::vector<ContactNode>                         nodes;
+    std::vector<ContactNode>                        nodes;
     std::set<std::pair<unsigned int, unsigned int>> taken; // (body, vertex)
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       {
@@ -85,8 +85,8 @@ namespace FetiContact
         surface.resolve(body.mesh, body.parameters.name);
         const Surface slave = collect_surface(body.mesh, surface);
 
-        Surface           master;
-        const Body       *master_body = nullptr;
+        Surface     master;
+        const Body *master_body = nullptr;
         if (zone.type == Parameters::ContactZone::Type::body)
           {
             master_body = bodies[zone.master_body].get();
@@ -104,11 +104,11 @@ namespace FetiContact
             if (!taken.insert({zone.body, vertex}).second)
               continue;
             ContactNode node;
-            node.zone     = z;
-            node.body     = zone.body;
-            node.vertex   = vertex;
-            node.x        = body.mesh.get_vertices()[vertex];
-            node.friction = zone.friction_coefficient;
+            node.zone                = z;
+            node.body                = zone.body;
+            node.vertex              = vertex;
+            node.x                   = body.mesh.get_vertices()[vertex];
+            node.friction            = zone.friction_coefficient;
             const Tensor<1, 3> outer = normal_sum / normal_sum.norm();
             if (zone.type == Parameters::ContactZone::Type::rigid_plane)
               {
@@ -138,7 +138,8 @@ namespace FetiContact
                         best        = mv;
                       }
                   }
-                require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
+                require(best != numbers::invalid_unsigned_int &&
+                          best_offset <= 1e-6 * slave.mean_edge,
                         where + "the node at " + point_text(node.x) + " of body '" +
                           body.parameters.name + "' has no node of the master surface of body '" +
                           master_body->parameters.name +
@@ -163,7 +164,8 @@ namespace FetiContact
           }
         require(n_in_zone > 0,
                 where + "the surface <" + zone.surface.name() + "> of body '" +
-                  body.parameters.name + "' has no contact node (all its vertices are Dirichlet "
+                  body.parameters.name +
+                  "' has no contact node (all its vertices are Dirichlet "
                   "vertices or belong to an earlier zone).");
       }
     return nodes;

@@ -37,12 +37,12 @@ namespace FetiContact
   }
 
   std::vector<ContactNodeResult>
-  evaluate_contact(const std::vector<ContactNode>                &nodes,
-                   const DualLayout                              &layout,
-                   const Vector<double>                          &lambda,
+  evaluate_contact(const std::vector<ContactNode>               &nodes,
+                   const DualLayout                             &layout,
+                   const Vector<double>                         &lambda,
                    const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
-                   ContactCheck                                  &check,
-                   const double                                   tresca_slip_bound)
+                   ContactCheck                                 &check,
+                   const double                                  tresca_slip_bound)
   {
     const auto slip_bound = [&](const ContactNode &node, const double lambda_N) {
       if (tresca_slip_bound >= 0 && node.friction > 0)
@@ -78,9 +78,9 @@ namespace FetiContact
         Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
         if (node.master)
           relative -= vertex_u[node.master->first][node.master->second];
-        r.gap     = node.gap - relative * node.n;
-        r.slip[0] = relative * node.t1;
-        r.slip[1] = relative * node.t2;
+        r.gap      = node.gap - relative * node.n;
+        r.slip[0]  = relative * node.t1;
+        r.slip[1]  = relative * node.t2;
         lambda_max = std::max(lambda_max, r.lambda_N);
         bound_max  = std::max(bound_max, slip_bound(node, r.lambda_N));
       }
@@ -88,8 +88,8 @@ namespace FetiContact
     check = ContactCheck();
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const auto  &node = nodes[k];
-        auto        &r    = results[k];
+        const auto  &node       = nodes[k];
+        auto        &r          = results[k];
         const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
         const double bound      = slip_bound(node, r.lambda_N);
         if (r.lambda_N <= 1e-8 * lambda_max)

@@ -31,7 +31,7 @@ namespace FetiContact
       if (node.master)
         {
           const auto [mb, mv]   = *node.master;
-          const unsigned int sm   = copy(mb, mv);
+          const unsigned int sm = copy(mb, mv);
           for (unsigned int c = 0; c < 3; ++c)
             if (v[c] != 0)
               row.push_back({sm, mv, c, -v[c]});

@@ -55,7 +55,7 @@ namespace FetiContact
                                       layout.size(),
                                       10);
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
-    G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
+    G_norm       = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
     rho          = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
     hessian_norm = F_norm + rho * G_norm * G_norm;
   }
@@ -72,9 +72,9 @@ namespace FetiContact
   void
   ContactSolver::set_slip_bounds(const std::vector<double> &g)
   {
-    slip_bound                  = g;
-    const unsigned int s        = layout.tangential_per_node;
-    const double       shrink   = std::sin(numbers::PI / (2.0 * s));
+    slip_bound                = g;
+    const unsigned int s      = layout.tangential_per_node;
+    const double       shrink = std::sin(numbers::PI / (2.0 * s));
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int t = layout.tangential_row[k];
@@ -105,36 +105,37 @@ namespace FetiContact
     const unsigned int m = lambda.size(), n_T = layout.n_tangential, n_c = m - n_T;
     Vector<double>     full(m), Afull(m);
     // A restricted to a block: pad with zeros, multiply, extract.
-    const auto block_operator = [&](const unsigned int first, const unsigned int n,
-                                    unsigned int &counter) {
-      return [&, first, n](const Vector<double> &x, Vector<double> &y) {
-        full = 0;
-        for (unsigned int i = 0; i < n; ++i)
-          full[first + i] = x[i];
-        A(full, Afull);
-        ++counter;
-        y.reinit(n);
-        for (unsigned int i = 0; i < n; ++i)
-          y[i] = Afull[first + i];
-      };
-    };
-    // b_block − A_{block, other} λ_other.
-    const auto block_rhs = [&](const unsigned int first, const unsigned int n, unsigned int &counter) {
-      Vector<double> rhs(n);
-      full = lambda;
-      for (unsigned int i = 0; i < n; ++i)
-        full[first + i] = 0;
-      if (full.l2_norm() > 0)
-        {
+    const auto block_operator =
+      [&](const unsigned int first, const unsigned int n, unsigned int &counter) {
+        return [&, first, n](const Vector<double> &x, Vector<double> &y) {
+          full = 0;
+          for (unsigned int i = 0; i < n; ++i)
+            full[first + i] = x[i];
           A(full, Afull);
           ++counter;
-        }
-      else
-        Afull = 0;
-      for (unsigned int i = 0; i < n; ++i)
-        rhs[i] = b[first + i] - Afull[first + i];
-      return rhs;
-    };
+          y.reinit(n);
+          for (unsigned int i = 0; i < n; ++i)
+            y[i] = Afull[first + i];
+        };
+      };
+    // b_block − A_{block, other} λ_other.
+    const auto block_rhs =
+      [&](const unsigned int first, const unsigned int n, unsigned int &counter) {
+        Vector<double> rhs(n);
+        full = lambda;
+        for (unsigned int i = 0; i < n; ++i)
+          full[first + i] = 0;
+        if (full.l2_norm() > 0)
+          {
+            A(full, Afull);
+            ++counter;
+          }
+        else
+          Afull = 0;
+        for (unsigned int i = 0; i < n; ++i)
+          rhs[i] = b[first + i] - Afull[first + i];
+        return rhs;
+      };
 
     QP::SolverReport report;
     report.converged = true;
@@ -160,10 +161,11 @@ namespace FetiContact
           break;
         if (update_radii)
           {
-            const auto         target = coulomb_bound(lambda);
+            const auto          target = coulomb_bound(lambda);
             std::vector<double> g(nodes.size());
             for (unsigned int k = 0; k < nodes.size(); ++k)
-              g[k] = (1 - parameters.relaxation) * slip_bound[k] + parameters.relaxation * target[k];
+              g[k] =
+                (1 - parameters.relaxation) * slip_bound[k] + parameters.relaxation * target[k];
             set_slip_bounds(g);
           }
         // λ_T by KPG (MPGP on the discs) with λ_c fixed.
@@ -214,18 +216,18 @@ namespace FetiContact
     if (history)
       *history << msa << ',' << smalbe << ',' << feasibility << ',' << gradient << ',' << change
                << ',' << n_open << ',' << n_stick << ',' << n_slip << ',' << inner << '\n';
-    out << "  " << (msa > 0 ? "MSA " + std::to_string(msa) + ", " : std::string())
-        << "SMALBE " << std::setw(3) << smalbe << ": ‖Gλ − e‖ " << std::scientific
-        << std::setprecision(2) << feasibility << ", ‖g^P‖ " << gradient
-        << ", slip bound change " << change << std::defaultfloat << ", open/stick/slip "
-        << n_open << '/' << n_stick << '/' << n_slip << ", inner " << inner << std::endl;
+    out << "  " << (msa > 0 ? "MSA " + std::to_string(msa) + ", " : std::string()) << "SMALBE "
+        << std::setw(3) << smalbe << ": ‖Gλ − e‖ " << std::scientific << std::setprecision(2)
+        << feasibility << ", ‖g^P‖ " << gradient << ", slip bound change " << change
+        << std::defaultfloat << ", open/stick/slip " << n_open << '/' << n_stick << '/' << n_slip
+        << ", inner " << inner << std::endl;
   }
 
   QP::SolverReport
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
-    const auto algorithm = parameters.algorithm;
-    using A              = Parameters::ContactSolver::Algorithm;
+    const auto algorithm         = parameters.algorithm;
+    using A                      = Parameters::ContactSolver::Algorithm;
     const Vector<double> e_tilde = dual.coarse.orthonormal_rhs(dual.e);
     QP::SmalbeOptions    options;
     options.tolerance             = parameters.qp_tolerance;
@@ -236,8 +238,8 @@ namespace FetiContact
     options.G_norm                = G_norm;
     options.inner.max_iterations  = parameters.max_inner_iterations;
     options.inner.step            = 1.9 / hessian_norm;
-    const bool split   = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
-    const bool combined = algorithm == A::algorithm_2;
+    const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
+    const bool combined           = algorithm == A::algorithm_2;
     if (combined)
       options.max_inner_calls = 1;
     options.inner_solver = [&](const QP::Operator   &op,
@@ -249,8 +251,8 @@ namespace FetiContact
         r = gauss_seidel(op, b, x, tolerance, combined, result);
       else
         {
-          unsigned int   calls   = 0;
-          QP::Operator   counted = [&](const Vector<double> &v, Vector<double> &y) {
+          unsigned int calls   = 0;
+          QP::Operator counted = [&](const Vector<double> &v, Vector<double> &y) {
             op(v, y);
             ++calls;
           };
@@ -263,13 +265,12 @@ namespace FetiContact
       return r;
     };
     options.monitor = [&](const QP::SmalbeStep &step) {
-      const double change =
-        combined ? last_change : (msa_iteration > 0 ? last_change : 0.0);
+      const double change = combined ? last_change : (msa_iteration > 0 ? last_change : 0.0);
       if (combined)
         {
           // Algorithm 2: the slip bound moves inside the loop; report its change.
-          const auto   target = coulomb_bound(last_lambda);
-          double       d2 = 0, n2 = 0;
+          const auto target = coulomb_bound(last_lambda);
+          double     d2 = 0, n2 = 0;
           for (unsigned int k = 0; k < nodes.size(); ++k)
             {
               d2 += (target[k] - slip_bound[k]) * (target[k] - slip_bound[k]);
@@ -320,10 +321,10 @@ namespace FetiContact
                 g[k] = parameters.slip_bound;
             set_slip_bounds(g);
           }
-        const auto report = solve_tresca(result.lambda, result.mu, result);
+        const auto report       = solve_tresca(result.lambda, result.mu, result);
         result.outer_iterations = 1;
         result.converged        = report.converged;
-        result.message = report.converged ? "converged" : "SMALBE did not converge";
+        result.message          = report.converged ? "converged" : "SMALBE did not converge";
         return result;
       }
 
@@ -353,7 +354,8 @@ namespace FetiContact
         result.message          = result.converged ?
                                     "converged" :
                                     "Algorithm 2 did not converge; last relative change of the "
-                                    "slip bound " + std::to_string(last_change);
+                                    "slip bound " +
+                             std::to_string(last_change);
         return result;
       }
 
@@ -371,8 +373,8 @@ namespace FetiContact
         for (unsigned int k = 0; k < nodes.size(); ++k)
           {
             const double omega = msa_iteration == 1 ? 1.0 : parameters.relaxation;
-            const double next  = std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] :
-                                                       target[k];
+            const double next =
+              std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] : target[k];
             d2 += std::isfinite(g[k]) ? (next - g[k]) * (next - g[k]) : next * next;
             n2 += next * next;
             g[k] = next;
@@ -384,8 +386,8 @@ namespace FetiContact
             << " in " << report.iterations << " iterations" << std::endl;
         if (!report.converged)
           {
-            result.message = "SMALBE did not converge in MSA iteration " +
-                             std::to_string(msa_iteration);
+            result.message =
+              "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration);
             return result;
           }
         if (last_change <= parameters.msa_tolerance)

@@ -68,16 +68,17 @@ namespace FetiContact::Parameters
   ContactSolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Contact solver");
-    friction_law = prm.get("Friction law") == "coulomb" ? FrictionLaw::coulomb : FrictionLaw::tresca;
-    slip_bound   = prm.get_double("Slip bound");
+    friction_law =
+      prm.get("Friction law") == "coulomb" ? FrictionLaw::coulomb : FrictionLaw::tresca;
+    slip_bound          = prm.get_double("Slip bound");
     const std::string a = prm.get("Algorithm");
-    algorithm = a == "algorithm 1" ? Algorithm::algorithm_1 :
-                a == "algorithm 2" ? Algorithm::algorithm_2 :
-                a == "mpgp"        ? Algorithm::mpgp :
-                                     Algorithm::polygonal;
-    polygon_directions    = prm.get_integer("Polygon directions");
-    qp_tolerance          = prm.get_double("QP relative tolerance");
-    msa_tolerance         = prm.get_double("MSA relative tolerance");
+    algorithm           = a == "algorithm 1" ? Algorithm::algorithm_1 :
+                          a == "algorithm 2" ? Algorithm::algorithm_2 :
+                          a == "mpgp"        ? Algorithm::mpgp :
+                                               Algorithm::polygonal;
+    polygon_directions  = prm.get_integer("Polygon directions");
+    qp_tolerance        = prm.get_double("QP relative tolerance");
+    msa_tolerance       = prm.get_double("MSA relative tolerance");
     require(qp_tolerance > 0 && msa_tolerance > 0,
             "Contact solver: the relative tolerances must be positive.");
     max_msa_iterations    = prm.get_integer("Maximum MSA iterations");

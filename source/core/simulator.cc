@@ -122,7 +122,7 @@ namespace FetiContact
       contact_nodes = find_contact_nodes(bodies, parameters.contact);
       const bool polygonal =
         parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
-      rows = build_contact_rows(contact_nodes,
+      rows                    = build_contact_rows(contact_nodes,
                                 bodies,
                                 first_subdomain,
                                 layout,
@@ -207,8 +207,8 @@ namespace FetiContact
                          parameters.contact_solver,
                          pcout.get_stream(),
                          rank == 0 ? parameters.output.directory + "/history.csv" : "");
-    const auto result = solver.solve();
-    lambda            = result.lambda;
+    const auto         result = solver.solve();
+    lambda                    = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
@@ -251,11 +251,14 @@ namespace FetiContact
     if (!contact_nodes.empty())
       {
         ContactCheck check;
-        const bool tresca = parameters.contact_solver.friction_law ==
-                            Parameters::ContactSolver::FrictionLaw::tresca;
-        const auto results =
-          evaluate_contact(contact_nodes, layout, lambda, vertex_u, check,
-                           tresca ? parameters.contact_solver.slip_bound : -1.0);
+        const bool   tresca =
+          parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
+        const auto results = evaluate_contact(contact_nodes,
+                                              layout,
+                                              lambda,
+                                              vertex_u,
+                                              check,
+                                              tresca ? parameters.contact_solver.slip_bound : -1.0);
         for (unsigned int k = 0; k < contact_nodes.size(); ++k)
           {
             const auto        &node = contact_nodes[k];
@@ -270,8 +273,12 @@ namespace FetiContact
           write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
         summary.set("kkt", check.json());
         JsonObject totals;
-        totals.set("normal_force", std::vector<double>(check.normal_force.begin_raw(), check.normal_force.end_raw()))
-          .set("tangential_force", std::vector<double>(check.tangential_force.begin_raw(), check.tangential_force.end_raw()))
+        totals
+          .set("normal_force",
+               std::vector<double>(check.normal_force.begin_raw(), check.normal_force.end_raw()))
+          .set("tangential_force",
+               std::vector<double>(check.tangential_force.begin_raw(),
+                                   check.tangential_force.end_raw()))
           .set("open", check.n_open)
           .set("stick", check.n_stick)
           .set("slip", check.n_slip);
@@ -285,7 +292,7 @@ namespace FetiContact
       }
 
     JsonObject equilibrium;
-    double     worst   = 0;
+    double     worst = 0;
     const auto balance =
       compute_force_balance(comm, bodies.size(), owned, u, mapping, contact_forces);
     for (const auto &body : bodies)
@@ -300,8 +307,7 @@ namespace FetiContact
         worst = std::max(worst, fb.relative_imbalance);
         pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
               << ", support force " << fb.support << ", contact force " << fb.contact
-              << ", relative imbalance "
-              << fb.relative_imbalance << std::endl;
+              << ", relative imbalance " << fb.relative_imbalance << std::endl;
       }
     equilibrium.set("largest_relative_imbalance", worst);
     summary.set("equilibrium", equilibrium);

@@ -92,7 +92,7 @@ namespace FetiContact
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
-    const int first = transpose ? CHOLMOD_Lt : CHOLMOD_P;
+    const int first  = transpose ? CHOLMOD_Lt : CHOLMOD_P;
     const int second = transpose ? CHOLMOD_Pt : CHOLMOD_L;
     cholmod_solve2(first, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
     cholmod_solve2(second, factor, x_work, nullptr, &b_work, nullptr, &y_work, &e_work, &common);

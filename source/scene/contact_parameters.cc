@@ -14,7 +14,10 @@ namespace FetiContact::Parameters
                       "What the surface may touch: a 'rigid plane' (an obstacle given by a point "
                       "and a normal) or another 'body' (its 'Master surface', matched node by "
                       "node: the meshes must be conforming there).");
-    prm.declare_entry("Body", "1", Patterns::Integer(1), "The body whose surface this is (1, 2, …).");
+    prm.declare_entry("Body",
+                      "1",
+                      Patterns::Integer(1),
+                      "The body whose surface this is (1, 2, …).");
     prm.declare_entry("Surface",
                       "z = zmin",
                       Patterns::Anything(),
@@ -26,7 +29,10 @@ namespace FetiContact::Parameters
                       Patterns::Anything(),
                       "Coulomb's coefficient of friction F ≥ 0 (dimensionless); 0 is "
                       "frictionless contact.");
-    prm.declare_entry("Plane point", "0, 0, 0", Patterns::Anything(), "Rigid plane: a point of the plane (m).");
+    prm.declare_entry("Plane point",
+                      "0, 0, 0",
+                      Patterns::Anything(),
+                      "Rigid plane: a point of the plane (m).");
     prm.declare_entry("Plane normal",
                       "0, 0, 1",
                       Patterns::Anything(),

@@ -10,7 +10,7 @@ namespace FetiContact::Parameters
   using namespace dealii;
 
   void
-  Scene::declare_parameters(ParameterHandler &prm,
+  Scene::declare_parameters(ParameterHandler  &prm,
                             const unsigned int n_bodies,
                             const unsigned int n_zones)
   {

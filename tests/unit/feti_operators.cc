@@ -149,7 +149,7 @@ main(int argc, char **argv)
                 label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
         // Orthonormalized G̃ = L⁻¹PG: G̃G̃ᵀ = I and G̃ᵀ is its transpose.
         {
-          const unsigned int k = dual.coarse.n_modes();
+          const unsigned int k         = dual.coarse.n_modes();
           double             deviation = 0, transpose = 0;
           Vector<double>     z(k), Gtz, GGtz, w(m), Gw;
           for (unsigned int j = 0; j < k; ++j)

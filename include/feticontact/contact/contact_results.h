@@ -31,11 +31,11 @@ namespace FetiContact
    */
   struct ContactNodeResult
   {
-    double         lambda_N = 0;
-    double         lambda_T[2]{0, 0};
-    double         gap = 0;
-    double         slip[2]{0, 0};
-    ContactStatus  status = ContactStatus::open;
+    double        lambda_N = 0;
+    double        lambda_T[2]{0, 0};
+    double        gap = 0;
+    double        slip[2]{0, 0};
+    ContactStatus status = ContactStatus::open;
   };
 
   /**
@@ -46,13 +46,13 @@ namespace FetiContact
    */
   struct ContactCheck
   {
-    double               penetration       = 0;
-    double               cone_violation    = 0;
-    double               complementarity   = 0;
-    double               slip_angle        = 0;
-    double               negative_normal   = 0; ///< max (−λ_N)⁺ / max λ_N
+    double penetration     = 0;
+    double cone_violation  = 0;
+    double complementarity = 0;
+    double slip_angle      = 0;
+    double negative_normal = 0; ///< max (−λ_N)⁺ / max λ_N
     /** Largest relative tangential displacement ‖T u‖ of a pressed node, / max |u|. */
-    double               pressed_slip      = 0;
+    double               pressed_slip = 0;
     dealii::Tensor<1, 3> normal_force, tangential_force;
     unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
 
@@ -75,7 +75,7 @@ namespace FetiContact
                    const dealii::Vector<double>                         &lambda,
                    const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
                    ContactCheck                                         &check,
-                   const double tresca_slip_bound = -1);
+                   const double                                          tresca_slip_bound = -1);
 
   /** Writes contact.csv: x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status per node. */
   void

@@ -20,9 +20,9 @@ namespace FetiContact
     /** Tangential rows per node with friction: 2 for the disc, s for the polygonal baseline. */
     unsigned int tangential_per_node = 2;
     /** Whether the tangential rows are the polygonal baseline's s directions. */
-    bool polygonal = false;
-    unsigned int n_normal     = 0; ///< the number of contact nodes
-    unsigned int n_equality   = 0;
+    bool         polygonal  = false;
+    unsigned int n_normal   = 0; ///< the number of contact nodes
+    unsigned int n_equality = 0;
 
     /** Per contact node: its row in λ_N (absolute index in λ). */
     std::vector<unsigned int> normal_row;

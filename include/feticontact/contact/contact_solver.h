@@ -52,12 +52,12 @@ namespace FetiContact
       std::string            message;
     };
 
-    ContactSolver(const DualProblem                 &dual,
-                  const DualLayout                  &layout,
-                  const std::vector<ContactNode>    &nodes,
-                  const Parameters::ContactSolver   &parameters,
-                  std::ostream                      &out,
-                  const std::string                 &history_file);
+    ContactSolver(const DualProblem               &dual,
+                  const DualLayout                &layout,
+                  const std::vector<ContactNode>  &nodes,
+                  const Parameters::ContactSolver &parameters,
+                  std::ostream                    &out,
+                  const std::string               &history_file);
 
     Result
     solve();
@@ -81,9 +81,13 @@ namespace FetiContact
                  const bool                    update_radii,
                  Result                       &result);
     void
-    history_row(const unsigned int msa, const unsigned int smalbe, const double feasibility,
-                const double gradient, const double change, const dealii::Vector<double> &lambda,
-                const unsigned int inner);
+    history_row(const unsigned int            msa,
+                const unsigned int            smalbe,
+                const double                  feasibility,
+                const double                  gradient,
+                const double                  change,
+                const dealii::Vector<double> &lambda,
+                const unsigned int            inner);
 
     const DualProblem               &dual;
     const DualLayout                &layout;
@@ -91,17 +95,17 @@ namespace FetiContact
     const Parameters::ContactSolver &parameters;
     std::ostream                    &out;
     std::unique_ptr<std::ostream>    history;
-    QP::SeparableSet                 set;     ///< Ω for all of λ
-    QP::SeparableSet                 set_c;   ///< bounds and free part, λ_c = [λ_N; λ_E]
-    QP::SeparableSet                 set_t;   ///< tangential part λ_T
+    QP::SeparableSet                 set;   ///< Ω for all of λ
+    QP::SeparableSet                 set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
+    QP::SeparableSet                 set_t; ///< tangential part λ_T
     std::vector<unsigned int>        disc_of_node;
     std::vector<double>              slip_bound;
     double                           F_norm = 0, G_norm = 0, rho = 0;
     /** ‖F + ρGᵀG‖ ≤ ‖F‖ + ρ‖G‖², for the fixed step ᾱ of the block solves. */
-    double                           hessian_norm = 0;
+    double hessian_norm = 0;
     /** λ after the last inner solve (for the status counts of the history). */
-    dealii::Vector<double>           last_lambda;
-    unsigned int                     msa_iteration = 0;
-    double                           last_change   = 0;
+    dealii::Vector<double> last_lambda;
+    unsigned int           msa_iteration = 0;
+    double                 last_change   = 0;
   };
 } // namespace FetiContact

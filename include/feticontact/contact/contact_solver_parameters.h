@@ -37,8 +37,8 @@ namespace FetiContact::Parameters
     /** SMALBE stops when ‖g^P‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖. */
     double qp_tolerance = 1e-8;
     /** MSA stops when ‖g_new − g‖ ≤ tol ‖g_new‖ (relative change of the slip bound). */
-    double msa_tolerance = 1e-6;
-    unsigned int max_msa_iterations   = 100;
+    double       msa_tolerance         = 1e-6;
+    unsigned int max_msa_iterations    = 100;
     unsigned int max_smalbe_iterations = 200;
     unsigned int max_inner_iterations  = 10000;
     /** Gauss–Seidel sweeps over (λ_c, λ_t) per inner problem (Algorithm 1). */

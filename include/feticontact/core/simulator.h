@@ -93,7 +93,7 @@ namespace FetiContact
     DualLayout                              layout;
     std::unique_ptr<DualProblem>            dual;
 
-    dealii::Vector<double>              lambda;
+    dealii::Vector<double> lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */
     dealii::Vector<double>              alpha;
     bool                                alpha_given = false;

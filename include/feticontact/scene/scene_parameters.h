@@ -36,8 +36,9 @@ namespace FetiContact::Parameters
 
     /**
      * Reads @p filename into @p prm: first `Number of bodies` and `Contact/Number of zones`
-     * alone, then everything with that many body and zone subsections declared. Throws InputError naming the line for malformed input,
-     * unknown entries and values that do not match their pattern.
+     * alone, then everything with that many body and zone subsections declared. Throws InputError
+     * naming the line for malformed input, unknown entries and values that do not match their
+     * pattern.
      *
      * @p overrides ("Body 1/Mesh/Subdivisions=24, 8, 8", from the command line option --set)
      * are applied after the file, as if appended to it.

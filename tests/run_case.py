@@ -3,7 +3,7 @@
 
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
-      [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]...
+      [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
@@ -96,9 +96,35 @@ def compare_with_reference(ours_file, reference_file, tol):
     return good
 
 
+def check_contact_vtu(directory, csv_name="contact.csv"):
+    """contact_surface.vtu parses, its arrays have one value (or vector) per point, and the
+    normal forces on it are those of contact.csv (the same nodes, the same values)."""
+    import xml.etree.ElementTree as ET
+    root = ET.parse(os.path.join(directory, "contact_surface.vtu")).getroot()
+    piece = root.find("UnstructuredGrid/Piece")
+    n_points, n_cells = int(piece.get("NumberOfPoints")), int(piece.get("NumberOfCells"))
+    ok = n_points > 0 and n_cells > 0
+    arrays = {a.get("Name"): [float(v) for v in a.text.split()]
+              for a in piece.find("PointData").findall("DataArray")}
+    for name, values in arrays.items():
+        components = 3 if name in ("tangential_force", "contact_force", "slip") else 1
+        ok &= len(values) == components * n_points
+    with open(os.path.join(directory, csv_name)) as f:
+        rows = list(csv.DictReader(f))
+    from_csv = sorted(float(r["lambda_N"]) for r in rows)
+    from_vtu = sorted(v for v, st in zip(arrays["normal_force"], arrays["status"]) if st >= 0)
+    scale = max(abs(v) for v in from_csv) or 1
+    ok &= len(from_csv) == len(from_vtu) and all(
+        abs(a - b) <= 1e-9 * scale for a, b in zip(from_csv, from_vtu))
+    print(f"  contact_surface.vtu: {n_points} points, {n_cells} triangles, fields "
+          f"{', '.join(arrays)}; normal forces as in contact.csv -> {'ok' if ok else 'FAILED'}")
+    return ok
+
+
 def scene(args):
     exe, prm, outdir = args[:3]
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
+    check_vtu = False
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -107,6 +133,9 @@ def scene(args):
             nps = [int(n) for n in args[i + 1].split(",")]
         elif args[i] == "--expect":
             expectations.append(args[i + 1])
+        elif args[i] == "--check-contact-vtu":
+            check_vtu = True
+            i -= 1
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
         elif args[i] == "--same-displacements":
@@ -136,6 +165,8 @@ def scene(args):
             ok &= check_expectation(summary, e)
         if same_tol is not None:
             displacements.append(read_displacements(os.path.join(d, "displacements.csv")))
+        if check_vtu:
+            ok &= check_contact_vtu(d)
         if reference is not None:
             ok &= compare_with_reference(os.path.join(d, "displacements.csv"), *reference)
     if same_tol is not None:

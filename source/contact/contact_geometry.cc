@@ -34,8 +34,9 @@ namespace FetiContact
      */
     struct Surface
     {
-      std::map<unsigned int, Tensor<1, 3>> normal_sum;
-      double                               mean_edge = 0;
+      std::map<unsigned int, Tensor<1, 3>>     normal_sum;
+      double                                   mean_edge = 0;
+      std::vector<std::array<unsigned int, 3>> triangles;
     };
 
     Surface
@@ -53,6 +54,8 @@ namespace FetiContact
                 area_normal = -area_normal;
               for (const unsigned int v : face->vertex_indices())
                 s.normal_sum[face->vertex_index(v)] += area_normal;
+              s.triangles.push_back(
+                {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
               s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
               n_edges += 3;
             }
@@ -72,7 +75,8 @@ namespace FetiContact
 
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
-                     const Parameters::Contact                &contact)
+                     const Parameters::Contact                &contact,
+                     std::vector<ContactTriangle>             *triangles)
   {
     std::vector<ContactNode>                        nodes;
     std::set<std::pair<unsigned int, unsigned int>> taken; // (body, vertex)
@@ -84,6 +88,9 @@ namespace FetiContact
         BoundarySelector  surface(zone.surface);
         surface.resolve(body.mesh, body.parameters.name);
         const Surface slave = collect_surface(body.mesh, surface);
+        if (triangles != nullptr)
+          for (const auto &t : slave.triangles)
+            triangles->push_back({z, zone.body, t});
 
         Surface     master;
         const Body *master_body = nullptr;

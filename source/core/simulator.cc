@@ -6,6 +6,7 @@
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/core/simulator.h>
+#include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/solution_output.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/qp/projected_cg.h>
@@ -119,7 +120,7 @@ namespace FetiContact
       for (const auto &s : subdomains)
         owned.push_back(s.get());
       // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
-      contact_nodes = find_contact_nodes(bodies, parameters.contact);
+      contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
       const bool polygonal =
         parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
       rows                    = build_contact_rows(contact_nodes,
@@ -270,7 +271,12 @@ namespace FetiContact
               contact_forces[node.master->first] -= force;
           }
         if (rank == 0)
-          write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
+          {
+            write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
+            if (parameters.output.write_vtu)
+              write_contact_surface_vtu(
+                parameters.output.directory, bodies, contact_nodes, results, contact_triangles);
+          }
         summary.set("kkt", check.json());
         JsonObject totals;
         totals

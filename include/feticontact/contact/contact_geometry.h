@@ -6,6 +6,7 @@
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/contact_parameters.h>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -31,6 +32,14 @@ namespace FetiContact
     double                                               friction;
   };
 
+  /** A triangle of a zone's slave surface (body-mesh vertices), for output. */
+  struct ContactTriangle
+  {
+    unsigned int                zone;
+    unsigned int                body;
+    std::array<unsigned int, 3> vertices;
+  };
+
   /**
    * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
    * displacement component (a vertex in two zones belongs to the first), in zone order and by
@@ -39,11 +48,13 @@ namespace FetiContact
    * when the gap is positive and the outer unit normal of Γ_c (the area-weighted mean of the
    * adjacent face normals) when it is zero. For a
    * body pair every slave node must have a master vertex opposite it along its normal; otherwise
-   * the surfaces do not match and InputError names the node.
+   * the surfaces do not match and InputError names the node. If @p triangles is given, the
+   * triangles of every zone's surface are appended to it (for the contact-surface output).
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
-                     const Parameters::Contact                &contact);
+                     const Parameters::Contact                &contact,
+                     std::vector<ContactTriangle>             *triangles = nullptr);
 
   /** Unit vectors t1, t2 completing the unit vector n to a right-handed orthonormal basis. */
   std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>

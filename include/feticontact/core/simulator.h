@@ -90,6 +90,7 @@ namespace FetiContact
     std::vector<unsigned int>               mode_offset;
     DualRows                                rows;
     std::vector<ContactNode>                contact_nodes;
+    std::vector<ContactTriangle>            contact_triangles;
     DualLayout                              layout;
     std::unique_ptr<DualProblem>            dual;
 

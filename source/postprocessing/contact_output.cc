@@ -1,0 +1,96 @@
+#include <deal.II/base/data_out_base.h>
+
+#include <feticontact/postprocessing/contact_output.h>
+
+#include <fstream>
+#include <iomanip>
+#include <map>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  void
+  write_contact_surface_vtu(const std::string                        &directory,
+                            const std::vector<std::unique_ptr<Body>> &bodies,
+                            const std::vector<ContactNode>           &nodes,
+                            const std::vector<ContactNodeResult>     &results,
+                            const std::vector<ContactTriangle>       &triangles)
+  {
+    // Points: the distinct (body, vertex) of the triangles.
+    std::map<std::pair<unsigned int, unsigned int>, unsigned int> point_of;
+    std::vector<std::pair<unsigned int, unsigned int>>            points;
+    for (const auto &t : triangles)
+      for (const unsigned int v : t.vertices)
+        if (point_of.emplace(std::make_pair(t.body, v), points.size()).second)
+          points.emplace_back(t.body, v);
+    std::vector<int> node_of(points.size(), -1);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const auto it = point_of.find({nodes[k].body, nodes[k].vertex});
+        if (it != point_of.end())
+          node_of[it->second] = k;
+      }
+
+    std::ofstream out(directory + "/contact_surface.vtu");
+    out << std::setprecision(10);
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+        << points.size() << "\" NumberOfCells=\"" << triangles.size() << "\">\n";
+    out << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const auto &[b, v] : points)
+      {
+        const auto &x = bodies[b]->mesh.get_vertices()[v];
+        out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
+      }
+    out << "</DataArray></Points>\n<Cells>\n"
+           "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const auto &t : triangles)
+      out << point_of[{t.body, t.vertices[0]}] << ' ' << point_of[{t.body, t.vertices[1]}] << ' '
+          << point_of[{t.body, t.vertices[2]}] << '\n';
+    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (unsigned int c = 0; c < triangles.size(); ++c)
+      out << 3 * (c + 1) << '\n';
+    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (unsigned int c = 0; c < triangles.size(); ++c)
+      out << "5\n"; // VTK_TRIANGLE
+    out << "</DataArray>\n</Cells>\n<PointData Scalars=\"normal_force\">\n";
+
+    const auto scalar = [&](const std::string &name, const auto &value) {
+      out << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
+      for (unsigned int p = 0; p < points.size(); ++p)
+        out << (node_of[p] < 0 ? 0.0 : double(value(node_of[p]))) << '\n';
+      out << "</DataArray>\n";
+    };
+    const auto vector = [&](const std::string &name, const auto &value) {
+      out << "<DataArray type=\"Float64\" Name=\"" << name
+          << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+      for (unsigned int p = 0; p < points.size(); ++p)
+        {
+          const Tensor<1, 3> v = node_of[p] < 0 ? Tensor<1, 3>() : value(node_of[p]);
+          out << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+        }
+      out << "</DataArray>\n";
+    };
+    scalar("normal_force", [&](int k) { return results[k].lambda_N; });
+    const auto tangential = [&](int k) {
+      return Tensor<1, 3>(-(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));
+    };
+    vector("tangential_force", tangential);
+    vector("contact_force",
+           [&](int k) { return Tensor<1, 3>(-results[k].lambda_N * nodes[k].n + tangential(k)); });
+    scalar("gap", [&](int k) { return results[k].gap; });
+    vector("slip", [&](int k) {
+      return Tensor<1, 3>(results[k].slip[0] * nodes[k].t1 + results[k].slip[1] * nodes[k].t2);
+    });
+    out << "<DataArray type=\"Float64\" Name=\"status\" format=\"ascii\">\n";
+    for (unsigned int p = 0; p < points.size(); ++p)
+      out << (node_of[p] < 0 ? -1 : static_cast<int>(results[node_of[p]].status)) << '\n';
+    out << "</DataArray>\n";
+    scalar("zone", [&](int k) { return nodes[k].zone + 1; });
+    out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+
+    std::ofstream pvd(directory + "/contact_surface.pvd");
+    DataOutBase::write_pvd_record(pvd, {{0.0, "contact_surface.vtu"}});
+  }
+} // namespace FetiContact

@@ -74,7 +74,8 @@ namespace FetiContact
     };
     scalar("normal_force", [&](int k) { return results[k].lambda_N; });
     const auto tangential = [&](int k) {
-      return Tensor<1, 3>(-(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));
+      return Tensor<1, 3>(
+        -(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));
     };
     vector("tangential_force", tangential);
     vector("contact_force",

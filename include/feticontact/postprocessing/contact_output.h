@@ -17,9 +17,9 @@ namespace FetiContact
    * `contact_surface.pvd` pointing to it.
    */
   void
-  write_contact_surface_vtu(const std::string                    &directory,
+  write_contact_surface_vtu(const std::string                        &directory,
                             const std::vector<std::unique_ptr<Body>> &bodies,
-                            const std::vector<ContactNode>       &nodes,
-                            const std::vector<ContactNodeResult> &results,
-                            const std::vector<ContactTriangle>   &triangles);
+                            const std::vector<ContactNode>           &nodes,
+                            const std::vector<ContactNodeResult>     &results,
+                            const std::vector<ContactTriangle>       &triangles);
 } // namespace FetiContact

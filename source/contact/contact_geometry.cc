@@ -86,7 +86,14 @@ namespace FetiContact
         const std::string where = "Contact zone " + std::to_string(z + 1) + ": ";
         const Body       &body  = *bodies[zone.body];
         BoundarySelector  surface(zone.surface);
-        surface.resolve(body.mesh, body.parameters.name);
+        try
+          {
+            surface.resolve(body.mesh, body.parameters.name);
+          }
+        catch (const InputError &e)
+          {
+            throw InputError(where + "Surface: " + e.what());
+          }
         const Surface slave = collect_surface(body.mesh, surface);
         if (triangles != nullptr)
           for (const auto &t : slave.triangles)

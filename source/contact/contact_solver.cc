@@ -34,19 +34,36 @@ namespace FetiContact
         *history << "msa_iteration,smalbe_iteration,feasibility,projected_gradient,"
                     "slip_bound_change,open,stick,slip,inner_iterations\n";
       }
+    // Homogenization for the projector variant: λ₀ = G̃ᵀẽ, h − Fλ₀, ẽ − G̃λ₀ = 0.
+    e_smalbe = dual.coarse.orthonormal_rhs(dual.e);
+    lambda0.reinit(layout.size());
+    h_smalbe = dual.h;
+    projector =
+      parameters.equality_constraint == Parameters::ContactSolver::EqualityConstraint::projector &&
+      dual.coarse.n_modes() > 0;
+    if (projector)
+      {
+        dual.coarse.apply_Gt_orthonormal(e_smalbe, lambda0);
+        Vector<double> F_lambda0(layout.size());
+        dual.apply_F(lambda0, F_lambda0);
+        h_smalbe -= F_lambda0;
+        e_smalbe = 0;
+      }
+
     const unsigned int n_T = layout.n_tangential;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = layout.normal_row[k];
-        set.set_lower_bound(r, 0.0);
-        set_c.set_lower_bound(r - n_T, 0.0);
+        set.set_lower_bound(r, -lambda0[r]);
+        set_c.set_lower_bound(r - n_T, -lambda0[r]);
         const unsigned int t = layout.tangential_row[k];
         if (t == numbers::invalid_unsigned_int)
           continue;
         if (!layout.polygonal)
           {
-            disc_of_node[k] = set.add_disc(t, t + 1, {{0.0, 0.0}}, 0.0);
-            set_t.add_disc(t, t + 1, {{0.0, 0.0}}, 0.0);
+            const std::array<double, 2> centre{{-lambda0[t], -lambda0[t + 1]}};
+            disc_of_node[k] = set.add_disc(t, t + 1, centre, 0.0);
+            set_t.add_disc(t, t + 1, centre, 0.0);
           }
       }
     set_slip_bounds(slip_bound);
@@ -60,12 +77,23 @@ namespace FetiContact
     hessian_norm = F_norm + rho * G_norm * G_norm;
   }
 
+  Vector<double>
+  ContactSolver::total(const Vector<double> &lambda_tilde) const
+  {
+    Vector<double> lambda(lambda_tilde);
+    lambda += lambda0;
+    return lambda;
+  }
+
   std::vector<double>
-  ContactSolver::coulomb_bound(const Vector<double> &lambda) const
+  ContactSolver::coulomb_bound(const Vector<double> &lambda_tilde) const
   {
     std::vector<double> g(nodes.size(), 0.0);
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      g[k] = nodes[k].friction * std::max(lambda[layout.normal_row[k]], 0.0);
+      {
+        const unsigned int r = layout.normal_row[k];
+        g[k]                 = nodes[k].friction * std::max(lambda_tilde[r] + lambda0[r], 0.0);
+      }
     return g;
   }
 
@@ -83,8 +111,9 @@ namespace FetiContact
         if (layout.polygonal)
           for (unsigned int j = 0; j < s; ++j)
             {
-              set.set_interval(t + j, -shrink * g[k], shrink * g[k]);
-              set_t.set_interval(t + j, -shrink * g[k], shrink * g[k]);
+              const double c = lambda0[t + j];
+              set.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
+              set_t.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
             }
         else
           {
@@ -140,9 +169,13 @@ namespace FetiContact
     QP::SolverReport report;
     report.converged = true;
     QP::MpgpOptions options;
-    options.tolerance      = tolerance;
+    // Each block to tolerance/2: when a sweep changes nothing, both block gradients are then
+    // below it and ‖(g^P_c, g^P_t)‖ ≤ tolerance/√2; with `tolerance` itself per block the sweeps
+    // could stall with the combined norm between tolerance and √2 tolerance.
+    options.tolerance      = tolerance / 2;
     options.max_iterations = parameters.max_inner_iterations;
     options.step           = 1.9 / hessian_norm;
+    options.disc_rotations = parameters.disc_rotations;
     for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
       {
         // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
@@ -190,11 +223,12 @@ namespace FetiContact
                              const double          feasibility,
                              const double          gradient,
                              const double          change,
-                             const Vector<double> &lambda,
+                             const Vector<double> &lambda_tilde,
                              const unsigned int    inner)
   {
-    unsigned int n_open = 0, n_stick = 0, n_slip = 0;
-    double       lambda_max = 0;
+    const Vector<double> lambda = total(lambda_tilde);
+    unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
+    double               lambda_max = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       lambda_max = std::max(lambda_max, lambda[layout.normal_row[k]]);
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -226,18 +260,19 @@ namespace FetiContact
   QP::SolverReport
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
-    const auto algorithm         = parameters.algorithm;
-    using A                      = Parameters::ContactSolver::Algorithm;
-    const Vector<double> e_tilde = dual.coarse.orthonormal_rhs(dual.e);
-    QP::SmalbeOptions    options;
-    options.tolerance             = parameters.qp_tolerance;
-    options.feasibility_tolerance = parameters.qp_tolerance;
+    const auto algorithm = parameters.algorithm;
+    using A              = Parameters::ContactSolver::Algorithm;
+    QP::SmalbeOptions options;
+    options.tolerance             = qp_tolerance;
+    options.feasibility_tolerance = qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
     options.rho                   = rho;
     options.F_norm                = F_norm;
     options.G_norm                = G_norm;
     options.inner.max_iterations  = parameters.max_inner_iterations;
     options.inner.step            = 1.9 / hessian_norm;
+    options.inner.disc_rotations  = parameters.disc_rotations;
+    options.projector             = projector;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
     const bool combined           = algorithm == A::algorithm_2;
     if (combined)
@@ -288,11 +323,11 @@ namespace FetiContact
     };
     const QP::SmalbeReport report = QP::smalbe(
       [&](const Vector<double> &x, Vector<double> &y) { dual.apply_F(x, y); },
-      dual.h,
+      h_smalbe,
       set,
       [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_G_orthonormal(x, y); },
       [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_Gt_orthonormal(x, y); },
-      e_tilde,
+      e_smalbe,
       lambda,
       mu,
       options);
@@ -303,6 +338,24 @@ namespace FetiContact
   ContactSolver::Result
   ContactSolver::solve()
   {
+    Result result = solve_homogenized();
+    if (projector)
+      {
+        // μ of the original problem from that of the projected one: μ − G̃(Fλ − h).
+        result.lambda += lambda0;
+        Vector<double> r(layout.size()), Gr(dual.coarse.n_modes());
+        dual.apply_F(result.lambda, r);
+        r -= dual.h;
+        dual.coarse.apply_G_orthonormal(r, Gr);
+        result.mu -= Gr;
+      }
+    return result;
+  }
+
+  ContactSolver::Result
+  ContactSolver::solve_homogenized()
+  {
+    qp_tolerance = parameters.qp_tolerance;
     Result result;
     result.lambda.reinit(layout.size());
     result.mu.reinit(dual.coarse.n_modes());
@@ -365,10 +418,17 @@ namespace FetiContact
     // g ← (1 − ω) g + ω F λ_N (the first update takes ω = 1).
     std::vector<double> g(nodes.size(), std::numeric_limits<double>::infinity());
     set_slip_bounds(g);
+    // Inexact MSA: step j solves the Tresca problem to max(ε_QP, c · change_{j−1}) (change_0 = 1):
+    // the slip bound of the early steps is far from the fixed point, and solving for it to the
+    // final precision buys nothing. MSA stops only after a step solved to ε_QP.
+    double previous_change = 1;
     for (msa_iteration = 1; msa_iteration <= parameters.max_msa_iterations; ++msa_iteration)
       {
-        const auto report = solve_tresca(result.lambda, result.mu, result);
-        const auto target = coulomb_bound(result.lambda);
+        qp_tolerance =
+          std::max(parameters.qp_tolerance, parameters.inexact_msa_factor * previous_change);
+        const bool final_precision = qp_tolerance <= parameters.qp_tolerance;
+        const auto report          = solve_tresca(result.lambda, result.mu, result);
+        const auto target          = coulomb_bound(result.lambda);
         double     d2 = 0, n2 = 0;
         for (unsigned int k = 0; k < nodes.size(); ++k)
           {
@@ -380,17 +440,18 @@ namespace FetiContact
             g[k] = next;
           }
         last_change             = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+        previous_change         = last_change;
         result.outer_iterations = msa_iteration;
         out << "MSA iteration " << msa_iteration << ": relative change of the slip bound "
             << last_change << ", SMALBE " << (report.converged ? "converged" : "NOT converged")
-            << " in " << report.iterations << " iterations" << std::endl;
+            << " to " << qp_tolerance << " in " << report.iterations << " iterations" << std::endl;
         if (!report.converged)
           {
             result.message =
               "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration);
             return result;
           }
-        if (last_change <= parameters.msa_tolerance)
+        if (last_change <= parameters.msa_tolerance && final_precision)
           {
             result.converged = true;
             result.message   = "converged";

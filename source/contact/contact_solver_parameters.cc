@@ -44,6 +44,13 @@ namespace FetiContact::Parameters
                       "Successive approximations stop when the slip bound changes by less than "
                       "this fraction: ‖g_new − g‖ ≤ tol ‖g_new‖.");
     prm.declare_entry("Maximum MSA iterations", "100", Patterns::Integer(1), "");
+    prm.declare_entry("Inexact MSA factor",
+                      "0.01",
+                      Patterns::Double(0, 1),
+                      "c: MSA step j solves its Tresca problem only to the relative tolerance "
+                      "max(QP relative tolerance, c × the relative change of the slip bound in "
+                      "step j − 1) (1 in step 1); MSA stops only after a step solved to the QP "
+                      "relative tolerance. 0: every step to the QP relative tolerance.");
     prm.declare_entry("Maximum SMALBE iterations", "200", Patterns::Integer(1), "");
     prm.declare_entry("Maximum inner iterations",
                       "10000",
@@ -61,6 +68,20 @@ namespace FetiContact::Parameters
                       "1",
                       Patterns::Double(0),
                       "SMALBE's penalty ρ as a multiple of the estimated ‖F‖.");
+    prm.declare_entry("Equality constraint",
+                      "projector",
+                      Patterns::Selection("projector|penalty"),
+                      "How SMALBE enforces Gλ = e (the equilibrium of floating subdomains): "
+                      "'projector': λ = λ₀ + λ̃ with the least-norm Gλ₀ = e, the Hessian "
+                      "PFP + ρQ of Farhat–Mandel–Roux (the natural coarse space); 'penalty': the "
+                      "Hessian F + ρG̃ᵀG̃ with G̃ the orthonormalized G.");
+    prm.declare_entry("Disc rotations",
+                      "true",
+                      Patterns::Bool(),
+                      "MPGP/KPG on the tangential discs: conjugate gradient steps also move "
+                      "active discs along their circles (true), or only proportioning steps do, "
+                      "as in Dostál–Kozubek and Kučera's KPG (false; much slower when most "
+                      "nodes slip).");
     prm.leave_subsection();
   }
 
@@ -82,6 +103,7 @@ namespace FetiContact::Parameters
     require(qp_tolerance > 0 && msa_tolerance > 0,
             "Contact solver: the relative tolerances must be positive.");
     max_msa_iterations    = prm.get_integer("Maximum MSA iterations");
+    inexact_msa_factor    = prm.get_double("Inexact MSA factor");
     max_smalbe_iterations = prm.get_integer("Maximum SMALBE iterations");
     max_inner_iterations  = prm.get_integer("Maximum inner iterations");
     gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");
@@ -89,6 +111,10 @@ namespace FetiContact::Parameters
     require(relaxation > 0, "Contact solver/Relaxation must be in (0, 1]; got 0.");
     penalty_factor = prm.get_double("Penalty factor");
     require(penalty_factor > 0, "Contact solver/Penalty factor must be positive.");
+    equality_constraint = prm.get("Equality constraint") == "projector" ?
+                            EqualityConstraint::projector :
+                            EqualityConstraint::penalty;
+    disc_rotations      = prm.get_bool("Disc rotations");
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

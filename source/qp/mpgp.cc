@@ -71,17 +71,39 @@ namespace FetiContact::QP
       }
     report.step = alpha_bar;
 
-    Vector<double> g(n), p(n), Ap(n), phi(n), beta(n), y(n), x_old, g_old;
+    using DiscMode      = SeparableSet::DiscMode;
+    const DiscMode mode = options.disc_rotations ? DiscMode::rotations : DiscMode::fixed;
+    Vector<double> g(n), p(n), Ap(n), Hp(n), phi(n), beta(n), y(n), x_old, g_old, phi_old;
     const double   b_norm      = b.l2_norm();
     double         norm_gP     = 0;
     const auto     update_sets = [&]() {
-      set.free_gradient(x, g, phi);
-      set.chopped_gradient(x, g, beta);
-      norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // disjoint supports
+      set.free_gradient(x, g, phi, mode);
+      set.chopped_gradient(x, g, beta, mode);
+      norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // φ·β = 0
     };
     const auto gradient = [&]() {
       multiply(x, g);
       g -= b;
+    };
+    // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old) (exact for a quadratic), and whether it is an
+    // increase beyond the rounding level (the projection onto a disc is exact only to ε r, times
+    // the multiplier g·ν).
+    const auto increased = [&]() {
+      double df = 0, noise = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          df += (x[i] - x_old[i]) * (g[i] + g_old[i]);
+          noise += std::abs(x[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
+        }
+      return df > 32 * std::numeric_limits<double>::epsilon() * noise;
+    };
+    // The projected gradient step x ← P_Ω(x_old − ᾱ g_old), which decreases f for ᾱ ≤ 2/‖A‖.
+    const auto projected_gradient_step = [&]() {
+      x = x_old;
+      x.add(-alpha_bar, g_old);
+      set.project(x);
+      gradient();
+      ++report.proportioning_fallbacks;
     };
 
     set.project(x);
@@ -109,16 +131,22 @@ namespace FetiContact::QP
 
         if (beta.norm_sqr() <= options.gamma * options.gamma * phi_tilde_phi)
           {
-            double gp = g * p;
+            // gᵀp = φᵀp: p lives where φ does (free blocks, tangents of active discs). φᵀp
+            // avoids the cancellation of the large normal parts of g on pressed discs, which
+            // makes gᵀp meaningless (even negative) once φ is near the rounding level of g.
+            double gp = phi * p;
             if (!(gp > 0) && !p_is_phi)
               {
                 p        = phi;
                 p_is_phi = true;
-                gp       = g * p;
+                gp       = phi * p;
               }
             multiply(p, Ap);
-            const double pAp = p * Ap;
-            if (!(pAp > 0) || !(gp > 0))
+            // Along the circles of active discs the second derivative of f gains the curvature
+            // term (SeparableSet::arc_curvature); without rotations it is zero.
+            const bool   arc       = mode == DiscMode::rotations && set.moves_active_discs(x, p);
+            const double curvature = p * Ap + (arc ? set.arc_curvature(x, g, p) : 0.);
+            if (!(curvature > 0) || !(gp > 0))
               {
                 if (p_is_phi)
                   breakdown = true; // A not positive definite on φ, or φ = 0 at rounding level
@@ -129,27 +157,64 @@ namespace FetiContact::QP
                   }
                 continue;
               }
-            const double alpha_cg = gp / pAp;
-            const double alpha_f  = set.max_feasible_step(x, p);
+            const double alpha_cg = gp / curvature;
+            const double alpha_f  = set.max_feasible_step(x, p, mode);
             if (alpha_cg <= alpha_f)
               {
-                // Conjugate gradient step.
+                // Conjugate gradient step; with rotations along the arcs of the active discs.
+                if (arc)
+                  {
+                    x_old   = x;
+                    g_old   = g;
+                    phi_old = phi;
+                  }
                 x.add(-alpha_cg, p);
                 set.project(x);
-                g.add(-alpha_cg, Ap);
+                if (arc)
+                  {
+                    // The projection back onto the circles moved x off the line: recompute g.
+                    gradient();
+                    if (increased())
+                      {
+                        projected_gradient_step();
+                        update_sets();
+                        p        = phi;
+                        p_is_phi = true;
+                        ++report.iterations;
+                        converged = done();
+                        continue;
+                      }
+                  }
+                else
+                  g.add(-alpha_cg, Ap);
                 update_sets();
-                const double gamma_cg = (phi * Ap) / pAp;
+                double gamma_cg = (phi * Ap) / curvature;
+                if (arc)
+                  {
+                    // Hestenes–Stiefel with the change of the tangential gradient along the
+                    // step, both transported to the tangent spaces at the new x: it carries the
+                    // curvature of the circles as it is along the step, not only at its start.
+                    Hp = phi_old;
+                    Hp -= phi;
+                    set.remove_normal_parts(x, Hp);
+                    set.remove_normal_parts(x, p);
+                    const double pHp = p * Hp;
+                    gamma_cg         = pHp > 0 ? (phi * Hp) / pHp : 0.;
+                  }
                 p.sadd(-gamma_cg, 1., phi); // p ← φ − γ p
+                set.remove_normal_parts(x, p);
                 p_is_phi = false;
                 ++report.cg_steps;
               }
             else
               {
-                // Expansion step: feasible half step, then the fixed-step projected step along φ.
+                // Expansion step: feasible half step, then the fixed-step projected step along
+                // the free gradient of the fixed-disc mode (its decrease of f is guaranteed for
+                // ᾱ ≤ 2/‖A‖; a rotation of a strongly pressed disc by ᾱ would not be).
                 x.add(-alpha_f, p);
                 set.project(x);
                 g.add(-alpha_f, Ap);
-                set.free_gradient(x, g, phi);
+                set.free_gradient(x, g, phi, DiscMode::fixed);
                 x.add(-alpha_bar, phi);
                 set.project(x);
                 gradient();
@@ -162,8 +227,10 @@ namespace FetiContact::QP
         else
           {
             // Proportioning step along the chopped gradient.
-            if (!set.nonzero_on_discs(beta))
+            if (mode == DiscMode::rotations || !set.nonzero_on_discs(beta))
               {
+                // β points into Ω along a line (on discs, with rotations, along the inward
+                // normal): exact line search, cut at the far end of the feasible segment.
                 multiply(beta, Ap);
                 const double dAd = beta * Ap;
                 if (!(dAd > 0))
@@ -171,7 +238,7 @@ namespace FetiContact::QP
                     breakdown = true;
                     continue;
                   }
-                const double alpha = std::min((g * beta) / dAd, set.max_feasible_step(x, beta));
+                const double alpha = std::min((beta * beta) / dAd, set.max_feasible_step(x, beta));
                 x.add(-alpha, beta);
                 set.project(x);
                 g.add(-alpha, Ap);
@@ -191,28 +258,13 @@ namespace FetiContact::QP
                         breakdown = true;
                         continue;
                       }
-                    alpha = (g * beta) / curvature;
+                    alpha = (beta * beta) / curvature;
                   }
                 x.add(-alpha, beta);
                 set.project(x);
                 gradient();
-                // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old), against its rounding level (the
-                // projection onto a disc is exact only to ε r, times the multiplier g·ν).
-                double df = 0, noise = 0;
-                for (unsigned int i = 0; i < n; ++i)
-                  {
-                    df += (x[i] - x_old[i]) * (g[i] + g_old[i]);
-                    noise += std::abs(x[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
-                  }
-                noise *= 32 * std::numeric_limits<double>::epsilon();
-                if (df > noise)
-                  {
-                    x = x_old;
-                    x.add(-alpha_bar, g_old);
-                    set.project(x);
-                    gradient();
-                    ++report.proportioning_fallbacks;
-                  }
+                if (increased())
+                  projected_gradient_step();
               }
             update_sets();
             p        = phi;

@@ -167,7 +167,8 @@ namespace FetiContact::QP
   void
   SeparableSet::free_gradient(const Vector<double> &x,
                               const Vector<double> &g,
-                              Vector<double>       &phi) const
+                              Vector<double>       &phi,
+                              const DiscMode        mode) const
   {
     AssertDimension(x.size(), size());
     AssertDimension(g.size(), size());
@@ -186,16 +187,28 @@ namespace FetiContact::QP
         }
     for (const Disc &d : discs)
       {
-        const bool active = disc_active(d, x);
-        phi[d.i]          = active ? 0. : g[d.i];
-        phi[d.j]          = active ? 0. : g[d.j];
+        if (!disc_active(d, x))
+          {
+            phi[d.i] = g[d.i];
+            phi[d.j] = g[d.j];
+          }
+        else if (mode == DiscMode::rotations && d.radius > 0)
+          {
+            const auto   nu = outward_normal(d, x);
+            const double gn = g[d.i] * nu[0] + g[d.j] * nu[1];
+            phi[d.i]        = g[d.i] - gn * nu[0];
+            phi[d.j]        = g[d.j] - gn * nu[1];
+          }
+        else
+          phi[d.i] = phi[d.j] = 0;
       }
   }
 
   void
   SeparableSet::chopped_gradient(const Vector<double> &x,
                                  const Vector<double> &g,
-                                 Vector<double>       &beta) const
+                                 Vector<double>       &beta,
+                                 const DiscMode        mode) const
   {
     AssertDimension(x.size(), size());
     AssertDimension(g.size(), size());
@@ -227,12 +240,18 @@ namespace FetiContact::QP
         beta[d.i] = beta[d.j] = 0;
         if (d.radius == 0 || !disc_active(d, x))
           continue;
-        const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
-        const double norm = std::hypot(y1, y2);
-        const double n1 = y1 / norm, n2 = y2 / norm; // norm ≥ r(1 − 1e-12) > 0
-        const double gn = std::min(g[d.i] * n1 + g[d.j] * n2, 0.);
-        beta[d.i]       = g[d.i] - gn * n1;
-        beta[d.j]       = g[d.j] - gn * n2;
+        const auto   nu = outward_normal(d, x);
+        const double gn = g[d.i] * nu[0] + g[d.j] * nu[1];
+        if (mode == DiscMode::rotations)
+          {
+            beta[d.i] = std::max(gn, 0.) * nu[0];
+            beta[d.j] = std::max(gn, 0.) * nu[1];
+          }
+        else
+          {
+            beta[d.i] = g[d.i] - std::min(gn, 0.) * nu[0];
+            beta[d.j] = g[d.j] - std::min(gn, 0.) * nu[1];
+          }
       }
   }
 
@@ -248,7 +267,9 @@ namespace FetiContact::QP
   }
 
   double
-  SeparableSet::max_feasible_step(const Vector<double> &x, const Vector<double> &d) const
+  SeparableSet::max_feasible_step(const Vector<double> &x,
+                                  const Vector<double> &d,
+                                  const DiscMode        mode) const
   {
     AssertDimension(x.size(), size());
     AssertDimension(d.size(), size());
@@ -267,6 +288,8 @@ namespace FetiContact::QP
           continue;
         if (disc.radius == 0)
           return 0;
+        if (mode == DiscMode::rotations && disc_active(disc, x))
+          continue;
         // ‖y − α d‖² = r²: α²‖d‖² − 2α y·d + ‖y‖² − r² = 0, the positive root.
         const double y1 = x[disc.i] - disc.centre[0], y2 = x[disc.j] - disc.centre[1];
         const double dd = d1 * d1 + d2 * d2;
@@ -281,6 +304,14 @@ namespace FetiContact::QP
     return alpha;
   }
 
+  std::array<double, 2>
+  SeparableSet::outward_normal(const Disc &d, const Vector<double> &x) const
+  {
+    const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+    const double norm = std::hypot(y1, y2); // ≥ r(1 − 1e-12) > 0 on an active disc with r > 0
+    return {{y1 / norm, y2 / norm}};
+  }
+
   double
   SeparableSet::arc_curvature(const Vector<double> &x,
                               const Vector<double> &g,
@@ -291,15 +322,54 @@ namespace FetiContact::QP
       {
         if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
           continue;
-        const double y1 = x[disc.i] - disc.centre[0], y2 = x[disc.j] - disc.centre[1];
-        const double norm = std::hypot(y1, y2);
-        const double n1 = y1 / norm, n2 = y2 / norm;
-        const double sigma = std::max(-(g[disc.i] * n1 + g[disc.j] * n2), 0.);
-        const double dn    = d[disc.i] * n1 + d[disc.j] * n2;
-        const double t1 = d[disc.i] - dn * n1, t2 = d[disc.j] - dn * n2;
+        const auto   nu    = outward_normal(disc, x);
+        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
+        const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
+        const double t1 = d[disc.i] - dn * nu[0], t2 = d[disc.j] - dn * nu[1];
         curvature += sigma / disc.radius * (t1 * t1 + t2 * t2);
       }
     return curvature;
+  }
+
+  void
+  SeparableSet::add_arc_curvature(const Vector<double> &x,
+                                  const Vector<double> &g,
+                                  const Vector<double> &d,
+                                  Vector<double>       &Hd) const
+  {
+    for (const Disc &disc : discs)
+      {
+        if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
+          continue;
+        const auto   nu    = outward_normal(disc, x);
+        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
+        const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
+        Hd[disc.i] += sigma / disc.radius * (d[disc.i] - dn * nu[0]);
+        Hd[disc.j] += sigma / disc.radius * (d[disc.j] - dn * nu[1]);
+      }
+  }
+
+  void
+  SeparableSet::remove_normal_parts(const Vector<double> &x, Vector<double> &v) const
+  {
+    for (const Disc &disc : discs)
+      {
+        if (disc.radius == 0 || (v[disc.i] == 0 && v[disc.j] == 0) || !disc_active(disc, x))
+          continue;
+        const auto   nu = outward_normal(disc, x);
+        const double vn = v[disc.i] * nu[0] + v[disc.j] * nu[1];
+        v[disc.i] -= vn * nu[0];
+        v[disc.j] -= vn * nu[1];
+      }
+  }
+
+  bool
+  SeparableSet::moves_active_discs(const Vector<double> &x, const Vector<double> &v) const
+  {
+    for (const Disc &disc : discs)
+      if (disc.radius > 0 && (v[disc.i] != 0 || v[disc.j] != 0) && disc_active(disc, x))
+        return true;
+    return false;
   }
 
   bool

@@ -49,6 +49,10 @@ namespace FetiContact::QP
     AssertThrow(options.tolerance > 0 && options.feasibility_tolerance > 0,
                 ExcMessage("SMALBE: tolerances must be positive."));
 
+    AssertThrow(!options.projector || e.l2_norm() == 0,
+                ExcMessage("SMALBE: the projector variant needs the homogenized constraint "
+                           "Gλ = 0 (e = 0); shift λ by a particular solution first."));
+
     SmalbeReport report;
     const double eps_mach = std::numeric_limits<double>::epsilon();
 
@@ -80,17 +84,39 @@ namespace FetiContact::QP
     report.F_norm       = F_norm;
     report.G_norm       = G_norm;
 
-    // The Hessian of the augmented Lagrangian, counted.
-    Vector<double> Fx(m);
+    // The Hessian of the augmented Lagrangian, counted: F + ρGᵀG, or PFP + ρQ.
+    const bool     projector = options.projector && constrained;
+    Vector<double> Px(projector ? m : 0), QFPx(projector ? m : 0);
     const Operator A = [&](const Vector<double> &x, Vector<double> &y) {
-      F(x, y);
-      if (k > 0)
+      if (projector)
         {
           GtG(x, GtGx);
+          Px = x;
+          Px -= GtGx;
+          F(Px, y);
+          GtG(y, QFPx);
+          y -= QFPx;
           y.add(rho, GtGx);
+        }
+      else
+        {
+          F(x, y);
+          if (k > 0)
+            {
+              GtG(x, GtGx);
+              y.add(rho, GtGx);
+            }
         }
       ++report.hessian_multiplications;
     };
+    // The linear term of the objective: h, or Ph.
+    Vector<double> h_objective(h);
+    if (projector)
+      {
+        Vector<double> Qh(m);
+        GtG(h, Qh);
+        h_objective -= Qh;
+      }
 
     // References (see the documentation): relative to the data, floored at the rounding level.
     const auto gradient_reference = [&](const Vector<double> &x) {
@@ -145,9 +171,9 @@ namespace FetiContact::QP
       r -= e;
       return r.l2_norm();
     };
-    // b_inner = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe).
+    // b_inner = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe) (Ph − Gᵀμ in the projector variant).
     const auto linear_term = [&]() {
-      b_inner = h;
+      b_inner = h_objective;
       if (k > 0)
         {
           Vector<double> v(mu);

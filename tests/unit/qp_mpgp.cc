@@ -7,8 +7,8 @@
 // SeparableSet's), the gradient against g* (the multipliers), and that every multiplication by
 // A is counted. Cases: generic mix; solution at disc centres; on a disc boundary with zero
 // gradient; all constraints active; none active (= the unconstrained solution); zero-radius
-// discs; bounds only (MPRGP); data scaled by 1e-11 and 1e11 (same x, same counts); a start
-// outside Ω.
+// discs; bounds only (MPRGP); data scaled by 2^∓37 (bit for bit the same x, same counts) and by
+// 1e-11 and 1e11 (same x); a start outside Ω.
 
 #include <deal.II/lac/full_matrix.h>
 
@@ -217,17 +217,42 @@ namespace
     QP::MpgpReport report;
   };
 
+  /** The variants of MPGP on discs (MpgpOptions::disc_rotations, proportioning_line_search). */
+  enum class Variant
+  {
+    /** The default: rotations along active discs. */
+    rotations,
+    /** Fixed active discs (Dostál–Kozubek, KPG), proportioning step from the arc model. */
+    fixed_discs,
+    /** Fixed active discs with the fixed step ᾱ in projected proportioning steps. */
+    fixed_step
+  };
+
+  std::string
+  variant_name(const Variant variant)
+  {
+    switch (variant)
+      {
+        case Variant::rotations:
+          return "";
+        case Variant::fixed_discs:
+          return ", fixed discs";
+        default:
+          return ", fixed discs, fixed-step proportioning";
+      }
+  }
+
   /** Solves the problem scaled by s (A and b times s) from x0 and checks the solution. */
   Result
   solve_and_check(const std::string    &name,
                   const Problem        &problem,
                   const Vector<double> &x0,
-                  const double          s          = 1,
-                  const bool            fixed_step = false,
-                  const double          tolerance  = 1e-12)
+                  const double          s         = 1,
+                  const Variant         variant   = Variant::rotations,
+                  const double          tolerance = 1e-12)
   {
-    std::cout << name << (fixed_step ? ", fixed-step proportioning" : "") << " (n = " << problem.n
-              << ", scale " << s << ")" << std::endl;
+    std::cout << name << variant_name(variant) << " (n = " << problem.n << ", scale " << s << ")"
+              << std::endl;
     unsigned int count = 0;
     const auto   A     = [&](const Vector<double> &v, Vector<double> &w) {
       problem.A.vmult(w, v);
@@ -238,7 +263,8 @@ namespace
     b *= s;
     QP::MpgpOptions options;
     options.tolerance                 = tolerance * b.l2_norm();
-    options.proportioning_line_search = !fixed_step;
+    options.disc_rotations            = variant == Variant::rotations;
+    options.proportioning_line_search = variant != Variant::fixed_step;
     Result result;
     result.x      = x0;
     result.report = QP::mpgp(A, b, problem.set, result.x, options);
@@ -311,6 +337,37 @@ namespace
     check(beta == vec({0, 0, 2, 3, 0, 0, 0}), "chopped gradient pointing inwards = g");
     check(gP.l2_norm() == std::sqrt(1 + 25 + 1 + 9.), "projected gradient = φ + β");
 
+    // Rotations: the tangential gradient of an active disc moves into φ; β keeps the inward
+    // normal part only.
+    using Mode = QP::SeparableSet::DiscMode;
+    g          = vec({1, -1, -2, 3, 1, 1, 5});
+    set.free_gradient(x, g, phi, Mode::rotations);
+    set.chopped_gradient(x, g, beta, Mode::rotations);
+    check(phi == vec({1, 0, 0, 3, 0, 0, 5}) && beta == vec({0, -1, 0, 0, 0, 0, 0}),
+          "rotations, disc pressed outwards (σ = 2): tangential part in φ, nothing in β");
+    g = vec({1, 2, 2, 3, 1, 1, 5});
+    set.free_gradient(x, g, phi, Mode::rotations);
+    set.chopped_gradient(x, g, beta, Mode::rotations);
+    check(phi == vec({1, 0, 0, 3, 0, 0, 5}) && beta == vec({0, 0, 2, 0, 0, 0, 0}),
+          "rotations, gradient pointing inwards: tangential part in φ, normal part in β");
+    {
+      g                  = vec({1, -1, -2, 3, 1, 1, 5});
+      Vector<double> d   = vec({0, 0, 0.5, 2, 0, 0, 0}), Hd(7);
+      Vector<double> tan = d;
+      set.remove_normal_parts(x, tan);
+      check(tan == vec({0, 0, 0, 2, 0, 0, 0}), "remove_normal_parts: tangent of the circle");
+      set.add_arc_curvature(x, g, d, Hd);
+      check(Hd == vec({0, 0, 0, 4, 0, 0, 0}) && set.arc_curvature(x, g, d) == 8 &&
+              d * Hd == set.arc_curvature(x, g, d),
+            "arc curvature σ/r ‖t‖² = 2 · 4 and its operator");
+      check(set.moves_active_discs(x, d) && !set.moves_active_discs(x, vec({1, 0, 0, 0, 0, 0, 1})),
+            "moves_active_discs");
+      check(set.max_feasible_step(x, tan, Mode::rotations) ==
+                std::numeric_limits<double>::infinity() &&
+              set.max_feasible_step(x, tan) == 0,
+            "rotations: an active disc does not limit a step along its circle");
+    }
+
     Vector<double>   y = vec({0., 1e-300, 0, 0, 1, 2, 0});
     QP::SeparableSet lower(7);
     lower.set_lower_bound(1, 0);
@@ -356,29 +413,35 @@ main()
   check_set();
 
   using R = Role;
-  // Both step lengths of the projected proportioning step; returns the default's result.
+  // Every variant; returns the default's result.
   const auto both = [](const std::string &name, const Problem &p, const Vector<double> &x0) {
     const Result r = solve_and_check(name, p, x0);
-    solve_and_check(name, p, x0, 1, true);
+    solve_and_check(name, p, x0, 1, Variant::fixed_discs);
+    solve_and_check(name, p, x0, 1, Variant::fixed_step);
     return r;
   };
-  // The problem with A and b scaled by 1e-11 and 1e11 against the unscaled one, all solved to
-  // ‖g^P‖ ≤ 1e-10‖b‖: the same x and the same counts. (Not to 1e-12: there the last steps are
-  // decided on gradients at their rounding level, which differs between scalings.)
-  const auto scaled = [](const std::string &name, const Problem &p, const bool fixed_step) {
+  // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
+  // By 2^∓37 (about 7e-12 and 1.4e11) floating-point arithmetic scales exactly, so any absolute
+  // threshold would show as a different path: the same counts and bit for bit the same x. By
+  // 1e-11 and 1e11 the rounding differs and steps decided on gradients near the tolerance may
+  // differ: the same x to 1e-9.
+  const auto scaled = [](const std::string &name, const Problem &p, const Variant variant) {
     const Vector<double> x0(p.n);
-    const Result         reference = solve_and_check(name, p, x0, 1, fixed_step, 1e-10);
-    for (const double s : {1e-11, 1e11})
+    const Result         reference = solve_and_check(name, p, x0, 1, variant, 1e-10);
+    for (const double s : {std::ldexp(1., -37), std::ldexp(1., 37), 1e-11, 1e11})
       {
-        const Result   r = solve_and_check(name + ", scaled", p, x0, s, fixed_step, 1e-10);
+        const bool     exact = s == std::ldexp(1., -37) || s == std::ldexp(1., 37);
+        const Result   r     = solve_and_check(name + ", scaled", p, x0, s, variant, 1e-10);
         Vector<double> d(r.x);
         d -= reference.x;
-        check(d.l2_norm() <= 1e-9 * reference.x.l2_norm(),
-              "same x as unscaled: " + sci(d.l2_norm() / reference.x.l2_norm()));
-        check(r.report.iterations == reference.report.iterations &&
-                r.report.hessian_multiplications == reference.report.hessian_multiplications,
-              "same counts as unscaled (" + std::to_string(r.report.iterations) + " steps, " +
-                std::to_string(r.report.hessian_multiplications) + " multiplications)");
+        check(d.l2_norm() <= (exact ? 0. : 1e-9) * reference.x.l2_norm(),
+              std::string(exact ? "bit for bit " : "") +
+                "the same x as unscaled: " + sci(d.l2_norm() / reference.x.l2_norm()));
+        if (exact)
+          check(r.report.iterations == reference.report.iterations &&
+                  r.report.hessian_multiplications == reference.report.hessian_multiplications,
+                "same counts as unscaled (" + std::to_string(r.report.iterations) + " steps, " +
+                  std::to_string(r.report.hessian_multiplications) + " multiplications)");
       }
   };
 
@@ -397,8 +460,9 @@ main()
                                            {R::disc_fixed, 1}});
   const Vector<double> zero_mix(mix.n);
   both("generic mix", mix, zero_mix);
-  scaled("generic mix", mix, false);
-  scaled("generic mix", mix, true);
+  scaled("generic mix", mix, Variant::rotations);
+  scaled("generic mix", mix, Variant::fixed_discs);
+  scaled("generic mix", mix, Variant::fixed_step);
   {
     Vector<double> x0(mix.n);
     for (auto &v : x0)
@@ -450,6 +514,7 @@ main()
     std::cout << "strongly curved discs, fixed-step proportioning, 2000 steps" << std::endl;
     QP::MpgpOptions options;
     options.tolerance                 = 1e-12 * p.b.l2_norm();
+    options.disc_rotations            = false;
     options.proportioning_line_search = false;
     options.max_iterations            = 2000;
     double         f_last = std::numeric_limits<double>::infinity(), increase = 0;
@@ -486,7 +551,7 @@ main()
                                     {R::upper_active, 4}});
     const Result  r = solve_and_check("bounds only (MPRGP)", p, Vector<double>(p.n));
     check(r.report.proportioning_fallbacks == 0, "no projected proportioning without discs");
-    scaled("bounds only (MPRGP)", p, false);
+    scaled("bounds only (MPRGP)", p, Variant::rotations);
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

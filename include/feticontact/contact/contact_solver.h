@@ -33,6 +33,12 @@ namespace FetiContact
    * - polygonal: the disc replaced by a regular 2s-gon, s multipliers per node in boxes
    *   |λ_j| ≤ g sin(π/2s) (the polygon's vertices lie on the circle ‖λ_T‖ = g), so MPRGP only.
    *
+   * With `Equality constraint = projector` (the default) the problem is homogenized first:
+   * λ = λ₀ + λ̃ with λ₀ = G̃ᵀẽ the least-norm solution of Gλ = e, so that G̃λ̃ = 0; the bounds
+   * and disc centres shift by −λ₀ (λ̃_N ≥ −λ₀_N, ‖λ̃_T + λ₀_T‖ ≤ g) and SMALBE works with the
+   * projected Hessian PFP + ρQ (QP::SmalbeOptions::projector). Everything reported (λ, the
+   * slip bounds, the statuses) is in terms of λ = λ₀ + λ̃.
+   *
    * Counts the multiplications by the Hessian F + ρGᵀG in the bound QP (n_A^QPP) and in the disc
    * QP (n_A^QPQ) as the seed does; the MPGP and polygonal variants count under `bound` when no
    * split exists (the product set).
@@ -63,6 +69,14 @@ namespace FetiContact
     solve();
 
   private:
+    /** solve() in the homogenized unknown λ̃ (result.lambda), μ of the problem SMALBE solves. */
+    Result
+    solve_homogenized();
+
+    /** λ̃ + λ₀. */
+    dealii::Vector<double>
+    total(const dealii::Vector<double> &lambda_tilde) const;
+
     /** The slip bound candidate F λ_N per node (0 where F = 0). */
     std::vector<double>
     coulomb_bound(const dealii::Vector<double> &lambda) const;
@@ -101,6 +115,12 @@ namespace FetiContact
     std::vector<unsigned int>        disc_of_node;
     std::vector<double>              slip_bound;
     double                           F_norm = 0, G_norm = 0, rho = 0;
+    /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0, e_smalbe = 0). */
+    bool projector = false;
+    /** λ₀ (zero without the projector), h − Fλ₀, and the right side of G̃λ̃ = ẽ − G̃λ₀. */
+    dealii::Vector<double> lambda0, h_smalbe, e_smalbe;
+    /** The QP tolerance of the current solve (inexact MSA: looser in early MSA steps). */
+    double qp_tolerance = 0;
     /** ‖F + ρGᵀG‖ ≤ ‖F‖ + ρ‖G‖², for the fixed step ᾱ of the block solves. */
     double hessian_norm = 0;
     /** λ after the last inner solve (for the status counts of the history). */

@@ -37,8 +37,13 @@ namespace FetiContact::Parameters
     /** SMALBE stops when ‖g^P‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖. */
     double qp_tolerance = 1e-8;
     /** MSA stops when ‖g_new − g‖ ≤ tol ‖g_new‖ (relative change of the slip bound). */
-    double       msa_tolerance         = 1e-6;
-    unsigned int max_msa_iterations    = 100;
+    double       msa_tolerance      = 1e-6;
+    unsigned int max_msa_iterations = 100;
+    /**
+     * Inexact MSA: MSA step j solves its Tresca problem to max(qp_tolerance, c · change_{j−1})
+     * (change_0 = 1); 0: every step to qp_tolerance.
+     */
+    double       inexact_msa_factor    = 1e-2;
     unsigned int max_smalbe_iterations = 200;
     unsigned int max_inner_iterations  = 10000;
     /** Gauss–Seidel sweeps over (λ_c, λ_t) per inner problem (Algorithm 1). */
@@ -47,6 +52,16 @@ namespace FetiContact::Parameters
     double relaxation = 1;
     /** SMALBE penalty ρ as a multiple of ‖F‖ (estimated). */
     double penalty_factor = 1;
+
+    /** How SMALBE treats Gλ = e (QP::SmalbeOptions::projector). */
+    enum class EqualityConstraint
+    {
+      projector, ///< λ = λ₀ + λ̃ with Gλ₀ = e; Hessian PFP + ρQ (Farhat–Mandel–Roux)
+      penalty    ///< the Hessian F + ρG̃ᵀG̃ (SMALBE on the original problem)
+    };
+    EqualityConstraint equality_constraint = EqualityConstraint::projector;
+    /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
+    bool disc_rotations = true;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

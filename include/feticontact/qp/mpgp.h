@@ -46,6 +46,17 @@ namespace FetiContact::QP
      * replaced by P_Ω(x − ᾱg) if it increased f.
      */
     bool proportioning_line_search = true;
+    /**
+     * Rotations on active discs (SeparableSet::DiscMode::rotations): conjugate gradient steps
+     * also move blocks along the circles of their active discs (projected back onto the circle,
+     * the gradient recomputed: two multiplications by A per such step), conjugated with the
+     * Hessian along the circles A + C (SeparableSet::add_arc_curvature); β keeps only the
+     * inward normal part on discs, so proportioning steps are exact line searches. false: the
+     * fixed-disc MPGP of Dostál–Kozubek (Kučera's KPG), where an active disc changes its angle
+     * only by proportioning (gradient) steps, which converge like steepest descent once most
+     * discs are active (the situation of contact with friction: most nodes slip).
+     */
+    bool disc_rotations = true;
     /** Power iterations for ᾱ when step = 0. */
     unsigned int norm_iterations = 10;
     /** Called after every step with (step number, ‖g^P‖). */

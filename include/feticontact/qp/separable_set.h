@@ -85,24 +85,44 @@ namespace FetiContact::QP
     project(dealii::Vector<double> &x) const;
 
     /**
+     * How the tangent directions of active discs are treated by free_gradient(),
+     * chopped_gradient() and max_feasible_step().
+     *  - `fixed` (MPGP of Dostál–Kozubek, Kučera's KPG): an active disc is an active block; its
+     *    gradient goes into β, conjugate gradient steps do not move it.
+     *  - `rotations`: an active disc may move along its circle. Its tangential gradient is part
+     *    of φ (conjugate gradient steps rotate the block along the arc, projected back onto the
+     *    circle), and β keeps only the inward normal part max(g·ν, 0) ν (releasing the block into
+     *    the interior is a straight, feasible line). An active disc then never limits a step.
+     */
+    enum class DiscMode : unsigned char
+    {
+      fixed,
+      rotations
+    };
+
+    /**
      * φ(x): the free gradient, g on the components of blocks where x is not on the boundary
-     * (free components, interior of intervals and discs), 0 on active blocks.
+     * (free components, interior of intervals and discs), 0 on active blocks; with
+     * DiscMode::rotations the tangential part g − (g·ν)ν on active discs with r > 0.
      */
     void
     free_gradient(const dealii::Vector<double> &x,
                   const dealii::Vector<double> &g,
-                  dealii::Vector<double>       &phi) const;
+                  dealii::Vector<double>       &phi,
+                  const DiscMode                mode = DiscMode::fixed) const;
 
     /**
      * β(x): the chopped gradient, 0 on inactive blocks; an interval at its lower end
      * min(g_i, 0), at its upper end max(g_i, 0); an active disc with outward unit normal
      * ν = (x − c)/‖x − c‖: β = g − min(g·ν, 0) ν (the part of −g pointing out of the disc is
-     * removed); fixed blocks: 0.
+     * removed), with DiscMode::rotations only the inward part max(g·ν, 0) ν; fixed blocks: 0.
+     * In both modes φ + β = g^P and φ·β = 0.
      */
     void
     chopped_gradient(const dealii::Vector<double> &x,
                      const dealii::Vector<double> &g,
-                     dealii::Vector<double>       &beta) const;
+                     dealii::Vector<double>       &beta,
+                     const DiscMode                mode = DiscMode::fixed) const;
 
     /** g^P(x) = φ(x) + β(x), the projected gradient: zero exactly at a KKT point. */
     void
@@ -113,10 +133,13 @@ namespace FetiContact::QP
     /**
      * The largest α ≥ 0 with x − α d ∈ Ω (x ∈ Ω): the ratio test on intervals, the positive
      * root of ‖x_k − c − α d_k‖ = r on discs, 0 for a fixed block with d ≠ 0 on it;
-     * +∞ when no block limits the step.
+     * +∞ when no block limits the step. With DiscMode::rotations active discs (r > 0) do not
+     * limit the step: the path P_Ω(x − αd) follows their circles.
      */
     double
-    max_feasible_step(const dealii::Vector<double> &x, const dealii::Vector<double> &d) const;
+    max_feasible_step(const dealii::Vector<double> &x,
+                      const dealii::Vector<double> &d,
+                      const DiscMode                mode = DiscMode::fixed) const;
 
     /**
      * Σ_k σ_k ‖t_k‖²/r_k over the active discs k with r_k > 0, where σ_k = max(−g_k·ν_k, 0) is
@@ -129,6 +152,29 @@ namespace FetiContact::QP
     arc_curvature(const dealii::Vector<double> &x,
                   const dealii::Vector<double> &g,
                   const dealii::Vector<double> &d) const;
+
+    /**
+     * Hd ← Hd + C d with C the curvature operator of arc_curvature() (dᵀC d = arc_curvature):
+     * σ_k/r_k times the tangential part of d_k on the active discs pressed outwards. A d + C d
+     * is the Hessian of f along the circles (the Riemannian Hessian), which conjugates the
+     * directions of the rotation steps in MPGP.
+     */
+    void
+    add_arc_curvature(const dealii::Vector<double> &x,
+                      const dealii::Vector<double> &g,
+                      const dealii::Vector<double> &d,
+                      dealii::Vector<double>       &Hd) const;
+
+    /**
+     * v ← v with its normal part ν(ν·v) removed on every active disc with r > 0: the tangent
+     * space of the circles at x (the transport of a search direction to a new iterate).
+     */
+    void
+    remove_normal_parts(const dealii::Vector<double> &x, dealii::Vector<double> &v) const;
+
+    /** Whether v is non-zero on some active disc with r > 0 at x (a step along v rotates it). */
+    bool
+    moves_active_discs(const dealii::Vector<double> &x, const dealii::Vector<double> &v) const;
 
     /** Whether some disc block has a non-zero component of v (MPGP: β acts on a disc). */
     bool
@@ -168,6 +214,10 @@ namespace FetiContact::QP
     /** Whether disc d is active at x (on its boundary, or r = 0). */
     bool
     disc_active(const Disc &d, const dealii::Vector<double> &x) const;
+
+    /** ν = (x − c)/‖x − c‖ of disc d (d active with r > 0, so x ≠ c). */
+    std::array<double, 2>
+    outward_normal(const Disc &d, const dealii::Vector<double> &x) const;
 
     std::vector<Kind>   kind;
     std::vector<double> lower, upper, scale;

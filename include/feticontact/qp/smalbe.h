@@ -59,6 +59,17 @@ namespace FetiContact::QP
     /** η > 0. 0: η = eta_factor · ‖h‖. */
     double eta        = 0;
     double eta_factor = 0.1;
+    /**
+     * The projector variant (Farhat–Mandel–Roux; Dostál's TFETI contact solvers): for a
+     * homogenized constraint Gλ = 0 (e = 0) with orthonormal rows (GGᵀ = I, so Q = GᵀG and
+     * P = I − Q are orthogonal projectors), minimize ½λᵀPFPλ − λᵀPh instead, which agrees with
+     * the original objective on Gλ = 0. The augmented Lagrangian then has the Hessian PFP + ρQ:
+     * on the range of P the spectrum of the projected FETI operator (the natural coarse space),
+     * on that of Q the penalty ρ, so both the inner iterations and the outer (multiplier)
+     * iterations need fewer steps than with F + ρGᵀG. The μ passed in and out is the
+     * multiplier of the projected problem; that of the original one is μ − G(Fλ − h).
+     */
+    bool projector = false;
     /** ‖F‖ and ‖G‖ if known (0: power method with norm_iterations steps). */
     double       F_norm = 0, G_norm = 0;
     unsigned int norm_iterations = 10;
@@ -111,6 +122,7 @@ namespace FetiContact::QP
    *  4. If k > 0 and L(λ_k, μ_k, ρ) < L(λ_{k−1}, μ_{k−1}, ρ) + ρ/2 ‖Gλ_k − e‖²:
    *     M_{k+1} = M_k/β_M, else M_{k+1} = M_k.
    * After each inner solve one multiplication by A gives the gradient and L (counted).
+   * With SmalbeOptions::projector, F and h are replaced by PFP and Ph (P = I − GᵀG, e = 0).
    *
    * Every threshold is relative (DESIGN.md §4), so that multiplying F and h by s > 0 leaves λ
    * and the iteration counts unchanged and multiplies μ by s, and scaling G and e leaves λ

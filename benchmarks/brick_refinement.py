@@ -112,7 +112,12 @@ def measure():
                        penetration=s["kkt"]["penetration"], cone=s["kkt"]["cone_violation"])
             rows.append(row)
             print(", ".join(f"{key} = {value}" for key, value in row.items()), flush=True)
+            write(rows, ks, repeats, csv_path, md_path)  # after every run: partial results survive
+    write(rows, ks, repeats, csv_path, md_path)
+    print(f"wrote {csv_path} and {md_path}")
 
+
+def write(rows, ks, repeats, csv_path, md_path):
     os.makedirs(os.path.dirname(csv_path), exist_ok=True)
     fields = ["k", "F", "algorithm", "status", "n", "m", "time_solve", "time_setup", "iter",
               "smalbe", "n_A", "n_A_bound", "n_A_disc", "open", "stick", "slip", "penetration",
@@ -124,7 +129,6 @@ def measure():
             writer.writerow(row)
     with open(md_path, "w") as f:
         f.write(markdown(rows, ks, repeats))
-    print(f"wrote {csv_path} and {md_path}")
 
 
 def cell(rows, k, friction, label, what):

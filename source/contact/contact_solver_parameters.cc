@@ -1,6 +1,8 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_solver_parameters.h>
 
+#include <cmath>
+
 namespace FetiContact::Parameters
 {
   using namespace dealii;
@@ -65,9 +67,12 @@ namespace FetiContact::Parameters
                       Patterns::Double(0, 1),
                       "ω in the slip-bound update g ← (1 − ω) g + ω F λ_N (1: plain MSA).");
     prm.declare_entry("Penalty factor",
-                      "1",
-                      Patterns::Double(0),
-                      "SMALBE's penalty ρ as a multiple of the estimated ‖F‖.");
+                      "auto",
+                      Patterns::Anything(),
+                      "SMALBE's penalty ρ as a multiple of the estimated ‖F‖, or 'auto': 1 for "
+                      "mpgp and polygonal, 0.1 for algorithm 1, 0.03 for algorithm 2. The block "
+                      "Gauss–Seidel of algorithms 1 and 2 converges slowly when ρG̃ᵀG̃ couples "
+                      "λ_c and λ_T strongly (measured on the brick, doc/contact.md).");
     prm.declare_entry("Equality constraint",
                       "projector",
                       Patterns::Selection("projector|penalty"),
@@ -109,8 +114,18 @@ namespace FetiContact::Parameters
     gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");
     relaxation            = prm.get_double("Relaxation");
     require(relaxation > 0, "Contact solver/Relaxation must be in (0, 1]; got 0.");
-    penalty_factor = prm.get_double("Penalty factor");
-    require(penalty_factor > 0, "Contact solver/Penalty factor must be positive.");
+    const std::string penalty = prm.get("Penalty factor");
+    if (penalty == "auto")
+      penalty_factor = algorithm == Algorithm::algorithm_1 ? 0.1 :
+                       algorithm == Algorithm::algorithm_2 ? 0.03 :
+                                                             1.0;
+    else
+      {
+        penalty_factor = InputParsing::parse_double(penalty, "Contact solver/Penalty factor");
+        require(penalty_factor > 0 && std::isfinite(penalty_factor),
+                "Contact solver/Penalty factor must be 'auto' or a positive number; got '" +
+                  penalty + "'.");
+      }
     equality_constraint = prm.get("Equality constraint") == "projector" ?
                             EqualityConstraint::projector :
                             EqualityConstraint::penalty;

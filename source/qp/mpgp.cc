@@ -74,12 +74,20 @@ namespace FetiContact::QP
     using DiscMode      = SeparableSet::DiscMode;
     const DiscMode mode = options.disc_rotations ? DiscMode::rotations : DiscMode::fixed;
     Vector<double> g(n), p(n), Ap(n), Hp(n), phi(n), beta(n), y(n), x_old, g_old, phi_old;
-    const double   b_norm      = b.l2_norm();
-    double         norm_gP     = 0;
+    const double   b_norm  = b.l2_norm();
+    double         norm_gP = 0;
+    // z = M⁻¹φ, the search direction before conjugation: φ itself, or with rotations φ
+    // divided on the tangents of pressed discs by 1 + (σ_k/r_k)/‖A‖ (the curvature of a small,
+    // strongly pressed circle dominates the Hessian along it; SeparableSet::precondition_arcs).
+    const bool     precondition = mode == DiscMode::rotations && options.precondition_rotations;
+    Vector<double> z(n);
     const auto     update_sets = [&]() {
       set.free_gradient(x, g, phi, mode);
       set.chopped_gradient(x, g, beta, mode);
       norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // φ·β = 0
+      z       = phi;
+      if (precondition)
+        set.precondition_arcs(x, g, 1.9 / alpha_bar, z);
     };
     const auto gradient = [&]() {
       multiply(x, g);
@@ -109,7 +117,7 @@ namespace FetiContact::QP
     set.project(x);
     gradient();
     update_sets();
-    p              = phi;
+    p              = z;
     bool p_is_phi  = true;
     bool breakdown = false;
 
@@ -137,7 +145,7 @@ namespace FetiContact::QP
             double gp = phi * p;
             if (!(gp > 0) && !p_is_phi)
               {
-                p        = phi;
+                p        = z;
                 p_is_phi = true;
                 gp       = phi * p;
               }
@@ -152,7 +160,7 @@ namespace FetiContact::QP
                   breakdown = true; // A not positive definite on φ, or φ = 0 at rounding level
                 else
                   {
-                    p        = phi;
+                    p        = z;
                     p_is_phi = true;
                   }
                 continue;
@@ -178,7 +186,7 @@ namespace FetiContact::QP
                       {
                         projected_gradient_step();
                         update_sets();
-                        p        = phi;
+                        p        = z;
                         p_is_phi = true;
                         ++report.iterations;
                         converged = done();
@@ -188,7 +196,7 @@ namespace FetiContact::QP
                 else
                   g.add(-alpha_cg, Ap);
                 update_sets();
-                double gamma_cg = (phi * Ap) / curvature;
+                double gamma_cg = (z * Ap) / curvature;
                 if (arc)
                   {
                     // Hestenes–Stiefel with the change of the tangential gradient along the
@@ -199,9 +207,9 @@ namespace FetiContact::QP
                     set.remove_normal_parts(x, Hp);
                     set.remove_normal_parts(x, p);
                     const double pHp = p * Hp;
-                    gamma_cg         = pHp > 0 ? (phi * Hp) / pHp : 0.;
+                    gamma_cg         = pHp > 0 ? (z * Hp) / pHp : 0.;
                   }
-                p.sadd(-gamma_cg, 1., phi); // p ← φ − γ p
+                p.sadd(-gamma_cg, 1., z); // p ← z − γ p
                 set.remove_normal_parts(x, p);
                 p_is_phi = false;
                 ++report.cg_steps;
@@ -219,7 +227,7 @@ namespace FetiContact::QP
                 set.project(x);
                 gradient();
                 update_sets();
-                p        = phi;
+                p        = z;
                 p_is_phi = true;
                 ++report.expansion_steps;
               }
@@ -267,7 +275,7 @@ namespace FetiContact::QP
                   projected_gradient_step();
               }
             update_sets();
-            p        = phi;
+            p        = z;
             p_is_phi = true;
             ++report.proportioning_steps;
           }

@@ -363,6 +363,24 @@ namespace FetiContact::QP
       }
   }
 
+  void
+  SeparableSet::precondition_arcs(const Vector<double> &x,
+                                  const Vector<double> &g,
+                                  const double          a,
+                                  Vector<double>       &v) const
+  {
+    for (const Disc &disc : discs)
+      {
+        if (disc.radius == 0 || (v[disc.i] == 0 && v[disc.j] == 0) || !disc_active(disc, x))
+          continue;
+        const auto   nu    = outward_normal(disc, x);
+        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
+        const double scale = 1 / (1 + sigma / (disc.radius * a));
+        v[disc.i] *= scale;
+        v[disc.j] *= scale;
+      }
+  }
+
   bool
   SeparableSet::moves_active_discs(const Vector<double> &x, const Vector<double> &v) const
   {

@@ -57,6 +57,13 @@ namespace FetiContact::QP
      * discs are active (the situation of contact with friction: most nodes slip).
      */
     bool disc_rotations = true;
+    /**
+     * With rotations: precondition the conjugate gradient steps by M = diag(1 on free
+     * components, 1 + (σ_k/r_k)/‖A‖ on the tangent of an active disc k pressed outwards with
+     * σ_k): the curvature σ_k/r_k of small, strongly pressed circles (slipping nodes with a small
+     * normal force, at the edge of a contact zone) otherwise dominates the Hessian along them.
+     */
+    bool precondition_rotations = true;
     /** Power iterations for ᾱ when step = 0. */
     unsigned int norm_iterations = 10;
     /** Called after every step with (step number, ‖g^P‖). */

@@ -172,6 +172,17 @@ namespace FetiContact::QP
     void
     remove_normal_parts(const dealii::Vector<double> &x, dealii::Vector<double> &v) const;
 
+    /**
+     * v_k ← v_k/(1 + σ_k/(r_k a)) on every active disc k with r_k > 0 pressed outwards by g
+     * (σ_k = −g_k·ν_k > 0): a diagonal preconditioner for steps along the circles, a the scale
+     * of the rest of the Hessian (MPGP passes ‖A‖).
+     */
+    void
+    precondition_arcs(const dealii::Vector<double> &x,
+                      const dealii::Vector<double> &g,
+                      const double                  a,
+                      dealii::Vector<double>       &v) const;
+
     /** Whether v is non-zero on some active disc with r > 0 at x (a step along v rotates it). */
     bool
     moves_active_discs(const dealii::Vector<double> &x, const dealii::Vector<double> &v) const;

@@ -6,15 +6,17 @@ of the quadratic-constraint solvers beside the polygonal baselines s = 2 and s =
 
     python3 benchmarks/brick_refinement.py [--exe build/feticontact] [--k 4,6,8,10,12,16,20,24]
         [--repeats 3] [--limit "algorithm 2=12"] [--timeout 1800] [--csv doc/data/brick_refinement.csv]
-        [--markdown doc/data/brick_refinement.md]
+        [--markdown doc/data/brick_refinement.md] [--only "algorithm 2,mpgp"] [--merge] [--report-only]
     /usr/bin/python3 benchmarks/brick_refinement.py --plot doc/data/brick_refinement.csv doc/brick_refinement.png
 
 Every run is `feticontact prm/brick_contact.prm` with the mesh, friction coefficient and
 algorithm overridden (`--set`), default tolerances (QP 1e-8, MSA 1e-6, relative), no VTU output.
 Time is the wall time of the contact solve (summary.json times.solve: the iterations, without
 assembly and factorization, which are listed separately), the median of --repeats runs.
---limit ALGORITHM=K skips that algorithm above k = K (it does not scale; the skipped cells say
-so). The measurement part uses the standard library only; --plot needs matplotlib.
+--limit "ALGORITHM=K;..." skips that algorithm above k = K (it does not scale; the skipped cells
+say so). --only measures only the listed algorithms; --merge keeps the rows of the existing CSV
+that are not measured again (to add cases to an earlier study); --merge --report-only rewrites
+the tables from the CSV. The measurement part uses the standard library only; --plot needs matplotlib.
 """
 import csv
 import json
@@ -90,9 +92,31 @@ def measure():
     for s in (2, 4):
         cases.append((0.3, f"polygonal s = {s}", "polygonal", s))
 
+    only = [v.strip() for v in option("--only", "").split(",") if v.strip()]
     rows = []
+    if "--merge" in sys.argv and os.path.exists(csv_path):
+        # Keep the rows of an earlier run that this run does not measure again.
+        with open(csv_path) as f:
+            for r in csv.DictReader(f):
+                r = {key: value for key, value in r.items() if value != ""}
+                r["k"], r["F"] = int(r["k"]), float(r["F"])
+                for key in ("n", "m", "iter", "smalbe", "n_A", "n_A_bound", "n_A_disc"):
+                    if key in r:
+                        r[key] = int(r[key])
+                for key in ("time_solve", "time_setup"):
+                    if key in r:
+                        r[key] = float(r[key])
+                if not (r["k"] in ks and (not only or r["algorithm"] in only)):
+                    rows.append(r)
+        ks = sorted(set(ks) | {r["k"] for r in rows})
+    if "--report-only" in sys.argv:
+        cases = []  # only rewrite the tables from the CSV (with --merge)
     for k in ks:
         for friction, label, algorithm, polygon in cases:
+            if only and label not in only:
+                continue
+            if any(r["k"] == k and r["F"] == friction and r["algorithm"] == label for r in rows):
+                continue
             if k > limits.get(label, 10 ** 9):
                 rows.append(dict(k=k, F=friction, algorithm=label, status="skipped"))
                 continue

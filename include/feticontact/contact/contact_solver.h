@@ -20,8 +20,9 @@ namespace FetiContact
    *   min ½λᵀFλ − λᵀh  s.t.  λ_N ≥ 0,  ‖λ_T,k‖ ≤ g_k,  λ_E free,  Gλ = e,
    *
    * λ = [λ_T; λ_N; λ_E] as in DualLayout. Frictionless zones have no λ_T. Tresca: g given.
-   * Coulomb: g = F λ_N by successive approximations (MSA) from g = 0 (the first MSA step is the
-   * frictionless problem), with relaxation g ← (1 − ω) g + ω F λ_N:
+   * Coulomb: g = F λ_N by successive approximations (MSA) from g = ∞ (the first MSA step is
+   * sticking contact, solvable also for a body held by friction only), with relaxation
+   * g ← (1 − ω) g + ω F λ_N, MSA step j solved to max(ε_QP, c · change_{j−1}) (inexact MSA):
    *
    * - Algorithm 1: each MSA step is the Tresca problem solved by SMALBE whose inner problem is
    *   split by block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] (λ_T fixed), then KPG (MPGP on the

@@ -122,9 +122,20 @@ namespace FetiContact::QP
    *    step is guaranteed to decrease f for ᾱ ≤ 2/‖A‖; the former needs
    *    ᾱ ≤ 2/(‖A‖ + σ_k/r_k), which fails on strongly curved discs: small r_k, large
    *    multiplier σ_k); then p ← φ.
+   * This is the fixed-disc mode (MpgpOptions::disc_rotations = false). With rotations (the
+   * default) φ and β are those of SeparableSet::DiscMode::rotations: φ includes the tangential
+   * gradient of active discs, β only the inward normal part (so the proportioning step is always
+   * the exact line search), and a CG step that moves active discs follows their circles:
+   * x ← P_Ω(x − α_cg p) with α_cg = gᵀp/(pᵀAp + Σ σ_k‖p_k‖²/r_k), g ← Ax − b (one more
+   * multiplication), p ← z − γp with z = M⁻¹φ (MpgpOptions::precondition_rotations) and γ of
+   * Hestenes–Stiefel from the change of φ along the step, p transported to the new tangents;
+   * such a step that increased f is replaced by P_Ω(x − ᾱg). The expansion step uses the
+   * fixed-disc φ, whose projected step is guaranteed to decrease f.
    * Iterates are kept in Ω exactly (projected after every update, which changes them only at the
-   * rounding level). A CG direction with gᵀp ≤ 0 or pᵀAp ≤ 0 is replaced by φ; pᵀAp ≤ 0 for
-   * p = φ ≠ 0 (A not positive definite) ends the solve unconverged.
+   * rounding level). gᵀp is evaluated as φᵀp (equal in exact arithmetic, free of the
+   * cancellation of the normal parts of g on pressed discs). A CG direction with gᵀp ≤ 0 or
+   * pᵀAp ≤ 0 is replaced by φ; pᵀAp ≤ 0 for p = φ ≠ 0 (A not positive definite) ends the solve
+   * unconverged.
    *
    * @param x in: x₀ (any point, projected first); out: the last iterate.
    */

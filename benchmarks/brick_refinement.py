@@ -58,9 +58,12 @@ def run_case(exe, k, friction, algorithm, polygon, repeats, timeout):
         for repeat in range(repeats):
             out = os.path.join(tmp, f"run{repeat}")
             try:
+                # One BLAS thread: the timed work is one process per core; OpenBLAS threads
+                # that spin beside other processes distort the times by up to 20x.
+                env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
                 subprocess.run([exe, *settings, "--set", f"Output/Directory={out}",
                                 "prm/brick_contact.prm"], check=False, capture_output=True,
-                               timeout=timeout)
+                               timeout=timeout, env=env)
             except subprocess.TimeoutExpired:
                 return None
             with open(os.path.join(out, "summary.json")) as f:

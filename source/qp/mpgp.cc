@@ -178,41 +178,44 @@ namespace FetiContact::QP
                   }
                 x.add(-alpha_cg, p);
                 set.project(x);
+                // With rotations the projection back onto the circles moved x off the line:
+                // recompute g, and fall back to the projected gradient step if f increased.
+                bool fallback = false;
                 if (arc)
                   {
-                    // The projection back onto the circles moved x off the line: recompute g.
                     gradient();
-                    if (increased())
-                      {
-                        projected_gradient_step();
-                        update_sets();
-                        p        = z;
-                        p_is_phi = true;
-                        ++report.iterations;
-                        converged = done();
-                        continue;
-                      }
+                    fallback = increased();
+                    if (fallback)
+                      projected_gradient_step();
                   }
                 else
                   g.add(-alpha_cg, Ap);
                 update_sets();
-                double gamma_cg = (z * Ap) / curvature;
-                if (arc)
+                if (fallback)
                   {
-                    // Hestenes–Stiefel with the change of the tangential gradient along the
-                    // step, both transported to the tangent spaces at the new x: it carries the
-                    // curvature of the circles as it is along the step, not only at its start.
-                    Hp = phi_old;
-                    Hp -= phi;
-                    set.remove_normal_parts(x, Hp);
-                    set.remove_normal_parts(x, p);
-                    const double pHp = p * Hp;
-                    gamma_cg         = pHp > 0 ? (z * Hp) / pHp : 0.;
+                    p        = z;
+                    p_is_phi = true;
                   }
-                p.sadd(-gamma_cg, 1., z); // p ← z − γ p
-                set.remove_normal_parts(x, p);
-                p_is_phi = false;
-                ++report.cg_steps;
+                else
+                  {
+                    double gamma_cg = (z * Ap) / curvature;
+                    if (arc)
+                      {
+                        // Hestenes–Stiefel with the change of the tangential gradient along the
+                        // step, both transported to the tangent spaces at the new x: it carries the
+                        // curvature of the circles as it is along the step, not only at its start.
+                        Hp = phi_old;
+                        Hp -= phi;
+                        set.remove_normal_parts(x, Hp);
+                        set.remove_normal_parts(x, p);
+                        const double pHp = p * Hp;
+                        gamma_cg         = pHp > 0 ? (z * Hp) / pHp : 0.;
+                      }
+                    p.sadd(-gamma_cg, 1., z); // p ← z − γ p
+                    set.remove_normal_parts(x, p);
+                    p_is_phi = false;
+                    ++report.cg_steps;
+                  }
               }
             else
               {

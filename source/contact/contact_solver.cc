@@ -11,6 +11,26 @@ namespace FetiContact
 {
   using namespace dealii;
 
+  namespace
+  {
+    /**
+     * ‖next − previous‖ / ‖next‖ of two slip bounds (an infinite previous entry, the first MSA
+     * step's unbounded discs, counts as 0); 0 if next = 0.
+     */
+    double
+    relative_change(const std::vector<double> &previous, const std::vector<double> &next)
+    {
+      double d2 = 0, n2 = 0;
+      for (unsigned int k = 0; k < next.size(); ++k)
+        {
+          const double d = std::isfinite(previous[k]) ? next[k] - previous[k] : next[k];
+          d2 += d * d;
+          n2 += next[k] * next[k];
+        }
+      return n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+    }
+  } // namespace
+
   ContactSolver::ContactSolver(const DualProblem               &dual,
                                const DualLayout                &layout,
                                const std::vector<ContactNode>  &nodes,
@@ -199,6 +219,7 @@ namespace FetiContact
             for (unsigned int k = 0; k < nodes.size(); ++k)
               g[k] =
                 (1 - parameters.relaxation) * slip_bound[k] + parameters.relaxation * target[k];
+            last_change = relative_change(slip_bound, g);
             set_slip_bounds(g);
           }
         // λ_T by KPG (MPGP on the discs) with λ_c fixed.
@@ -276,7 +297,12 @@ namespace FetiContact
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
     const bool combined           = algorithm == A::algorithm_2;
     if (combined)
-      options.max_inner_calls = 1;
+      {
+        options.max_inner_calls = 1;
+        // The radii move inside the loop; M is adapted only once they have settled (see
+        // QP::SmalbeOptions::same_problem).
+        options.same_problem = [&]() { return last_change <= parameters.msa_tolerance; };
+      }
     options.inner_solver = [&](const QP::Operator   &op,
                                const Vector<double> &b,
                                Vector<double>       &x,
@@ -299,25 +325,14 @@ namespace FetiContact
       last_lambda = x;
       return r;
     };
+    // Algorithm 2 reports the change of the radius update inside its loop, MSA that of its last
+    // step (0 in the first).
     options.monitor = [&](const QP::SmalbeStep &step) {
-      const double change = combined ? last_change : (msa_iteration > 0 ? last_change : 0.0);
-      if (combined)
-        {
-          // Algorithm 2: the slip bound moves inside the loop; report its change.
-          const auto target = coulomb_bound(last_lambda);
-          double     d2 = 0, n2 = 0;
-          for (unsigned int k = 0; k < nodes.size(); ++k)
-            {
-              d2 += (target[k] - slip_bound[k]) * (target[k] - slip_bound[k]);
-              n2 += target[k] * target[k];
-            }
-          last_change = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
-        }
       history_row(combined ? 0 : msa_iteration,
                   result.smalbe_iterations + step.outer_iteration + 1,
                   step.relative_feasibility,
                   step.relative_gradient,
-                  combined ? last_change : change,
+                  combined || msa_iteration > 0 ? last_change : 0.0,
                   last_lambda,
                   step.inner_iterations);
     };
@@ -389,13 +404,7 @@ namespace FetiContact
           {
             const auto report = solve_tresca(result.lambda, result.mu, result);
             const auto target = coulomb_bound(result.lambda);
-            double     d2 = 0, n2 = 0;
-            for (unsigned int k = 0; k < nodes.size(); ++k)
-              {
-                d2 += (target[k] - slip_bound[k]) * (target[k] - slip_bound[k]);
-                n2 += target[k] * target[k];
-              }
-            last_change = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+            last_change       = relative_change(slip_bound, target);
             if (report.converged && last_change <= parameters.msa_tolerance)
               {
                 result.converged = true;
@@ -426,20 +435,17 @@ namespace FetiContact
       {
         qp_tolerance =
           std::max(parameters.qp_tolerance, parameters.inexact_msa_factor * previous_change);
-        const bool final_precision = qp_tolerance <= parameters.qp_tolerance;
-        const auto report          = solve_tresca(result.lambda, result.mu, result);
-        const auto target          = coulomb_bound(result.lambda);
-        double     d2 = 0, n2 = 0;
+        const bool          final_precision = qp_tolerance <= parameters.qp_tolerance;
+        const auto          report          = solve_tresca(result.lambda, result.mu, result);
+        const auto          target          = coulomb_bound(result.lambda);
+        std::vector<double> next(g.size());
         for (unsigned int k = 0; k < nodes.size(); ++k)
           {
             const double omega = msa_iteration == 1 ? 1.0 : parameters.relaxation;
-            const double next =
-              std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] : target[k];
-            d2 += std::isfinite(g[k]) ? (next - g[k]) * (next - g[k]) : next * next;
-            n2 += next * next;
-            g[k] = next;
+            next[k] = std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] : target[k];
           }
-        last_change             = n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
+        last_change = relative_change(g, next);
+        g.swap(next);
         previous_change         = last_change;
         result.outer_iterations = msa_iteration;
         out << "MSA iteration " << msa_iteration << ": relative change of the slip bound "

@@ -233,7 +233,8 @@ namespace FetiContact::QP
           mu.add(rho, r);
 
         // 4. M_{k+1}.
-        if (!converged && outer > 0 && L < L_previous + rho / 2 * feasibility * feasibility)
+        if (!converged && outer > 0 && L < L_previous + rho / 2 * feasibility * feasibility &&
+            (!options.same_problem || options.same_problem()))
           {
             M /= options.beta_M;
             step.M_decreased = true;

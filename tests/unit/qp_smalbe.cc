@@ -268,13 +268,14 @@ namespace
 
   /** Solves the problem with F, h scaled by s and checks the solution. */
   Result
-  solve_and_check(const std::string     &name,
-                  const Problem         &problem,
-                  const double           s              = 1,
-                  const QP::InnerSolver &inner_solver   = {},
-                  unsigned int          *operator_calls = nullptr,
-                  const double           tolerance      = 1e-12,
-                  const bool             projector      = false)
+  solve_and_check(const std::string                              &name,
+                  const Problem                                  &problem,
+                  const double                                    s              = 1,
+                  const QP::InnerSolver                          &inner_solver   = {},
+                  unsigned int                                   *operator_calls = nullptr,
+                  const double                                    tolerance      = 1e-12,
+                  const bool                                      projector      = false,
+                  const std::function<void(QP::SmalbeOptions &)> &configure      = {})
   {
     std::cout << name << (projector ? ", projector variant" : "") << " (n = " << problem.n
               << ", k = " << problem.G.m() << ", scale " << s << ", ε " << tolerance << ")"
@@ -303,6 +304,8 @@ namespace
                 << sci(step.relative_feasibility) << ", M " << sci(step.M)
                 << (step.M_decreased ? " (decreased)" : "") << std::endl;
     };
+    if (configure)
+      configure(options);
     Result result;
     result.x.reinit(problem.n);
     result.report = QP::smalbe(F, h, problem.set, G, Gt, problem.e, result.x, result.mu, options);
@@ -446,6 +449,43 @@ main()
         refused = true;
       }
     check(refused, "projector variant with e ≠ 0 is refused");
+  }
+
+  {
+    // SmalbeOptions::same_problem: asked before every M test; answering "yes" changes nothing,
+    // answering "no" (the problem changed, as in Algorithm 2 while the radii move) keeps M at
+    // M_0, and SMALBE still converges here.
+    const Result reference = solve_and_check("generic mix", mix);
+    unsigned int asked     = 0;
+    const Result yes       = solve_and_check(
+      "generic mix, same_problem always true", mix, 1, {}, nullptr, 1e-12, false, [&](auto &o) {
+        o.same_problem = [&]() {
+          ++asked;
+          return true;
+        };
+      });
+    Vector<double> d(yes.x);
+    d -= reference.x;
+    check(asked > 0 && d.l2_norm() == 0 &&
+            yes.report.hessian_multiplications == reference.report.hessian_multiplications &&
+            yes.report.M == reference.report.M,
+          "same_problem() = true: asked " + std::to_string(asked) +
+            " times, bit for bit the same path");
+    unsigned int decreases = 0;
+    double       first_M   = 0;
+    const Result no        = solve_and_check(
+      "generic mix, same_problem always false", mix, 1, {}, nullptr, 1e-12, false, [&](auto &o) {
+        o.same_problem = []() { return false; };
+        o.monitor      = [&, print = o.monitor](const QP::SmalbeStep &step) {
+          print(step);
+          decreases += step.M_decreased;
+          if (step.outer_iteration == 0)
+            first_M = step.M;
+        };
+      });
+    check(decreases == 0 && no.report.M == first_M && reference.report.M < first_M,
+          "same_problem() = false: M stays M_0 = " + sci(first_M) +
+            " (without: " + sci(reference.report.M) + ")");
   }
 
   {

@@ -56,6 +56,16 @@ namespace FetiContact::QP
     double M0_factor = 1;
     /** β_M > 1: M ← M/β_M when the Lagrangian did not increase enough. */
     double beta_M = 10;
+    /**
+     * Whether the problem of this outer iteration is that of the previous one, asked when the
+     * M test fails: the test L(λ_k, μ_k) ≥ L(λ_{k−1}, μ_{k−1}) + ρ/2 ‖Gλ_k − e‖² compares the
+     * Lagrangians of two iterations and says something about M only if both minimize over the
+     * same set. Empty: always the same. The combined loop of Algorithm 2 changes the disc radii
+     * inside the inner solver; while they move, a larger radius lowers the minimum of L, the
+     * test fails for that reason alone, and M (with it the inner precision) would fall by
+     * β_M for nothing (three such falls made every later inner solve 1000× too precise).
+     */
+    std::function<bool()> same_problem;
     /** η > 0. 0: η = eta_factor · ‖h‖. */
     double eta        = 0;
     double eta_factor = 0.1;

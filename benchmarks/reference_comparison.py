@@ -40,7 +40,8 @@ with tempfile.TemporaryDirectory() as tmp:
         subprocess.run([exe, "--set", f"Output/Directory={out}", "--set",
                         f"Contact solver/Algorithm={algorithm}", "--set", "Output/Write vtu=false",
                         "--set", "Output/Write displacement csv=true", *extra,
-                        "prm/brick_gmsh_contact.prm"], check=True, capture_output=True)
+                        "prm/brick_gmsh_contact.prm"], check=True, capture_output=True,
+                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))  # as every study here
         with open(os.path.join(out, "summary.json")) as f:
             s = json.load(f)
         ours = load(os.path.join(out, "displacements.csv"))

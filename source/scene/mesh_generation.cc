@@ -5,7 +5,10 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/mesh_generation.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 namespace FetiContact::MeshGeneration
 {
@@ -18,6 +21,42 @@ namespace FetiContact::MeshGeneration
     {
       const Tensor<1, 3> a = p[1] - p[0], b = p[2] - p[0], c = p[3] - p[0];
       return (a * cross_product_3d(b, c)) / 6.0;
+    }
+
+    /**
+     * A more precise cause for a Gmsh file that deal.II could not read, from its node list:
+     * "node line N: <text> is not a finite coordinate", "the file ends inside its node list", or
+     * an empty string when the node list looks sound (the cause is elsewhere).
+     */
+    std::string
+    diagnose_gmsh_nodes(const std::string &file)
+    {
+      std::ifstream in(file);
+      std::string   line;
+      while (std::getline(in, line) && InputParsing::trim(line) != "$Nodes")
+        ;
+      if (!in)
+        return "";
+      unsigned int line_number = 0;
+      while (std::getline(in, line))
+        {
+          const std::string trimmed = InputParsing::trim(line);
+          if (trimmed == "$EndNodes")
+            return "";
+          ++line_number;
+          std::istringstream words(trimmed);
+          std::string        word;
+          // The first line is the node count (MSH 2) or a block header (MSH 4): integers.
+          while (words >> word)
+            {
+              char        *end   = nullptr;
+              const double value = std::strtod(word.c_str(), &end);
+              if (*end != '\0' || !std::isfinite(value))
+                return "line " + std::to_string(line_number) + " of its node list: <" + word +
+                       "> is not a finite number";
+            }
+        }
+      return "the file ends inside its node list ($EndNodes is missing)";
     }
 
     /** Boundary ids 0…5 by the face of the bounding box a boundary face lies in. */
@@ -125,6 +164,8 @@ namespace FetiContact::MeshGeneration
         std::ifstream in(parameters.file);
         require(static_cast<bool>(in),
                 where + "cannot open the mesh file <" + parameters.file + ">.");
+        require(in.peek() != std::ifstream::traits_type::eof(),
+                where + "the mesh file <" + parameters.file + "> is empty.");
         GridIn<3> grid_in;
         grid_in.attach_triangulation(mesh);
         try
@@ -137,7 +178,9 @@ namespace FetiContact::MeshGeneration
             const auto  pos = msg.find("Additional information:");
             if (pos != std::string::npos)
               msg = InputParsing::trim(msg.substr(pos + 23, msg.find("Stacktrace") - pos - 23));
-            throw InputError(where + "cannot read the Gmsh file <" + parameters.file + ">: " + msg);
+            const std::string cause = diagnose_gmsh_nodes(parameters.file);
+            throw InputError(where + "cannot read the Gmsh file <" + parameters.file +
+                             ">: " + (cause.empty() ? msg : cause + " (deal.II: " + msg + ")"));
           }
       }
 

@@ -4,6 +4,7 @@
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
+      [--contact-area ZONE=AREA]...
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
@@ -126,10 +127,24 @@ def check_contact_vtu(directory, csv_name="contact.csv"):
     return ok
 
 
+def check_contact_area(directory, zone, area):
+    """The areas lumped at the contact nodes of ZONE add up to the area of its surface, and
+    pressure × area = λ_N for every node (contact.csv)."""
+    with open(os.path.join(directory, "contact.csv")) as f:
+        rows = [r for r in csv.DictReader(f) if r["zone"] == zone]
+    total = sum(float(r["area"]) for r in rows)
+    consistent = all(abs(float(r["pressure"]) * float(r["area"]) - float(r["lambda_N"]))
+                     <= 1e-9 * max(abs(float(r["lambda_N"])), 1e-300) for r in rows)
+    good = bool(rows) and abs(total - area) <= 1e-12 * area and consistent
+    print(f"  zone {zone}: lumped areas add up to {total:.15g} (surface {area:g}), pressure × area"
+          f" = λ_N: {consistent} -> {'ok' if good else 'FAILED'}")
+    return good
+
+
 def scene(args):
     exe, prm, outdir = args[:3]
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
-    check_vtu = False
+    check_vtu, areas = False, []
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -141,6 +156,9 @@ def scene(args):
         elif args[i] == "--check-contact-vtu":
             check_vtu = True
             i -= 1
+        elif args[i] == "--contact-area":
+            zone, area = args[i + 1].split("=")
+            areas.append((zone, float(area)))
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
         elif args[i] == "--same-displacements":
@@ -172,6 +190,8 @@ def scene(args):
             displacements.append(read_displacements(os.path.join(d, "displacements.csv")))
         if check_vtu:
             ok &= check_contact_vtu(d)
+        for zone, area in areas:
+            ok &= check_contact_area(d, zone, area)
         if reference is not None:
             ok &= compare_with_reference(os.path.join(d, "displacements.csv"), *reference)
     if same_tol is not None:

@@ -30,11 +30,13 @@ namespace FetiContact
   {
     /**
      * The vertices of the boundary faces of @p mesh in @p surface, with the area-weighted sum of
-     * the outward normals of those faces, and the mean edge length of the faces.
+     * the outward normals of those faces, the area lumped at each vertex, and the mean edge
+     * length of the faces.
      */
     struct Surface
     {
       std::map<unsigned int, Tensor<1, 3>>     normal_sum;
+      std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
       double                                   mean_edge = 0;
       std::vector<std::array<unsigned int, 3>> triangles;
     };
@@ -53,7 +55,10 @@ namespace FetiContact
               if (area_normal * (face->center() - cell->center()) < 0)
                 area_normal = -area_normal;
               for (const unsigned int v : face->vertex_indices())
-                s.normal_sum[face->vertex_index(v)] += area_normal;
+                {
+                  s.normal_sum[face->vertex_index(v)] += area_normal;
+                  s.area[face->vertex_index(v)] += area_normal.norm() / 3;
+                }
               s.triangles.push_back(
                 {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
               s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
@@ -112,17 +117,18 @@ namespace FetiContact
         unsigned int n_in_zone = 0;
         for (const auto &[vertex, normal_sum] : slave.normal_sum)
           {
-            const auto it = body.prescribed.find(vertex);
-            if (it != body.prescribed.end())
-              continue; // a Dirichlet node is not a contact node
-            if (!taken.insert({zone.body, vertex}).second)
-              continue;
+            const auto prescribed = body.prescribed.find(vertex);
+            if (taken.count({zone.body, vertex}) > 0 ||
+                (prescribed != body.prescribed.end() && prescribed->second[0] &&
+                 prescribed->second[1] && prescribed->second[2]))
+              continue; // taken by an earlier zone, or clamped
             ContactNode node;
             node.zone                = z;
             node.body                = zone.body;
             node.vertex              = vertex;
             node.x                   = body.mesh.get_vertices()[vertex];
             node.friction            = zone.friction_coefficient;
+            node.area                = slave.area.at(vertex);
             const Tensor<1, 3> outer = normal_sum / normal_sum.norm();
             if (zone.type == Parameters::ContactZone::Type::rigid_plane)
               {
@@ -173,6 +179,19 @@ namespace FetiContact
                   }
               }
             std::tie(node.t1, node.t2) = tangent_basis(node.n);
+            // A Dirichlet node is not a contact node, unless its prescribed components are
+            // orthogonal to every row it would carry: a symmetry (roller) condition tangential
+            // to a frictionless contact surface, as on the symmetry planes of a quarter model.
+            if (prescribed != body.prescribed.end())
+              {
+                bool conflicts = false;
+                for (unsigned int d = 0; d < 3; ++d)
+                  if (prescribed->second[d] && (node.friction > 0 || std::abs(node.n[d]) > 1e-12))
+                    conflicts = true;
+                if (conflicts)
+                  continue;
+              }
+            taken.insert({zone.body, vertex});
             nodes.push_back(node);
             ++n_in_zone;
           }

@@ -138,7 +138,7 @@ namespace FetiContact
                     const std::vector<ContactNodeResult> &results)
   {
     std::ofstream out(filename);
-    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status\n"
+    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure\n"
         << std::setprecision(12);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
@@ -146,7 +146,8 @@ namespace FetiContact
         const auto &r = results[k];
         out << n.zone + 1 << ',' << n.body + 1 << ',' << n.x[0] << ',' << n.x[1] << ',' << n.x[2]
             << ',' << r.lambda_N << ',' << r.lambda_T[0] << ',' << r.lambda_T[1] << ',' << r.gap
-            << ',' << r.slip[0] << ',' << r.slip[1] << ',' << to_string(r.status) << '\n';
+            << ',' << r.slip[0] << ',' << r.slip[1] << ',' << to_string(r.status) << ',' << n.area
+            << ',' << r.lambda_N / n.area << '\n';
       }
   }
 } // namespace FetiContact

@@ -294,6 +294,7 @@ namespace FetiContact
     options.inner.step            = 1.9 / hessian_norm;
     options.inner.disc_rotations  = parameters.disc_rotations;
     options.projector             = projector;
+    options.inner_floor           = parameters.inner_tolerance_floor;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
     const bool combined           = algorithm == A::algorithm_2;
     if (combined)

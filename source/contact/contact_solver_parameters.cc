@@ -66,6 +66,13 @@ namespace FetiContact::Parameters
                       "1",
                       Patterns::Double(0, 1),
                       "ω in the slip-bound update g ← (1 − ω) g + ω F λ_N (1: plain MSA).");
+    prm.declare_entry("Inner tolerance floor",
+                      "1",
+                      Patterns::Double(0, 1),
+                      "c ∈ (0, 1]: SMALBE's inner solves stop no later than at c × the final "
+                      "gradient tolerance. With 1 SMALBE can stall with ‖Gλ − e‖ a few times above "
+                      "its tolerance (prm/hertz.prm: a body held only by frictionless contact); "
+                      "0.1 avoids that at the price of more precise inner solves.");
     prm.declare_entry("Penalty factor",
                       "auto",
                       Patterns::Anything(),
@@ -109,6 +116,9 @@ namespace FetiContact::Parameters
             "Contact solver: the relative tolerances must be positive.");
     max_msa_iterations    = prm.get_integer("Maximum MSA iterations");
     inexact_msa_factor    = prm.get_double("Inexact MSA factor");
+    inner_tolerance_floor = prm.get_double("Inner tolerance floor");
+    require(inner_tolerance_floor > 0,
+            "Contact solver/Inner tolerance floor must lie in (0, 1]; got 0.");
     max_smalbe_iterations = prm.get_integer("Maximum SMALBE iterations");
     max_inner_iterations  = prm.get_integer("Maximum inner iterations");
     gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");

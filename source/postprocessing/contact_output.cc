@@ -73,6 +73,7 @@ namespace FetiContact
       out << "</DataArray>\n";
     };
     scalar("normal_force", [&](int k) { return results[k].lambda_N; });
+    scalar("pressure", [&](int k) { return results[k].lambda_N / nodes[k].area; });
     const auto tangential = [&](int k) {
       return Tensor<1, 3>(
         -(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));

@@ -131,7 +131,7 @@ namespace FetiContact::QP
                Gx_scale;
     };
 
-    // The inner stopping rule at x: ‖g^P‖ ≤ max(min(M‖Gx − e‖, η), ε_g ref_g).
+    // The inner stopping rule at x: ‖g^P‖ ≤ max(min(M‖Gx − e‖, η), c ε_g ref_g), c = inner_floor.
     Vector<double> Gx_e(k);
     const auto     inner_target = [&](const Vector<double> &x) {
       double feasibility_x = 0;
@@ -141,7 +141,8 @@ namespace FetiContact::QP
           Gx_e -= e;
           feasibility_x = Gx_e.l2_norm();
         }
-      return std::max(std::min(M * feasibility_x, eta), options.tolerance * gradient_reference(x));
+      return std::max(std::min(M * feasibility_x, eta),
+                      options.inner_floor * options.tolerance * gradient_reference(x));
     };
 
     // The default inner solver: MPGP with the stopping rule evaluated at every step (one

@@ -1,6 +1,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/body_parameters.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace FetiContact::Parameters
@@ -36,6 +37,25 @@ namespace FetiContact::Parameters
                       Patterns::Selection("5|6"),
                       "Box: 6 splits each cube around its main diagonal (all cubes alike); "
                       "5 is deal.II's split with alternating orientation.");
+    prm.declare_entry("Grading",
+                      "0",
+                      Patterns::Double(0, 50),
+                      "Box: β ≥ 0 shrinks the cubes towards the lower corner: with ξ ∈ [0, 1]³ "
+                      "the relative position in the box and ρ = max_d ξ_d, a point moves to "
+                      "ξ g(ρ)/ρ, g(ρ) = (e^{βρ} − 1)/(e^β − 1). Near the corner the cells are "
+                      "β/(e^β − 1) times the uniform size and about equally shaped; away from it "
+                      "they grow by about e^(β/n) per cell (n the subdivisions). The faces of the "
+                      "box stay in place (boundary ids as without grading). 0: uniform.");
+    prm.declare_entry("Spherical bottom radius",
+                      "0",
+                      Patterns::Double(0),
+                      "Box: R > 0 bends the face z = zmin into the sphere of radius R that touches "
+                      "the plane z = zmin at (xmin, ymin), the symmetry axis of the body being the "
+                      "line x = xmin, y = ymin (a quarter of a spherical indenter, with symmetry "
+                      "conditions on x = xmin and y = ymin): a point moves up by (1 − ζ)(R − "
+                      "√(R² − (x − xmin)² − (y − ymin)²)), ζ = (z − zmin)/(zmax − zmin). Needs "
+                      "R − √(R² − (xmax − xmin)² − (ymax − ymin)²) < (zmax − zmin)/2. Applied "
+                      "after the grading. 0: flat.");
     prm.declare_entry("File",
                       "",
                       Patterns::Anything(),
@@ -60,8 +80,16 @@ namespace FetiContact::Parameters
                    std::to_string(d) + ")."));
         const auto s =
           InputParsing::parse_positive_integers(prm.get("Subdivisions"), 3, "Mesh/Subdivisions");
-        subdivisions        = {{s[0], s[1], s[2]}};
-        tetrahedra_per_cube = prm.get_integer("Tetrahedra per cube");
+        subdivisions            = {{s[0], s[1], s[2]}};
+        tetrahedra_per_cube     = prm.get_integer("Tetrahedra per cube");
+        grading                 = prm.get_double("Grading");
+        spherical_bottom_radius = prm.get_double("Spherical bottom radius");
+        const Tensor<1, 3> size = upper_corner - lower_corner;
+        const double       R = spherical_bottom_radius, r2 = size[0] * size[0] + size[1] * size[1];
+        require(R == 0 || (r2 < R * R && R - std::sqrt(R * R - r2) < 0.5 * size[2]),
+                "Mesh/Spherical bottom radius: the bent bottom must stay in the lower half of "
+                "the box, R − √(R² − (xmax − xmin)² − (ymax − ymin)²) < (zmax − zmin)/2 (a "
+                "larger radius or a smaller footprint).");
       }
     else
       {

@@ -126,6 +126,44 @@ namespace FetiContact::MeshGeneration
     colorize_box_faces(mesh, p1, p2);
   }
 
+  void
+  grade_and_bend(Triangulation<3> &mesh,
+                 const Point<3>   &p1,
+                 const Point<3>   &p2,
+                 const double      grading,
+                 const double      spherical_bottom_radius)
+  {
+    const double beta = grading, R = spherical_bottom_radius;
+    if (beta == 0 && R == 0)
+      return;
+    GridTools::transform(
+      [&](const Point<3> &x) {
+        Point<3> xi;
+        double   rho = 0;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            xi[d] = (x[d] - p1[d]) / (p2[d] - p1[d]);
+            rho   = std::max(rho, xi[d]);
+          }
+        // g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1); its limit β/(e^β − 1) at ρ = 0.
+        const double scale =
+          beta == 0 ?
+            1. :
+            (rho > 0 ? std::expm1(beta * rho) / std::expm1(beta) / rho : beta / std::expm1(beta));
+        Point<3> y;
+        for (unsigned int d = 0; d < 3; ++d)
+          y[d] = p1[d] + scale * xi[d] * (p2[d] - p1[d]);
+        if (R > 0)
+          {
+            const double r2   = (y[0] - p1[0]) * (y[0] - p1[0]) + (y[1] - p1[1]) * (y[1] - p1[1]);
+            const double zeta = (y[2] - p1[2]) / (p2[2] - p1[2]);
+            y[2] += (1 - zeta) * (R - std::sqrt(R * R - r2));
+          }
+        return y;
+      },
+      mesh);
+  }
+
   double
   volume(const Triangulation<3> &mesh)
   {
@@ -158,6 +196,11 @@ namespace FetiContact::MeshGeneration
                                                                      parameters.upper_corner);
             colorize_box_faces(mesh, parameters.lower_corner, parameters.upper_corner);
           }
+        grade_and_bend(mesh,
+                       parameters.lower_corner,
+                       parameters.upper_corner,
+                       parameters.grading,
+                       parameters.spherical_bottom_radius);
       }
     else
       {

@@ -30,6 +30,11 @@ namespace FetiContact
     dealii::Tensor<1, 3>                                 n, t1, t2;
     double                                               gap;
     double                                               friction;
+    /**
+     * The area of the slave surface lumped at the node (a third of each adjacent triangle):
+     * λ_N / area is the mean contact pressure around the node.
+     */
+    double area = 0;
   };
 
   /** A triangle of a zone's slave surface (body-mesh vertices), for output. */
@@ -42,14 +47,15 @@ namespace FetiContact
 
   /**
    * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
-   * displacement component (a vertex in two zones belongs to the first), in zone order and by
-   * vertex number. Rigid plane: χ(x_k) is the orthogonal projection of x_k on the plane and n_k
-   * the plane's normal pointing into the obstacle. Body pair: n_k is from x_k towards χ(x_k)
-   * when the gap is positive and the outer unit normal of Γ_c (the area-weighted mean of the
-   * adjacent face normals) when it is zero. For a
-   * body pair every slave node must have a master vertex opposite it along its normal; otherwise
-   * the surfaces do not match and InputError names the node. If @p triangles is given, the
-   * triangles of every zone's surface are appended to it (for the contact-surface output).
+   * displacement component, or (frictionless zones) only components orthogonal to the node's
+   * normal, such as a symmetry plane's roller condition (a vertex in two zones belongs to the
+   * first), in zone order and by vertex number. Rigid plane: χ(x_k) is the orthogonal projection of
+   * x_k on the plane and n_k the plane's normal pointing into the obstacle. Body pair: n_k is from
+   * x_k towards χ(x_k) when the gap is positive and the outer unit normal of Γ_c (the area-weighted
+   * mean of the adjacent face normals) when it is zero. For a body pair every slave node must have
+   * a master vertex opposite it along its normal; otherwise the surfaces do not match and
+   * InputError names the node. If @p triangles is given, the triangles of every zone's surface are
+   * appended to it (for the contact-surface output).
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,

@@ -77,7 +77,10 @@ namespace FetiContact
                    ContactCheck                                         &check,
                    const double                                          tresca_slip_bound = -1);
 
-  /** Writes contact.csv: x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status per node. */
+  /**
+   * Writes contact.csv: zone, body, x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status, the
+   * lumped area and the pressure λ_N / area per node.
+   */
   void
   write_contact_csv(const std::string                    &filename,
                     const std::vector<ContactNode>       &nodes,

@@ -43,7 +43,9 @@ namespace FetiContact::Parameters
      * Inexact MSA: MSA step j solves its Tresca problem to max(qp_tolerance, c · change_{j−1})
      * (change_0 = 1); 0: every step to qp_tolerance.
      */
-    double       inexact_msa_factor    = 1e-2;
+    double inexact_msa_factor = 1e-2;
+    /** QP::SmalbeOptions::inner_floor. */
+    double       inner_tolerance_floor = 1;
     unsigned int max_smalbe_iterations = 200;
     unsigned int max_inner_iterations  = 10000;
     /** Gauss–Seidel sweeps over (λ_c, λ_t) per inner problem (Algorithm 1). */

@@ -66,6 +66,15 @@ namespace FetiContact::QP
      * β_M for nothing (three such falls made every later inner solve 1000× too precise).
      */
     std::function<bool()> same_problem;
+    /**
+     * c ∈ (0, 1]: an inner solve stops no later than at ‖g^P‖ ≤ c ε_g ref_g (the floor of the
+     * adaptive precision). With c = 1 the inner solves stop at the final gradient tolerance; when
+     * ‖Gλ − e‖ is then still above ε_f, a multiplier update changes the gradient by less than
+     * that floor, the inner solver returns without a step and SMALBE stalls (seen at
+     * ‖Gλ − e‖ ≈ 5e-8 for a body held only by frictionless contact on a graded mesh,
+     * prm/hertz.prm; c = 0.1 converges there in 12 outer iterations).
+     */
+    double inner_floor = 1;
     /** η > 0. 0: η = eta_factor · ‖h‖. */
     double eta        = 0;
     double eta_factor = 0.1;

@@ -27,6 +27,21 @@ namespace FetiContact::MeshGeneration
                       const dealii::Point<3>            &p1,
                       const dealii::Point<3>            &p2);
 
+  /**
+   * Moves the vertices of the box [p1, p2] (its faces stay where they are): with ξ the relative
+   * position in the box and ρ = max_d ξ_d, ξ ← ξ g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1) for
+   * the grading β > 0 (cells of β/(e^β − 1) times the uniform size near p1, growing
+   * geometrically away from it, each about as wide as deep), then, for R > 0, z ← z + (1 − ζ)(R −
+   * √(R² − (x − x1)² − (y − y1)²)) with ζ the relative height: the face z = z1 becomes the
+   * sphere of radius R touching the plane z = z1 at (x1, y1), the face z = z2 stays flat.
+   */
+  void
+  grade_and_bend(dealii::Triangulation<3> &mesh,
+                 const dealii::Point<3>   &p1,
+                 const dealii::Point<3>   &p2,
+                 const double              grading,
+                 const double              spherical_bottom_radius);
+
   /** The sum of the cells' volumes (GridTools::volume is wrong on tetrahedra in deal.II 9.4). */
   double
   volume(const dealii::Triangulation<3> &mesh);

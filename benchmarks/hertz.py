@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""Hertz contact (DESIGN.md §6): refinement study of prm/hertz.prm against the analytic solution.
+
+    python3 benchmarks/hertz.py [--exe build/feticontact] [--n 8,12,16,24,32]
+        [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv]
+    /usr/bin/python3 benchmarks/hertz.py --plot doc/data/hertz_profile.csv doc/hertz_pressure.png
+
+For each number n of subdivisions per edge (the grading of prm/hertz.prm kept) the scene is solved
+and its contact.csv evaluated:
+  - p0: the pressure λ_N / area of the node at the contact point (r = 0); the lumped pressure is
+    the mean of p over the node's patch, so it approaches p0 from below as h → 0;
+  - a: the contact radius, the point between the outermost node in contact (pressure above
+    1e-6 of the largest) and the
+    next node outwards on the symmetry line y = 0 where the linearly interpolated p² vanishes
+    (Hertz: p² is linear in r², so it is interpolated in r² between the last two nodes in contact
+    and cut at zero, but never beyond the first open node);
+  - the total contact force against the applied P (equilibrium, 4 × the quarter).
+Errors are relative to a = (3PR/(4E*))^(1/3) and p0 = 3P/(2πa²) with E* = E/(1 − ν²), rates
+log(e_1/e_2)/log(h_1/h_2) with h the size of the element at the contact point, as deal.II's
+ConvergenceTable computes them (reduction_rate_log2 with h in place of 2). The measurement part
+uses the standard library only; --plot needs matplotlib.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+R, E, NU, P = 0.02, 2.1e11, 0.3, 5e3
+L = 0.007            # edge of the quarter box (prm/hertz.prm)
+GRADING = 6.0      # β of prm/hertz.prm
+E_STAR = E / (1 - NU ** 2)
+A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
+P0 = 3 * P / (2 * math.pi * A ** 2)
+
+
+def option(name, default):
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+
+
+def solve(exe, n, outdir):
+    subprocess.run([exe, "--set", f"Body 1/Mesh/Subdivisions={n}, {n}, {n}",
+                    "--set", f"Output/Directory={outdir}", "--set", "Output/Write vtu=false",
+                    "prm/hertz.prm"], check=True, capture_output=True,
+                   env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+    with open(os.path.join(outdir, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(outdir, "contact.csv")) as f:
+        rows = [dict(r=math.hypot(float(r["x"]), float(r["y"])), y=float(r["y"]),
+                     x=float(r["x"]), force=float(r["lambda_N"]), p=float(r["pressure"]))
+                for r in csv.DictReader(f)]
+    return summary, rows
+
+
+def contact_radius(rows):
+    """a from the nodes on the symmetry line y = 0 (see the module documentation)."""
+    line = sorted((r for r in rows if abs(r["y"]) <= 1e-12 * L), key=lambda r: r["x"])
+    p_max = max(r["p"] for r in line)
+    in_contact = [r for r in line if r["p"] > 1e-6 * p_max]
+    last = in_contact[-1]
+    after = [r for r in line if r["x"] > last["x"]]
+    bound = after[0]["x"] if after else last["x"]
+    if len(in_contact) < 2:
+        return last["x"], last["x"], bound
+    r1, r2 = in_contact[-2], in_contact[-1]
+    # p² linear in r²: zero at r² = r2² + p2² (r2² − r1²)/(p1² − p2²).
+    s1, s2 = r1["x"] ** 2, r2["x"] ** 2
+    q1, q2 = r1["p"] ** 2, r2["p"] ** 2
+    a2 = s2 + q2 * (s2 - s1) / (q1 - q2) if q1 > q2 else s2
+    return min(math.sqrt(a2), bound), last["x"], bound
+
+
+def study():
+    exe = option("--exe", "build/feticontact")
+    ns = [int(v) for v in option("--n", "8,12,16,24,32").split(",")]
+    md_path = option("--markdown", "doc/data/hertz.md")
+    csv_path = option("--csv", "doc/data/hertz_profile.csv")
+    results, profiles = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in ns:
+            summary, rows = solve(exe, n, os.path.join(tmp, f"n{n}"))
+            centre = min(rows, key=lambda r: r["r"])
+            a, r_in, r_out = contact_radius(rows)
+            h = L / n * GRADING / math.expm1(GRADING)  # the element at the contact point
+            n_across = sum(1 for r in rows if abs(r["y"]) <= 1e-12 * L and 0 < r["x"] <= A)  # nodes on (0, a]
+            total = 4 * sum(r["force"] for r in rows)
+            results.append(dict(n=n, h=h, dofs=summary["n_primal"], m=summary["m_contact"],
+                                n_across=n_across, a=a, r_in=r_in, r_out=r_out, p0=centre["p"],
+                                total=total, time=summary["times"]["solve"],
+                                n_A=summary["hessian_multiplications"]["total"]))
+            profiles += [dict(n=n, r=r["r"], p=r["p"]) for r in rows if r["force"] > 0 or
+                         r["r"] <= 1.5 * A]
+            e = results[-1]
+            print(f"n = {n}: a = {a:.5e} ({(a - A) / A:+.2%}), p0 = {e['p0']:.5e} "
+                  f"({(e['p0'] - P0) / P0:+.2%}), {n_across} elements across a, total force "
+                  f"{total:.6g} N, {e['time']:.2f} s", flush=True)
+    os.makedirs(os.path.dirname(md_path), exist_ok=True)
+    with open(csv_path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=["n", "r", "p"])
+        writer.writeheader()
+        writer.writerows(profiles)
+    with open(md_path, "w") as f:
+        f.write(table(results))
+    print(table(results))
+    print(f"wrote {md_path} and {csv_path}")
+
+
+def rate(results, i, key):
+    if i == 0:
+        return "–"
+    e1, e2 = abs(results[i - 1][key] - REF[key]), abs(results[i][key] - REF[key])
+    h1, h2 = results[i - 1]["h"], results[i]["h"]
+    if e1 == 0 or e2 == 0:
+        return "–"
+    return f"{math.log(e1 / e2) / math.log(h1 / h2):.2f}"
+
+
+REF = {"a": A, "p0": P0}
+
+
+def table(results):
+    out = ["<!-- written by benchmarks/hertz.py -->", "",
+           f"Hertz: a = {A:.5e} m (a/R = {A / R:.3f}), p0 = {P0:.5e} Pa, P = {P:g} N.", "",
+           "| n | unknowns | contact nodes | h at r = 0 (m) | elements across a | a (m) | a error | rate "
+           "| p0 (Pa) | p0 error | rate | total contact force / P − 1 | time (s) | n_A |",
+           "|---" * 14 + "|"]
+    for i, r in enumerate(results):
+        out.append(f"| {r['n']} | {r['dofs']} | {r['m']} | {r['h']:.2e} | {r['n_across']} | "
+                   f"{r['a']:.5e} | {(r['a'] - A) / A:+.2%} | {rate(results, i, 'a')} | "
+                   f"{r['p0']:.5e} | {(r['p0'] - P0) / P0:+.2%} | {rate(results, i, 'p0')} | "
+                   f"{r['total'] / P - 1:.1e} | {r['time']:.2f} | {r['n_A']} |")
+    return "\n".join(out) + "\n"
+
+
+def plot(csv_path, png_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    with open(csv_path) as f:
+        rows = [dict(n=int(r["n"]), r=float(r["r"]), p=float(r["p"])) for r in csv.DictReader(f)]
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for n in sorted({r["n"] for r in rows}):
+        pts = sorted((r["r"] / A, r["p"] / P0) for r in rows if r["n"] == n)
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", ms=3, label=f"n = {n}")
+    xs = [i / 200 for i in range(201)]
+    ax.plot(xs, [math.sqrt(max(0, 1 - x * x)) for x in xs], "k-", lw=1.2,
+            label="Hertz p0 √(1 − r²/a²)")
+    ax.set_xlabel("r / a (Hertz)")
+    ax.set_ylabel("λ_N / area  /  p0 (Hertz)")
+    ax.set_xlim(0, 1.5)
+    ax.legend(fontsize=8)
+    ax.set_title("Hertz: nodal contact pressure against radius (prm/hertz.prm)")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=130)
+
+
+if __name__ == "__main__":
+    if "--plot" in sys.argv:
+        i = sys.argv.index("--plot")
+        plot(sys.argv[i + 1], sys.argv[i + 2])
+    else:
+        study()

@@ -133,7 +133,9 @@ namespace FetiContact::QP
 
     // The inner stopping rule at x: ‖g^P‖ ≤ max(min(M‖Gx − e‖, η), c ε_g ref_g), c = inner_floor.
     Vector<double> Gx_e(k);
-    const auto     inner_target = [&](const Vector<double> &x) {
+    // The floor of the inner precision, lowered when SMALBE stalls (see below).
+    double     floor        = options.inner_floor;
+    const auto inner_target = [&](const Vector<double> &x) {
       double feasibility_x = 0;
       if (k > 0)
         {
@@ -142,7 +144,7 @@ namespace FetiContact::QP
           feasibility_x = Gx_e.l2_norm();
         }
       return std::max(std::min(M * feasibility_x, eta),
-                      options.inner_floor * options.tolerance * gradient_reference(x));
+                      floor * options.tolerance * gradient_reference(x));
     };
 
     // The default inner solver: MPGP with the stopping rule evaluated at every step (one
@@ -186,7 +188,10 @@ namespace FetiContact::QP
 
     double feasibility = residual();
     double L_previous  = 0;
-    double norm_gP     = 0;
+    // Stall detection: outer iterations since ‖Gλ − e‖ last reached a new minimum.
+    double       best_feasibility = std::numeric_limits<double>::infinity();
+    unsigned int since_best       = 0;
+    double       norm_gP          = 0;
     linear_term();
     for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
       {
@@ -215,6 +220,21 @@ namespace FetiContact::QP
               break;
           }
         report.inner_iterations += step.inner_iterations;
+        // Stall: ‖Gλ − e‖ has not reached a new minimum for stall_iterations outer iterations.
+        // The inner solves then stop at the floor c ε_g ref_g before they move λ enough for the
+        // multiplier updates to reduce ‖Gλ − e‖ (seen with no contact at all, and on the Hertz
+        // scene): lower the floor by 10, down to 1e-4 c.
+        if (feasibility < best_feasibility)
+          {
+            best_feasibility = feasibility;
+            since_best       = 0;
+          }
+        else if (++since_best >= options.stall_iterations && floor > 1e-4 * options.inner_floor)
+          {
+            floor /= 10;
+            since_best = 0;
+            ++report.floor_reductions;
+          }
         report.inner_calls += step.inner_calls;
 
         // L(λ, μ_k, ρ) = ½λᵀ(g − b_inner) − μᵀe + ρ/2‖e‖² with g = Aλ − b_inner.

@@ -75,6 +75,12 @@ namespace FetiContact::QP
      * prm/hertz.prm; c = 0.1 converges there in 12 outer iterations).
      */
     double inner_floor = 1;
+    /**
+     * The floor c is divided by 10 (down to 1e-4 c) whenever ‖Gλ − e‖ has not reached a new
+     * minimum for this many outer iterations: the stall above, detected instead of avoided, so
+     * that runs that never stall keep their path.
+     */
+    unsigned int stall_iterations = 10;
     /** η > 0. 0: η = eta_factor · ‖h‖. */
     double eta        = 0;
     double eta_factor = 0.1;
@@ -107,6 +113,8 @@ namespace FetiContact::QP
   /** What SMALBE reports. iterations = outer iterations; relative_residual = relative_gradient. */
   struct SmalbeReport : SolverReport
   {
+    /** How often the floor of the inner precision was lowered (SmalbeOptions::stall_iterations). */
+    unsigned int floor_reductions = 0;
     /** Inner solver steps and calls summed over all outer iterations. */
     unsigned int inner_iterations = 0, inner_calls = 0;
     /** Multiplications by F spent on the estimate of ‖F‖ (not in hessian_multiplications). */

@@ -54,7 +54,14 @@ namespace FetiContact
         *history << "msa_iteration,smalbe_iteration,feasibility,projected_gradient,"
                     "slip_bound_change,open,stick,slip,inner_iterations\n";
       }
-    // Homogenization for the projector variant: λ₀ = G̃ᵀẽ, h − Fλ₀, ẽ − G̃λ₀ = 0.
+    // Homogenization for the projector variant: Gλ₀ = e, h − Fλ₀, ẽ − G̃λ₀ = 0. λ₀ is taken
+    // from the gluing and Dirichlet rows alone when they restrain the floating subdomains, else
+    // from those and the normal rows, and only else from all rows (CoarseProblem::
+    // particular_solution): the bounds are then λ̃_N ≥ 0 and the discs centred at the origin,
+    // where radii far below ‖λ₀‖ (F = 1e-8, nodes without contact) are resolved.
+    row_tier.assign(layout.size(), 0);
+    for (unsigned int r = 0; r < layout.first_equality(); ++r)
+      row_tier[r] = r < layout.first_normal() ? 2 : 1;
     e_smalbe = dual.coarse.orthonormal_rhs(dual.e);
     lambda0.reinit(layout.size());
     h_smalbe = dual.h;
@@ -63,7 +70,7 @@ namespace FetiContact
       dual.coarse.n_modes() > 0;
     if (projector)
       {
-        dual.coarse.apply_Gt_orthonormal(e_smalbe, lambda0);
+        lambda0 = dual.coarse.particular_solution(dual.e, row_tier);
         Vector<double> F_lambda0(layout.size());
         dual.apply_F(lambda0, F_lambda0);
         h_smalbe -= F_lambda0;
@@ -356,9 +363,20 @@ namespace FetiContact
   {
     Result result = solve_homogenized();
     if (projector)
+      result.lambda += lambda0;
+    // The equilibrium of the floating subdomains, Gλ = e, holds after SMALBE to its feasibility
+    // tolerance only; restore it to rounding with a correction from the gluing rows (the same
+    // choice of rows as for λ₀), which leaves the contact multipliers as solved.
+    if (dual.coarse.n_modes() > 0)
+      {
+        Vector<double> misfit(dual.e), G_lambda;
+        dual.coarse.apply_G(result.lambda, G_lambda);
+        misfit -= G_lambda;
+        result.lambda += dual.coarse.particular_solution(misfit, row_tier);
+      }
+    if (projector)
       {
         // μ of the original problem from that of the projected one: μ − G̃(Fλ − h).
-        result.lambda += lambda0;
         Vector<double> r(layout.size()), Gr(dual.coarse.n_modes());
         dual.apply_F(result.lambda, r);
         r -= dual.h;

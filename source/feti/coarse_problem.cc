@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace FetiContact
 {
@@ -40,25 +41,9 @@ namespace FetiContact
     if (n_rows == 0)
       return;
 
-    // GGᵀ from the columns of G: (GGᵀ)_ab = Σ_d G_ad G_bd.
-    std::vector<std::vector<std::pair<unsigned int, double>>> by_column(n_cols);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        by_column[column[k]].emplace_back(r, value[k]);
-    DynamicSparsityPattern dsp(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      dsp.add(r, r);
-    for (const auto &col : by_column)
-      for (const auto &[a, va] : col)
-        for (const auto &[b, vb] : col)
-          dsp.add(a, b);
-    SparsityPattern sp;
-    sp.copy_from(dsp);
-    SparseMatrix<double> M(sp);
-    for (const auto &col : by_column)
-      for (const auto &[a, va] : col)
-        for (const auto &[b, vb] : col)
-          M.add(a, b, va * vb);
+    SparsityPattern      sp;
+    SparseMatrix<double> M;
+    assemble_GGt([](const unsigned int) { return true; }, sp, M);
 
     for (unsigned int r = 0; r < n_rows; ++r)
       require(M.diag_element(r) > 0,
@@ -77,6 +62,32 @@ namespace FetiContact
     require(rcond > 1e-13,
             "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
               std::to_string(rcond) + "): a body is not held.");
+  }
+
+  void
+  CoarseProblem::assemble_GGt(const std::function<bool(unsigned int)> &use_column,
+                              SparsityPattern                         &sparsity,
+                              SparseMatrix<double>                    &M) const
+  {
+    // (G_S G_Sᵀ)_ab = Σ_{d ∈ S} G_ad G_bd, from the columns of G.
+    std::vector<std::vector<std::pair<unsigned int, double>>> by_column(n_cols);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        if (use_column(column[k]))
+          by_column[column[k]].emplace_back(r, value[k]);
+    DynamicSparsityPattern dsp(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      dsp.add(r, r);
+    for (const auto &col : by_column)
+      for (const auto &[a, va] : col)
+        for (const auto &[b, vb] : col)
+          dsp.add(a, b);
+    sparsity.copy_from(dsp);
+    M.reinit(sparsity);
+    for (const auto &col : by_column)
+      for (const auto &[a, va] : col)
+        for (const auto &[b, vb] : col)
+          M.add(a, b, va * vb);
   }
 
   void
@@ -162,6 +173,52 @@ namespace FetiContact
     solve_GGt(mu);
     apply_Gt(mu, lambda);
     return lambda;
+  }
+
+  Vector<double>
+  CoarseProblem::particular_solution(const Vector<double>            &e,
+                                     const std::vector<unsigned int> &tier) const
+  {
+    AssertThrow(tier.size() == n_cols, ExcDimensionMismatch(tier.size(), n_cols));
+    if (n_rows == 0)
+      return Vector<double>(n_cols);
+    std::vector<unsigned int> tiers(tier);
+    std::sort(tiers.begin(), tiers.end());
+    tiers.erase(std::unique(tiers.begin(), tiers.end()), tiers.end());
+    // The last tier takes every column: the factorization of GGᵀ that exists already.
+    for (unsigned int i = 0; i + 1 < tiers.size(); ++i)
+      {
+        const unsigned int   t = tiers[i];
+        SparsityPattern      sp;
+        SparseMatrix<double> M;
+        assemble_GGt([&](const unsigned int c) { return tier[c] <= t; }, sp, M);
+        bool restrained = true;
+        for (unsigned int r = 0; r < n_rows && restrained; ++r)
+          restrained = M.diag_element(r) > 0;
+        if (!restrained)
+          continue;
+        CholmodSolver factor;
+        try
+          {
+            factor.factorize(M);
+          }
+        catch (const InputError &)
+          {
+            continue;
+          }
+        // The same bound as for GGᵀ itself (initialize): a subset that restrains the modes only
+        // nearly would give a λ₀ far larger than the least-norm one.
+        if (!(factor.reciprocal_condition_estimate() > 1e-13))
+          continue;
+        Vector<double> mu(e), lambda(n_cols);
+        factor.solve(mu);
+        for (unsigned int r = 0; r < n_rows; ++r)
+          for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+            if (tier[column[k]] <= t)
+              lambda[column[k]] += value[k] * mu[r];
+        return lambda;
+      }
+    return least_norm_solution(e);
   }
 
   double

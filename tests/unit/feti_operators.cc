@@ -2,7 +2,8 @@
 //  - B_E has orthonormal rows (B_E B_Eᵀ = I) and the expected number of rows;
 //  - gluing rows vanish on a continuous field;
 //  - F is symmetric and positive semidefinite, P is a projector onto ker G, Gλ₀ = e (to rounding:
-//    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50);
+//    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50), also for the
+//    particular solution from a subset of the columns (zero on the others);
 //  - the orthonormalized G̃ = L⁻¹PG has G̃G̃ᵀ = I (to 1e-10: rounding amplified by cond(L)).
 
 #include <deal.II/base/mpi.h>
@@ -182,6 +183,30 @@ main(int argc, char **argv)
             Gl -= dual.e;
             check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(),
                   label + ": ‖Gλ₀ − e‖/‖e‖ = " + sci(Gl.l2_norm() / dual.e.l2_norm()));
+
+            // particular_solution: with every tenth column of tier 1, the others (still
+            // restraining every mode) carry λ₀ alone, and Gλ₀ = e holds.
+            std::vector<unsigned int> tier(m);
+            for (unsigned int i = 0; i < m; ++i)
+              tier[i] = i % 10 == 0 ? 1 : 0;
+            const auto lambda_tiered = dual.coarse.particular_solution(dual.e, tier);
+            double     on_tier_1     = 0;
+            for (unsigned int i = 0; i < m; i += 10)
+              on_tier_1 = std::max(on_tier_1, std::abs(lambda_tiered[i]));
+            dual.coarse.apply_G(lambda_tiered, Gl);
+            Gl -= dual.e;
+            check(on_tier_1 == 0, label + ": λ₀ from the tier-0 columns is zero on the others");
+            check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(),
+                  label + ": tiered λ₀, ‖Gλ₀ − e‖/‖e‖ = " + sci(Gl.l2_norm() / dual.e.l2_norm()));
+            // Columns that cannot restrain the modes alone (a single one) are passed over: then
+            // λ₀ is the least-norm solution.
+            std::vector<unsigned int> one(m, 1);
+            one[0]                    = 0;
+            const auto     lambda_all = dual.coarse.particular_solution(dual.e, one);
+            Vector<double> difference(lambda_all);
+            difference -= lambda0;
+            check(difference.l2_norm() <= 1e-14 * lambda0.l2_norm(),
+                  label + ": one tier-0 column does not restrain: the least-norm λ₀");
           }
       }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;

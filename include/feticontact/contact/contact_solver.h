@@ -120,6 +120,8 @@ namespace FetiContact
     bool projector = false;
     /** λ₀ (zero without the projector), h − Fλ₀, and the right side of G̃λ̃ = ẽ − G̃λ₀. */
     dealii::Vector<double> lambda0, h_smalbe, e_smalbe;
+    /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
+    std::vector<unsigned int> row_tier;
     /** The QP tolerance of the current solve (inexact MSA: looser in early MSA steps). */
     double qp_tolerance = 0;
     /** ‖F + ρGᵀG‖ ≤ ‖F‖ + ρ‖G‖², for the fixed step ᾱ of the block solves. */

@@ -1,9 +1,12 @@
 #pragma once
 
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/local_solvers/cholmod_solver.h>
 
+#include <functional>
 #include <mpi.h>
 #include <vector>
 
@@ -74,6 +77,22 @@ namespace FetiContact
     dealii::Vector<double>
     least_norm_solution(const dealii::Vector<double> &e) const;
     /**
+     * A particular solution λ₀ of Gλ = e that leaves as many kinds of dual unknowns at zero as
+     * the constraints allow. @p tier gives each column a rank (for contact: 0 gluing and
+     * Dirichlet rows, 1 normal, 2 tangential); λ₀ is the least-norm solution among the columns
+     * of tier ≤ t for the smallest t whose columns alone restrain every rigid mode (G_t G_tᵀ
+     * nonsingular), and the least-norm solution of all of G if none does.
+     *
+     * Why it matters: the contact QP works with λ̃ = λ − λ₀, so λ₀ on a contact row moves the
+     * bound λ̃_N ≥ −λ₀_N and the centre of the friction disc to −λ₀_T. A disc of radius r
+     * centred at c is resolved in floating point only to ε‖c‖ (seen: r = 1.7e-9 at ‖c‖ = 3e6
+     * on the brick lifted off its foundation, where MPGP stalled at every step). With λ₀ = 0
+     * on the contact rows the bounds are λ̃_N ≥ 0 and the discs are centred at the origin.
+     */
+    dealii::Vector<double>
+    particular_solution(const dealii::Vector<double>    &e,
+                        const std::vector<unsigned int> &tier) const;
+    /**
      * λ ← λ + Gᵀ(GGᵀ)⁻¹(e − Gλ): removes the drift from Gλ = e that rounding accumulates over
      * many projected iterations (without it the force balance of floating subdomains is off by
      * about ‖Gλ − e‖/‖e‖, seen here up to 1e-10 after 150 iterations). Returns ‖Gλ − e‖/‖e‖ before
@@ -87,6 +106,12 @@ namespace FetiContact
     coarse_coefficients(const dealii::Vector<double> &x) const;
 
   private:
+    /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
+    void
+    assemble_GGt(const std::function<bool(unsigned int)> &use_column,
+                 dealii::SparsityPattern                 &sparsity,
+                 dealii::SparseMatrix<double>            &M) const;
+
     unsigned int                   n_rows = 0, n_cols = 0;
     std::vector<unsigned int>      row_start, column;
     std::vector<double>            value;

@@ -4,14 +4,16 @@
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
-      [--contact-area ZONE=AREA]...
+      [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
 every run is checked, and with --same-displacements the nodal displacements of all runs must
 agree to TOL relative (max norm). --alt-set adds one more run with further overrides, compared
-the same way (e.g. F = 0 against Tresca with slip bound 0).
+the same way (e.g. F = 0 against Tresca with slip bound 0); --alt-scale S divides the
+displacements of that run by S first (the same scene in other units or with scaled loads).
+--same-counts requires every run to take the same MSA iterations and Hessian multiplications.
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
 PVD, CSV) in OUTDIR.
@@ -144,7 +146,7 @@ def check_contact_area(directory, zone, area):
 def scene(args):
     exe, prm, outdir = args[:3]
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
-    check_vtu, areas = False, []
+    check_vtu, areas, alt_scale, same_counts, counts = False, [], 1.0, False, []
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -159,6 +161,11 @@ def scene(args):
         elif args[i] == "--contact-area":
             zone, area = args[i + 1].split("=")
             areas.append((zone, float(area)))
+        elif args[i] == "--alt-scale":
+            alt_scale = float(args[i + 1])
+        elif args[i] == "--same-counts":
+            same_counts = True
+            i -= 1
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
         elif args[i] == "--same-displacements":
@@ -186,8 +193,12 @@ def scene(args):
         ok &= check_expectation(summary, "converged=true")
         for e in expectations:
             ok &= check_expectation(summary, e)
+        counts.append((summary["outer_iterations"], summary["hessian_multiplications"]["total"]))
         if same_tol is not None:
-            displacements.append(read_displacements(os.path.join(d, "displacements.csv")))
+            u = read_displacements(os.path.join(d, "displacements.csv"))
+            if more and alt_scale != 1.0:
+                u = [[c / alt_scale for c in row] for row in u]
+            displacements.append(u)
         if check_vtu:
             ok &= check_contact_vtu(d)
         for zone, area in areas:
@@ -204,6 +215,11 @@ def scene(args):
             print(f"  {what} against the first run: max difference {diff / scale:.3e} relative"
                   f" -> {'ok' if good else 'FAILED'}")
             ok &= good
+    if same_counts:
+        good = all(c == counts[0] for c in counts)
+        print(f"  (MSA iterations, Hessian multiplications) of the runs: {counts}"
+              f" -> {'ok' if good else 'FAILED'}")
+        ok &= good
     return 0 if ok else 1
 
 

@@ -119,7 +119,7 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = layout.normal_row[k];
-        g[k]                 = nodes[k].friction * std::max(lambda_tilde[r] + lambda0[r], 0.0);
+        g[k] = friction_scale * nodes[k].friction * std::max(lambda_tilde[r] + lambda0[r], 0.0);
       }
     return g;
   }
@@ -415,42 +415,78 @@ namespace FetiContact
         return result;
       }
 
-    if (parameters.algorithm == A::algorithm_2)
+    // Continuation in F: stages F/n, …, F, each warm-started from the previous solution; the
+    // intermediate stages need the fixed point only roughly (100 × the MSA tolerance).
+    const unsigned int stages = parameters.continuation_steps;
+    for (unsigned int stage = 1; stage <= stages; ++stage)
       {
-        // The combined loop: SMALBE whose inner step updates the radii; repeated (warm) until
-        // the slip bound agrees with F λ_N.
-        for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
+        friction_scale = double(stage) / stages;
+        const double msa_tolerance =
+          stage < stages ? 100 * parameters.msa_tolerance : parameters.msa_tolerance;
+        if (stages > 1)
+          out << "Friction continuation: stage " << stage << " of " << stages << ", F × "
+              << friction_scale << std::endl;
+        if (parameters.algorithm == A::algorithm_2)
+          solve_combined(result, msa_tolerance);
+        else
+          solve_msa(result, msa_tolerance, stage == 1);
+        if (!result.converged)
           {
-            const auto report = solve_tresca(result.lambda, result.mu, result);
-            const auto target = coulomb_bound(result.lambda);
-            last_change       = relative_change(slip_bound, target);
-            if (report.converged && last_change <= parameters.msa_tolerance)
-              {
-                result.converged = true;
-                break;
-              }
-            set_slip_bounds(target);
+            if (stages > 1)
+              result.message += " (friction continuation stage " + std::to_string(stage) + " of " +
+                                std::to_string(stages) + ")";
+            return result;
           }
-        result.outer_iterations = result.smalbe_iterations;
-        result.message          = result.converged ?
-                                    "converged" :
-                                    "Algorithm 2 did not converge; last relative change of the "
-                                    "slip bound " +
-                             std::to_string(last_change);
-        return result;
       }
+    return result;
+  }
 
-    // MSA: the first step with unbounded tangential multipliers (the contact sticks: g = ∞, a
-    // problem that has a solution whenever the normal contact holds the bodies; g = 0, the
-    // frictionless problem, has none for a body held by friction), then
+  void
+  ContactSolver::solve_combined(Result &result, const double msa_tolerance)
+  {
+    // The combined loop: SMALBE whose inner step updates the radii; repeated (warm) until the
+    // slip bound agrees with F λ_N.
+    result.converged = false;
+    for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
+      {
+        const auto report = solve_tresca(result.lambda, result.mu, result);
+        const auto target = coulomb_bound(result.lambda);
+        last_change       = relative_change(slip_bound, target);
+        if (report.converged && last_change <= msa_tolerance)
+          {
+            result.converged = true;
+            break;
+          }
+        set_slip_bounds(target);
+      }
+    result.outer_iterations = result.smalbe_iterations;
+    result.message          = result.converged ?
+                                "converged" :
+                                "Algorithm 2 did not converge; last relative change of the slip "
+                                "bound " +
+                         std::to_string(last_change);
+  }
+
+  void
+  ContactSolver::solve_msa(Result &result, const double msa_tolerance, const bool cold_start)
+  {
+    // MSA: a cold start begins with unbounded tangential multipliers (the contact sticks:
+    // g = ∞, a problem that has a solution whenever the normal contact holds the bodies; g = 0,
+    // the frictionless problem, has none for a body held by friction), a warm one (a later stage
+    // of the continuation in F) with g = F λ_N of the current λ; then
     // g ← (1 − ω) g + ω F λ_N (the first update takes ω = 1).
-    std::vector<double> g(nodes.size(), std::numeric_limits<double>::infinity());
+    result.converged = false;
+    std::vector<double> g =
+      cold_start ? std::vector<double>(nodes.size(), std::numeric_limits<double>::infinity()) :
+                   coulomb_bound(result.lambda);
     set_slip_bounds(g);
     // Inexact MSA: step j solves the Tresca problem to max(ε_QP, c · change_{j−1}) (change_0 = 1):
     // the slip bound of the early steps is far from the fixed point, and solving for it to the
     // final precision buys nothing. MSA stops only after a step solved to ε_QP.
-    double previous_change = 1;
-    for (msa_iteration = 1; msa_iteration <= parameters.max_msa_iterations; ++msa_iteration)
+    double             previous_change = 1;
+    const unsigned int first           = result.outer_iterations;
+    for (msa_iteration = first + 1; msa_iteration <= first + parameters.max_msa_iterations;
+         ++msa_iteration)
       {
         qp_tolerance =
           std::max(parameters.qp_tolerance, parameters.inexact_msa_factor * previous_change);
@@ -460,7 +496,7 @@ namespace FetiContact
         std::vector<double> next(g.size());
         for (unsigned int k = 0; k < nodes.size(); ++k)
           {
-            const double omega = msa_iteration == 1 ? 1.0 : parameters.relaxation;
+            const double omega = msa_iteration == first + 1 ? 1.0 : parameters.relaxation;
             next[k] = std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] : target[k];
           }
         last_change = relative_change(g, next);
@@ -474,19 +510,18 @@ namespace FetiContact
           {
             result.message =
               "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration);
-            return result;
+            return;
           }
-        if (last_change <= parameters.msa_tolerance && final_precision)
+        if (last_change <= msa_tolerance && final_precision)
           {
             result.converged = true;
             result.message   = "converged";
-            return result;
+            return;
           }
         set_slip_bounds(g);
       }
     result.message = "MSA did not converge in " + std::to_string(parameters.max_msa_iterations) +
                      " iterations; last relative change of the slip bound " +
                      std::to_string(last_change);
-    return result;
   }
 } // namespace FetiContact

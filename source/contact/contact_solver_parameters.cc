@@ -1,6 +1,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_solver_parameters.h>
 
+#include <array>
 #include <cmath>
 
 namespace FetiContact::Parameters
@@ -36,15 +37,25 @@ namespace FetiContact::Parameters
                       Patterns::Integer(2),
                       "polygonal: s, the number of tangential multipliers per node (2: square, "
                       "4: octagon).");
+    prm.declare_entry("Accuracy",
+                      "engineering",
+                      Patterns::Selection("draft|engineering|reference"),
+                      "A preset of the two relative tolerances below, chosen from the speed/"
+                      "accuracy study of the brick (doc/accuracy.md): 'draft' MSA = QP = 1e-3 "
+                      "(solver error in the energy norm about 4e-2, below the discretization "
+                      "error of coarse meshes), 'engineering' MSA 1e-6, QP 1e-8 (about 4e-5), "
+                      "'reference' MSA = QP = 1e-10 (about 1e-9, for verification). Either "
+                      "tolerance given as a number overrides its preset.");
     prm.declare_entry("QP relative tolerance",
-                      "1e-8",
-                      Patterns::Double(0, 1),
-                      "SMALBE stops when ‖g^P(λ)‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖.");
+                      "preset",
+                      Patterns::Anything(),
+                      "SMALBE stops when ‖g^P(λ)‖ ≤ tol ‖h‖ and ‖Gλ − e‖ ≤ tol ‖e‖. 'preset': "
+                      "from Accuracy.");
     prm.declare_entry("MSA relative tolerance",
-                      "1e-6",
-                      Patterns::Double(0, 1),
+                      "preset",
+                      Patterns::Anything(),
                       "Successive approximations stop when the slip bound changes by less than "
-                      "this fraction: ‖g_new − g‖ ≤ tol ‖g_new‖.");
+                      "this fraction: ‖g_new − g‖ ≤ tol ‖g_new‖. 'preset': from Accuracy.");
     prm.declare_entry("Maximum MSA iterations", "100", Patterns::Integer(1), "");
     prm.declare_entry("Inexact MSA factor",
                       "0.01",
@@ -66,6 +77,12 @@ namespace FetiContact::Parameters
                       "1",
                       Patterns::Double(0, 1),
                       "ω in the slip-bound update g ← (1 − ω) g + ω F λ_N (1: plain MSA).");
+    prm.declare_entry("Friction continuation steps",
+                      "1",
+                      Patterns::Integer(1),
+                      "n: solve the Coulomb problem for F/n, 2F/n, …, F in turn, each stage "
+                      "starting from the solution of the previous one (the intermediate stages "
+                      "to 100 × the MSA tolerance). 1: no continuation.");
     prm.declare_entry("Inner tolerance floor",
                       "1",
                       Patterns::Double(0, 1),
@@ -110,10 +127,23 @@ namespace FetiContact::Parameters
                           a == "mpgp"        ? Algorithm::mpgp :
                                                Algorithm::polygonal;
     polygon_directions  = prm.get_integer("Polygon directions");
-    qp_tolerance        = prm.get_double("QP relative tolerance");
-    msa_tolerance       = prm.get_double("MSA relative tolerance");
-    require(qp_tolerance > 0 && msa_tolerance > 0,
-            "Contact solver: the relative tolerances must be positive.");
+    // The presets of Accuracy: {MSA, QP} relative tolerances.
+    const std::string accuracy  = prm.get("Accuracy");
+    const auto        preset    = accuracy == "draft"     ? std::array<double, 2>{{1e-3, 1e-3}} :
+                                  accuracy == "reference" ? std::array<double, 2>{{1e-10, 1e-10}} :
+                                                            std::array<double, 2>{{1e-6, 1e-8}};
+    const auto        tolerance = [&](const std::string &entry, const double preset_value) {
+      const std::string text = InputParsing::trim(prm.get(entry));
+      if (text == "preset")
+        return preset_value;
+      const double value = InputParsing::parse_double(text, "Contact solver/" + entry);
+      require(value > 0 && value < 1,
+              "Contact solver/" + entry + " must be 'preset' or a number in (0, 1); got '" + text +
+                "'.");
+      return value;
+    };
+    msa_tolerance         = tolerance("MSA relative tolerance", preset[0]);
+    qp_tolerance          = tolerance("QP relative tolerance", preset[1]);
     max_msa_iterations    = prm.get_integer("Maximum MSA iterations");
     inexact_msa_factor    = prm.get_double("Inexact MSA factor");
     inner_tolerance_floor = prm.get_double("Inner tolerance floor");
@@ -123,6 +153,7 @@ namespace FetiContact::Parameters
     max_inner_iterations  = prm.get_integer("Maximum inner iterations");
     gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");
     relaxation            = prm.get_double("Relaxation");
+    continuation_steps    = prm.get_integer("Friction continuation steps");
     require(relaxation > 0, "Contact solver/Relaxation must be in (0, 1]; got 0.");
     const std::string penalty = prm.get("Penalty factor");
     if (penalty == "auto")

@@ -76,6 +76,11 @@ namespace FetiContact
               << bodies.back()->partition.n_parts << " subdomains" << std::endl;
       }
     first_subdomain.push_back(n_subdomains);
+    // Read (and check) reference displacements before any solving, so that a wrong file is
+    // refused without output.
+    if (!parameters.verification.reference_displacements.empty())
+      reference_displacements =
+        read_reference_displacements(parameters.verification.reference_displacements, bodies);
   }
 
   void
@@ -345,6 +350,20 @@ namespace FetiContact
         difference = Utilities::MPI::broadcast(comm, difference, 0);
         summary.set("monolithic_difference", difference);
         pcout << "Relative difference to the monolithic solve: " << difference << std::endl;
+      }
+
+    if (!parameters.verification.reference_displacements.empty())
+      {
+        const auto difference =
+          compare_with_reference(comm, owned, mapping, vertex_u, reference_displacements);
+        summary.set("reference_difference",
+                    JsonObject()
+                      .set("max_relative", difference.max_relative)
+                      .set("energy_relative", difference.energy_relative)
+                      .set("vertices", difference.n_vertices));
+        pcout << "Difference from the reference displacements: " << difference.max_relative
+              << " (maximum), " << difference.energy_relative << " (energy norm), relative"
+              << std::endl;
       }
 
     const std::string &dir = parameters.output.directory;

@@ -1,6 +1,8 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/postprocessing/output_parameters.h>
 
+#include <fstream>
+
 namespace FetiContact::Parameters
 {
   using namespace dealii;
@@ -48,6 +50,14 @@ namespace FetiContact::Parameters
                       "Also solve the undecomposed problem on the same mesh with a sparse "
                       "direct solver and report the relative difference of the displacements "
                       "(summary.json: monolithic_difference).");
+    prm.declare_entry("Reference displacements",
+                      "",
+                      Patterns::Anything(),
+                      "A displacements.csv written by an earlier run on the same mesh (Output/"
+                      "Write displacement csv), e.g. one solved to a tighter tolerance: report "
+                      "the relative difference of the displacements from it, in the maximum "
+                      "norm and in the energy norm of the body's stiffness (summary.json: "
+                      "reference_difference). Empty: no comparison.");
     prm.leave_subsection();
   }
 
@@ -56,6 +66,9 @@ namespace FetiContact::Parameters
   {
     prm.enter_subsection("Verification");
     compare_with_monolithic = prm.get_bool("Compare with monolithic solve");
+    reference_displacements = InputParsing::trim(prm.get("Reference displacements"));
+    require(reference_displacements.empty() || std::ifstream(reference_displacements).good(),
+            "Verification/Reference displacements: cannot open '" + reference_displacements + "'.");
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

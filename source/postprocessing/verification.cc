@@ -1,9 +1,16 @@
 #include <deal.II/dofs/dof_handler.h>
 
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/subdomain/elasticity_assembly.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 namespace FetiContact
 {
@@ -110,5 +117,154 @@ namespace FetiContact
           scale > 0 ? (fb.applied + fb.support + fb.contact).norm() / scale : 0.0;
       }
     return balance;
+  }
+
+  std::vector<std::vector<Tensor<1, 3>>>
+  read_reference_displacements(const std::string                        &file,
+                               const std::vector<std::unique_ptr<Body>> &bodies)
+  {
+    std::ifstream in(file);
+    require(in.good(), "Cannot open the reference displacements '" + file + "'.");
+    std::string line;
+    require(static_cast<bool>(std::getline(in, line)),
+            "The reference displacements '" + file + "' are empty.");
+    const auto split = [](const std::string &text) {
+      std::vector<std::string> fields;
+      std::stringstream        stream(text);
+      std::string              field;
+      while (std::getline(stream, field, ','))
+        fields.push_back(InputParsing::trim(field));
+      return fields;
+    };
+    const auto header = split(line);
+    const auto column = [&](const std::string &name) -> int {
+      const auto it = std::find(header.begin(), header.end(), name);
+      return it == header.end() ? -1 : int(it - header.begin());
+    };
+    const int          body_column = column("body");
+    std::array<int, 6> columns{
+      {column("x"), column("y"), column("z"), column("ux"), column("uy"), column("uz")}};
+    require(std::all_of(columns.begin(), columns.end(), [](int c) { return c >= 0; }),
+            "The reference displacements '" + file +
+              "' need the columns x, y, z, ux, uy, uz (and body with several bodies).");
+    require(body_column >= 0 || bodies.size() == 1,
+            "The reference displacements '" + file +
+              "' have no column 'body', but the scene has several bodies.");
+
+    // Rows by body and by position, rounded to 1e-9 of the body's size.
+    std::vector<double> unit(bodies.size());
+    for (const auto &body : bodies)
+      {
+        double size = 0;
+        for (const auto &x : body->mesh.get_vertices())
+          size = std::max(size, x.norm());
+        unit[body->index] = 1e-9 * std::max(size, 1e-300);
+      }
+    using Key      = std::array<long long, 3>;
+    const auto key = [&](const unsigned int b, const Point<3> &x) {
+      return Key{
+        {std::llround(x[0] / unit[b]), std::llround(x[1] / unit[b]), std::llround(x[2] / unit[b])}};
+    };
+    std::vector<std::map<Key, Tensor<1, 3>>> rows(bodies.size());
+    unsigned int                             line_number = 1;
+    while (std::getline(in, line))
+      {
+        ++line_number;
+        if (InputParsing::trim(line).empty())
+          continue;
+        const auto fields = split(line);
+        const auto where  = "line " + std::to_string(line_number) + " of '" + file + "'";
+        try
+          {
+            const unsigned int b = body_column >= 0 ? std::stoul(fields.at(body_column)) : 0;
+            require(b < bodies.size(), where + ": no body " + std::to_string(b) + ".");
+            Point<3>     x;
+            Tensor<1, 3> u;
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                x[d] = std::stod(fields.at(columns[d]));
+                u[d] = std::stod(fields.at(columns[3 + d]));
+              }
+            require(std::isfinite(x.norm()) && std::isfinite(u.norm()),
+                    where + ": a value is not finite.");
+            rows[b][key(b, x)] = u;
+          }
+        catch (const InputError &)
+          {
+            throw;
+          }
+        catch (const std::exception &)
+          {
+            throw InputError(where + ": not a row of numbers (body, x, y, z, ux, uy, uz).");
+          }
+      }
+
+    std::vector<std::vector<Tensor<1, 3>>> reference(bodies.size());
+    for (const auto &body : bodies)
+      {
+        auto &r = reference[body->index];
+        r.resize(body->mesh.n_vertices());
+        for (unsigned int v = 0; v < r.size(); ++v)
+          if (body->mesh.get_used_vertices()[v])
+            {
+              const auto &x  = body->mesh.get_vertices()[v];
+              const auto  it = rows[body->index].find(key(body->index, x));
+              if (it == rows[body->index].end())
+                {
+                  std::ostringstream point;
+                  point << x;
+                  throw InputError("The reference displacements '" + file +
+                                   "' have no row for the vertex (" + point.str() + ") of body '" +
+                                   body->parameters.name +
+                                   "': they were written for another mesh.");
+                }
+              r[v] = it->second;
+            }
+      }
+    return reference;
+  }
+
+  ReferenceDifference
+  compare_with_reference(const MPI_Comm                                comm,
+                         const std::vector<Subdomain *>               &owned,
+                         const Mapping<3>                             &mapping,
+                         const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                         const std::vector<std::vector<Tensor<1, 3>>> &reference)
+  {
+    ReferenceDifference result;
+    double              max_difference = 0, max_reference = 0;
+    for (unsigned int b = 0; b < reference.size(); ++b)
+      for (unsigned int v = 0; v < reference[b].size(); ++v)
+        {
+          max_difference = std::max(max_difference, (vertex_u[b][v] - reference[b][v]).norm());
+          max_reference  = std::max(max_reference, reference[b][v].norm());
+          ++result.n_vertices;
+        }
+    result.max_relative = max_reference > 0 ? max_difference / max_reference : max_difference;
+
+    // Energies Σ_s eᵀK_s e of the difference and of the reference, e interpolated at the DoFs.
+    double energies[2] = {0, 0};
+    for (const Subdomain *s : owned)
+      {
+        SparsityPattern      sparsity;
+        SparseMatrix<double> K;
+        Vector<double>       f;
+        assemble_elasticity(s->dof_handler, mapping, s->body.parameters, sparsity, K, f);
+        const unsigned int n = s->dof_handler.n_dofs();
+        Vector<double>     e(n), r(n);
+        for (unsigned int d = 0; d < n; ++d)
+          {
+            const unsigned int v = s->body_vertex[s->dof_vertex[d]];
+            const unsigned int c = s->dof_component[d];
+            r[d]                 = reference[s->body.index][v][c];
+            e[d]                 = vertex_u[s->body.index][v][c] - r[d];
+          }
+        energies[0] += K.matrix_norm_square(e);
+        energies[1] += K.matrix_norm_square(r);
+      }
+    MPITools::sum_in_place(comm, energies, 2);
+    result.energy_relative = energies[1] > 0 ? std::sqrt(std::max(energies[0], 0.) / energies[1]) :
+                                               std::sqrt(std::max(energies[0], 0.));
+    return result;
   }
 } // namespace FetiContact

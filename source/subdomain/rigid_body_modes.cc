@@ -165,7 +165,10 @@ namespace FetiContact
             double norm = 0;
             for (unsigned int j = 0; j < k; ++j)
               norm += R(i, j) * R(i, j);
-            if (norm > best_norm)
+            // Ties (rows of equal norm, common on symmetric meshes) go to the first row: a
+            // later row must be larger beyond rounding, so that the choice, and with it the
+            // generalized inverse, does not depend on the units of length.
+            if (norm > best_norm * (1 + 1e-10))
               {
                 best_norm = norm;
                 best      = i;

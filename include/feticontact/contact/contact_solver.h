@@ -74,6 +74,19 @@ namespace FetiContact
     Result
     solve_homogenized();
 
+    /**
+     * Algorithm 2 for the current friction (F × friction_scale), warm from @p result, until the
+     * slip bound changes by at most @p msa_tolerance.
+     */
+    void
+    solve_combined(Result &result, const double msa_tolerance);
+    /**
+     * MSA (Algorithm 1, MPGP, polygonal) for the current friction, warm from @p result; a
+     * @p cold_start begins with the sticking problem (g = ∞), else with g = F λ_N.
+     */
+    void
+    solve_msa(Result &result, const double msa_tolerance, const bool cold_start);
+
     /** λ̃ + λ₀. */
     dealii::Vector<double>
     total(const dealii::Vector<double> &lambda_tilde) const;
@@ -130,5 +143,7 @@ namespace FetiContact
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;
     double                 last_change   = 0;
+    /** The stage of the continuation in F: the friction coefficients are multiplied by it. */
+    double friction_scale = 1;
   };
 } // namespace FetiContact

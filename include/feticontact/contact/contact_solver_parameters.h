@@ -52,6 +52,8 @@ namespace FetiContact::Parameters
     unsigned int gauss_seidel_sweeps = 1;
     /** Relaxation ω of the slip-bound update g ← (1 − ω) g + ω F λ_N. */
     double relaxation = 1;
+    /** Continuation in F: stages F/n, 2F/n, …, F (1: none). */
+    unsigned int continuation_steps = 1;
     /** SMALBE penalty ρ as a multiple of ‖F‖ (estimated). */
     double penalty_factor = 1;
 

@@ -82,17 +82,19 @@ namespace FetiContact
     const dealii::FESystem<3>  fe;
     const dealii::MappingFE<3> mapping;
 
-    std::vector<std::unique_ptr<Body>>      bodies;
-    std::vector<unsigned int>               first_subdomain; ///< per body, + total at the end
-    std::vector<unsigned int>               owner;           ///< rank of each subdomain
-    std::vector<std::unique_ptr<Subdomain>> subdomains;      ///< this rank's
-    std::vector<Subdomain *>                owned;
-    std::vector<unsigned int>               mode_offset;
-    DualRows                                rows;
-    std::vector<ContactNode>                contact_nodes;
-    std::vector<ContactTriangle>            contact_triangles;
-    DualLayout                              layout;
-    std::unique_ptr<DualProblem>            dual;
+    std::vector<std::unique_ptr<Body>> bodies;
+    std::vector<unsigned int>          first_subdomain; ///< per body, + total at the end
+    /** Verification/Reference displacements, by body and vertex (empty: none). */
+    std::vector<std::vector<dealii::Tensor<1, 3>>> reference_displacements;
+    std::vector<unsigned int>                      owner;      ///< rank of each subdomain
+    std::vector<std::unique_ptr<Subdomain>>        subdomains; ///< this rank's
+    std::vector<Subdomain *>                       owned;
+    std::vector<unsigned int>                      mode_offset;
+    DualRows                                       rows;
+    std::vector<ContactNode>                       contact_nodes;
+    std::vector<ContactTriangle>                   contact_triangles;
+    DualLayout                                     layout;
+    std::unique_ptr<DualProblem>                   dual;
 
     dealii::Vector<double> lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */

@@ -27,6 +27,12 @@ namespace FetiContact::Parameters
      * relative difference of the displacements (only for scenes without contact).
      */
     bool compare_with_monolithic = false;
+    /**
+     * A displacements.csv of an earlier run on the same mesh (for instance one solved to a much
+     * tighter tolerance): report the differences from it in the maximum and in the energy norm
+     * (summary.json: reference_difference). Empty: none.
+     */
+    std::string reference_displacements;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

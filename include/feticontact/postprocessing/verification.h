@@ -35,6 +35,38 @@ namespace FetiContact
                    const dealii::Mapping<3>       &mapping,
                    const dealii::FiniteElement<3> &fe);
 
+  /** Differences of the displacements from reference displacements on the same meshes. */
+  struct ReferenceDifference
+  {
+    /** max_v ‖u(v) − u_ref(v)‖ / max_v ‖u_ref(v)‖ over all vertices. */
+    double max_relative = 0;
+    /** ‖u − u_ref‖_K / ‖u_ref‖_K, with ‖v‖_K² = vᵀKv for the stiffness K of every body. */
+    double       energy_relative = 0;
+    unsigned int n_vertices      = 0;
+  };
+
+  /**
+   * Reads @p file, a displacements.csv (columns body, x, y, z, ux, uy, uz; without the body
+   * column every row belongs to body 0) and matches its rows to the vertices of the bodies by
+   * position (to 1e-9 of each body's size). Throws InputError, naming the file and the point,
+   * if a vertex has no row or the file is malformed. Returns the displacement of each vertex.
+   */
+  std::vector<std::vector<dealii::Tensor<1, 3>>>
+  read_reference_displacements(const std::string                        &file,
+                               const std::vector<std::unique_ptr<Body>> &bodies);
+
+  /**
+   * The difference of the displacements @p vertex_u (gather_vertex_displacements) from
+   * @p reference; the energy norms from each owned subdomain's stiffness assembled anew without
+   * elimination (Σ_s over the subdomains is the stiffness of the whole body), summed over ranks.
+   */
+  ReferenceDifference
+  compare_with_reference(const MPI_Comm                                        comm,
+                         const std::vector<Subdomain *>                       &owned,
+                         const dealii::Mapping<3>                             &mapping,
+                         const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
+                         const std::vector<std::vector<dealii::Tensor<1, 3>>> &reference);
+
   /**
    * Force balance of each body: the applied force Σ f (tractions and volume force), the force
    * of the supports Σ_{Γ_u} (K u − f), both summed over the subdomains and the ranks with K and

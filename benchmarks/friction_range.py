@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""The solver across the range of the friction coefficient on the seed's brick (DESIGN.md §5),
+and the effect of the two parameters meant for large F: relaxation of the slip-bound update
+(`Contact solver/Relaxation` ω) and continuation in F (`Contact solver/Friction continuation
+steps` n).
+
+    python3 benchmarks/friction_range.py [--exe build/feticontact] [--k 4,8] [--repeats 3]
+        [--markdown doc/data/friction_range.md]
+
+Part 1: F = 0, 1e-8, 0.1, 0.3, 0.5, 1, 2 with every algorithm (default tolerances): status,
+Iter, n_A, time of the solve (median of --repeats runs), open/stick/slip counts.
+Part 2: F = 0.5, 1, 2 with ω ∈ {1, 0.5} and n ∈ {1, 4}.
+Standard library only.
+"""
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
+ALGORITHMS = ["algorithm 2", "algorithm 1", "mpgp"]
+
+
+def option(name, default):
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+
+
+def run(exe, k, friction, algorithm, repeats, extra=()):
+    settings = ["--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+                "--set", f"Contact/Zone 1/Friction coefficient={friction}",
+                "--set", f"Contact solver/Algorithm={algorithm}",
+                "--set", "Output/Write vtu=false", "--set", "Output/Write displacement csv=false"]
+    for e in extra:
+        settings += ["--set", e]
+    times, summary, code = [], None, 0
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as out:
+            p = subprocess.run([exe, *settings, "--set", f"Output/Directory={out}", PRM],
+                               capture_output=True, text=True, timeout=3600, env=env)
+            code = p.returncode
+            path = os.path.join(out, "summary.json")
+            if not os.path.exists(path):
+                return {"status": f"exit {code}, no summary"}
+            with open(path) as f:
+                summary = json.load(f)
+        times.append(summary["times"]["solve"])
+        if not summary["converged"]:
+            break
+    c = summary.get("contact", {})
+    return {"status": "converged" if summary["converged"] else
+            f"exit {code}: {summary.get('solver_message', '')}",
+            "iter": summary["outer_iterations"], "n_A": summary["hessian_multiplications"]["total"],
+            "time": statistics.median(times), "open": c.get("open"), "stick": c.get("stick"),
+            "slip": c.get("slip"), "cone": summary.get("kkt", {}).get("cone_violation")}
+
+
+def main():
+    exe = option("--exe", "build/feticontact")
+    ks = [int(v) for v in option("--k", "4,8").split(",")]
+    repeats = int(option("--repeats", "3"))
+    md_path = option("--markdown", "doc/data/friction_range.md")
+    out = ["<!-- written by benchmarks/friction_range.py -->", "",
+           f"Command: `python3 {' '.join(sys.argv)}`; time: the contact solve, median of "
+           f"{repeats} runs (one for a run that does not converge).", "",
+           "### The range of F (default tolerances: MSA 1e-6, QP 1e-8)", "",
+           "| k | F | algorithm | status | Iter | n_A | solve [s] | open/stick/slip |",
+           "|---|---|---|---|---|---|---|---|"]
+    for k in ks:
+        for friction in ["0", "1e-8", "0.1", "0.3", "0.5", "1", "2"]:
+            for algorithm in ALGORITHMS:
+                r = run(exe, k, friction, algorithm, repeats)
+                line = (f"| {k} | {friction} | {algorithm} | {r['status']} | {r.get('iter', '')} | "
+                        f"{r.get('n_A', '')} | {r.get('time', 0):.3g} | "
+                        f"{r.get('open')}/{r.get('stick')}/{r.get('slip')} |")
+                print(line, flush=True)
+                out.append(line)
+    out += ["", "### Relaxation ω and continuation in F (n stages) at F ≥ 0.5", "",
+            "| k | F | algorithm | ω | n | status | Iter | n_A | solve [s] |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for k in ks:
+        for friction in ["0.5", "1", "2"]:
+            for algorithm in ALGORITHMS:
+                for omega in ["1", "0.5"]:
+                    for stages in ["1", "4"]:
+                        r = run(exe, k, friction, algorithm, repeats,
+                                [f"Contact solver/Relaxation={omega}",
+                                 f"Contact solver/Friction continuation steps={stages}"])
+                        line = (f"| {k} | {friction} | {algorithm} | {omega} | {stages} | "
+                                f"{r['status']} | {r.get('iter', '')} | {r.get('n_A', '')} | "
+                                f"{r.get('time', 0):.3g} |")
+                        print(line, flush=True)
+                        out.append(line)
+    with open(md_path, "w") as f:
+        f.write("\n".join(out) + "\n")
+    print("wrote", md_path)
+
+
+if __name__ == "__main__":
+    main()

@@ -7,7 +7,8 @@ below which solving harder buys nothing.
     python3 benchmarks/accuracy_sweep.py [--exe build/feticontact] [--k 8,16,24]
         [--tolerances 1e-2,1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10] [--repeats 3]
         [--repeats-large 1] [--algorithm mpgp] [--reference-tolerance 1e-12] [--timeout 7200]
-        [--csv doc/data/accuracy_sweep.csv] [--markdown doc/data/accuracy_sweep.md] [--merge]
+        [--csv doc/data/accuracy_sweep.csv] [--markdown doc/data/accuracy_sweep.md]
+        [--work DIR] [--keep-measured]
     /usr/bin/python3 benchmarks/accuracy_sweep.py --plot doc/data/accuracy_sweep.csv doc/accuracy_sweep.png
 
 One tolerance t sets both relative tolerances, `MSA relative tolerance = t` and `QP relative
@@ -22,6 +23,9 @@ tolerance = t` (DESIGN.md §4). For each k and t:
 The discretization error of mesh k is that of its reference solve against the finest mesh's,
 max_v |u_k − u_fine| / max_v |u_fine| over the vertices of the coarsest mesh (they belong to
 every mesh when the coarsest k divides every other k, as 8 | 16 and 8 | 24).
+--keep-measured keeps the rows of the k already in --csv and measures only the others; the
+reference solves are taken from --work (reference_k<k>/) when there, else solved again (they are
+needed for the discretization error).
 The measurement uses the standard library only; --plot needs matplotlib.
 """
 import csv
@@ -98,13 +102,26 @@ def time_without_output(summary):
 
 
 def measure(exe, ks, tolerances, repeats, repeats_large, algorithm, reference_tolerance, timeout,
-            keep, save):
+            keep, save, measured=()):
     """Runs the sweep; save(rows, discretization) after every row (a long sweep that is cut
-    short keeps what it measured)."""
+    short keeps what it measured). Rows in `measured` are kept for their k, which then only
+    needs its reference solve."""
     rows, discretization = [], {}
     references = {}
     for k in ks:
         ref_dir = os.path.join(keep, f"reference_k{k}")
+        old = [r for r in measured if r["k"] == k]
+        if old:
+            rows += old
+            references[k] = ref_dir
+            if os.path.exists(os.path.join(ref_dir, "displacements.csv")):
+                print(f"k = {k}: rows and reference solve kept", flush=True)
+                continue
+            summary, status = run(exe, k, reference_tolerance, algorithm, ref_dir, timeout)
+            print(f"k = {k}: rows kept, reference at {reference_tolerance:g}: {status}", flush=True)
+            if summary is None or not summary["converged"]:
+                raise SystemExit(f"the reference solve at k = {k} failed: {status}")
+            continue
         summary, status = run(exe, k, reference_tolerance, algorithm, ref_dir, timeout)
         print(f"k = {k}: reference at {reference_tolerance:g}: {status}", flush=True)
         if summary is None or not summary["converged"]:
@@ -256,8 +273,9 @@ def main():
         write_csv(csv_path, rows, discretization)
         write_markdown(md_path, rows, discretization, command)
 
+    measured = read_csv(csv_path)[0] if "--keep-measured" in sys.argv else []
     rows, discretization = measure(exe, ks, tolerances, repeats, repeats_large, algorithm,
-                                   reference_tolerance, timeout, keep, save)
+                                   reference_tolerance, timeout, keep, save, measured)
     save(rows, discretization)
     print(f"wrote {csv_path}, {md_path}")
 

@@ -137,9 +137,15 @@ main(int argc, char **argv)
       if (!converged)
         {
           if (root)
-            std::cerr << "Error: the FETI solver did not converge (see log.txt; summary.json "
-                         "has \"converged\": false)."
-                      << std::endl;
+            {
+              if (simulator.no_equilibrium())
+                std::cerr << "Error: " << simulator.solver_message()
+                          << ". No result files were written (see log.txt)." << std::endl;
+              else
+                std::cerr << "Error: the FETI solver did not converge (see log.txt; "
+                             "summary.json has \"converged\": false)."
+                          << std::endl;
+            }
           return 2;
         }
     }

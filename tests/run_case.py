@@ -6,6 +6,7 @@
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
       [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
+      [--no-equilibrium]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
@@ -16,7 +17,10 @@ displacements of that run by S first (the same scene in other units or with scal
 --same-counts requires every run to take the same MSA iterations and Hessian multiplications.
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
-PVD, CSV) in OUTDIR.
+PVD, CSV) in OUTDIR. With --no-equilibrium the input is valid but the solver proves that no
+equilibrium exists: exit status 2 within TIME_LIMIT, TEXT on stderr, summary.json with
+"converged": false and "no_equilibrium": true, and besides it only the iteration history
+(history.csv): no displacement, contact or VTU files.
 Standard library only, so that any python3 runs it.
 """
 import csv
@@ -226,6 +230,8 @@ def scene(args):
 def bad(args):
     exe, prm, outdir = args[:3]
     message, np, sets = None, 1, []
+    no_equilibrium = "--no-equilibrium" in args
+    args = [a for a in args if a != "--no-equilibrium"]
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -237,20 +243,34 @@ def bad(args):
         elif args[i] == "--np":
             np = int(args[i + 1])
         i += 2
+    limit, status = (TIME_LIMIT, 2) if no_equilibrium else (BAD_INPUT_TIME_LIMIT, 1)
     try:
-        p = run(exe, prm, outdir, np, sets, BAD_INPUT_TIME_LIMIT)
+        p = run(exe, prm, outdir, np, sets, limit)
     except subprocess.TimeoutExpired:
-        print(f"FAILED: no answer within {BAD_INPUT_TIME_LIMIT} s")
+        print(f"FAILED: no answer within {limit} s")
         return 1
     ok = True
-    if p.returncode != 1:
-        print(f"FAILED: exit status {p.returncode}, expected 1 (a negative status is a signal)")
+    if p.returncode != status:
+        print(f"FAILED: exit status {p.returncode}, expected {status} (a negative status is a "
+              "signal)")
         ok = False
+    allowed = ()
+    if no_equilibrium:
+        allowed = ("summary.json", "history.csv")
+        try:
+            with open(os.path.join(outdir, "summary.json")) as f:
+                summary = json.load(f)
+            if summary.get("converged") is not False or summary.get("no_equilibrium") is not True:
+                print("FAILED: summary.json does not say converged = false, no_equilibrium = true")
+                ok = False
+        except (OSError, ValueError) as e:
+            print(f"FAILED: no readable summary.json ({e})")
+            ok = False
     if message.lower() not in p.stderr.lower():
         print(f"FAILED: stderr does not name the cause <{message}>")
         ok = False
     results = [os.path.join(d, f) for d, _, files in os.walk(outdir) for f in files
-               if f.endswith(RESULT_SUFFIXES)] if os.path.isdir(outdir) else []
+               if f.endswith(RESULT_SUFFIXES) and f not in allowed] if os.path.isdir(outdir) else []
     if results:
         print("FAILED: files that look like a result were written: " + ", ".join(results))
         ok = False

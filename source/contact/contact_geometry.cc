@@ -180,16 +180,30 @@ namespace FetiContact
               }
             std::tie(node.t1, node.t2) = tangent_basis(node.n);
             // A Dirichlet node is not a contact node, unless its prescribed components are
-            // orthogonal to every row it would carry: a symmetry (roller) condition tangential
-            // to a frictionless contact surface, as on the symmetry planes of a quarter model.
+            // orthogonal to the normal: a symmetry (roller) condition tangential to the contact
+            // surface, as on the symmetry planes of a quarter or half model. With friction the
+            // tangent t2 is then the prescribed axis: its row acts on no free DoF (contact rows
+            // skip prescribed components), λ_T2 stays 0, and the disc ‖λ_T‖ ≤ g becomes the
+            // interval |λ_T1| ≤ g along the free tangent t1 (the symmetric solution has no
+            // tangential force across the symmetry plane).
             if (prescribed != body.prescribed.end())
               {
-                bool conflicts = false;
+                bool         conflicts = false;
+                unsigned int axis      = numbers::invalid_unsigned_int;
                 for (unsigned int d = 0; d < 3; ++d)
-                  if (prescribed->second[d] && (node.friction > 0 || std::abs(node.n[d]) > 1e-12))
-                    conflicts = true;
+                  if (prescribed->second[d])
+                    {
+                      if (std::abs(node.n[d]) > 1e-12)
+                        conflicts = true;
+                      axis = d;
+                    }
                 if (conflicts)
                   continue;
+                Tensor<1, 3> e;
+                e[axis] = 1;
+                node.t2 = e - (e * node.n) * node.n;
+                node.t2 /= node.t2.norm();
+                node.t1 = cross_product_3d(node.t2, node.n);
               }
             taken.insert({zone.body, vertex});
             nodes.push_back(node);

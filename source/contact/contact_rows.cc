@@ -3,6 +3,7 @@
 #include <feticontact/contact/contact_rows.h>
 
 #include <cmath>
+#include <optional>
 
 namespace FetiContact
 {
@@ -22,22 +23,43 @@ namespace FetiContact
       return first_subdomain[body] + parts[body][vertex].front();
     };
 
-    const auto row_of = [&](const ContactNode &node, const Tensor<1, 3> &v) {
-      std::vector<DualRowEntry> row;
-      const unsigned int        s = copy(node.body, node.vertex);
-      for (unsigned int c = 0; c < 3; ++c)
-        if (v[c] != 0)
-          row.push_back({s, node.vertex, c, v[c]});
-      if (node.master)
-        {
-          const auto [mb, mv]   = *node.master;
-          const unsigned int sm = copy(mb, mv);
-          for (unsigned int c = 0; c < 3; ++c)
-            if (v[c] != 0)
-              row.push_back({sm, mv, c, -v[c]});
-        }
-      return row;
+    // A row (B u)_k = v·u_slave − v·u_master ≤ c_k has no entries on prescribed components:
+    // their displacement p is known and moves to the right-hand side, c_k − v_c p_c (slave) or
+    // c_k + v_c p_c (master). find_contact_nodes admits prescribed slave components only
+    // orthogonal to n, so on the slave side only a tangential row along a symmetry plane's roller
+    // condition loses entries (and becomes empty); on the master side a clamped vertex keeps the
+    // row consistent with the primal treatment, which eliminates those DoFs.
+    const auto prescribed = [&](unsigned int body, unsigned int vertex, unsigned int c) {
+      const auto it = bodies[body]->prescribed.find(vertex);
+      return it != bodies[body]->prescribed.end() ? it->second[c] : std::optional<double>();
     };
+    const auto add_row =
+      [&](DualRows &rows, const ContactNode &node, const Tensor<1, 3> &v, double c_k) {
+        std::vector<DualRowEntry> row;
+        const unsigned int        s = copy(node.body, node.vertex);
+        for (unsigned int c = 0; c < 3; ++c)
+          if (v[c] != 0)
+            {
+              if (const auto p = prescribed(node.body, node.vertex, c))
+                c_k -= v[c] * *p;
+              else
+                row.push_back({s, node.vertex, c, v[c]});
+            }
+        if (node.master)
+          {
+            const auto [mb, mv]   = *node.master;
+            const unsigned int sm = copy(mb, mv);
+            for (unsigned int c = 0; c < 3; ++c)
+              if (v[c] != 0)
+                {
+                  if (const auto p = prescribed(mb, mv, c))
+                    c_k += v[c] * *p;
+                  else
+                    row.push_back({sm, mv, c, -v[c]});
+                }
+          }
+        rows.add_row(row, c_k);
+      };
 
     DualRows rows;
     layout.normal_row.assign(nodes.size(), 0);
@@ -50,23 +72,24 @@ namespace FetiContact
           layout.tangential_row[k] = rows.n_rows();
           if (polygon_directions == 0)
             {
-              rows.add_row(row_of(nodes[k], nodes[k].t1), 0.0);
-              rows.add_row(row_of(nodes[k], nodes[k].t2), 0.0);
+              add_row(rows, nodes[k], nodes[k].t1, 0.0);
+              add_row(rows, nodes[k], nodes[k].t2, 0.0);
             }
           else
             for (unsigned int j = 0; j < polygon_directions; ++j)
               {
                 const double angle = numbers::PI * j / polygon_directions;
-                rows.add_row(row_of(nodes[k],
-                                    std::cos(angle) * nodes[k].t1 + std::sin(angle) * nodes[k].t2),
-                             0.0);
+                add_row(rows,
+                        nodes[k],
+                        std::cos(angle) * nodes[k].t1 + std::sin(angle) * nodes[k].t2,
+                        0.0);
               }
         }
     layout.n_tangential = rows.n_rows();
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         layout.normal_row[k] = rows.n_rows();
-        rows.add_row(row_of(nodes[k], nodes[k].n), nodes[k].gap);
+        add_row(rows, nodes[k], nodes[k].n, nodes[k].gap);
       }
     layout.n_normal = nodes.size();
     return rows;

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
+#include <sstream>
 
 namespace FetiContact
 {
@@ -227,6 +229,7 @@ namespace FetiContact
               g[k] =
                 (1 - parameters.relaxation) * slip_bound[k] + parameters.relaxation * target[k];
             last_change = relative_change(slip_bound, g);
+            ++radius_updates;
             set_slip_bounds(g);
           }
         // λ_T by KPG (MPGP on the discs) with λ_c fixed.
@@ -285,7 +288,7 @@ namespace FetiContact
         << ", inner " << inner << std::endl;
   }
 
-  QP::SolverReport
+  QP::SmalbeReport
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
     const auto algorithm = parameters.algorithm;
@@ -310,6 +313,11 @@ namespace FetiContact
         // The radii move inside the loop; M is adapted only once they have settled (see
         // QP::SmalbeOptions::same_problem).
         options.same_problem = [&]() { return last_change <= parameters.msa_tolerance; };
+        // The radii are final once they have settled after λ_N has been computed a few times
+        // (at the start λ_N = 0 and g = 0 do not change either).
+        options.set_final = [&]() {
+          return radius_updates >= 3 && last_change <= parameters.msa_tolerance;
+        };
       }
     options.inner_solver = [&](const QP::Operator   &op,
                                const Vector<double> &b,
@@ -355,6 +363,29 @@ namespace FetiContact
       mu,
       options);
     result.smalbe_iterations += report.iterations;
+    if (report.infeasible)
+      {
+        // The certificate in the original variables: with the projector SMALBE saw
+        // λ̃ ∈ Ω − λ₀ and G̃λ̃ = 0, so αᵀẽ = αᵀG̃λ₀ and σ_Ω = σ_{Ω−λ₀} + αᵀG̃λ₀.
+        double work = report.certificate_work, support = report.certificate_support;
+        if (projector)
+          {
+            Vector<double> e_tilde(dual.coarse.n_modes());
+            dual.coarse.apply_G_orthonormal(lambda0, e_tilde);
+            work = report.certificate * e_tilde;
+            support += work;
+          }
+        result.no_equilibrium = true;
+        std::ostringstream text;
+        text << "no equilibrium: the contact forces allowed by the current bounds (λ_N ≥ 0, "
+                "‖λ_T‖ ≤ slip bound) cannot balance the loads on the floating subdomains. On a "
+                "rigid motion α of those subdomains the loads do the work "
+             << work << ", the contact forces at most " << support
+             << " (a proof: no multiplier within the bounds satisfies Gλ = e). For a body held "
+                "only by contact: the tangential loads exceed the friction coefficient times "
+                "the normal force (full sliding), or the loads pull the body off the obstacle";
+        result.message = text.str();
+      }
     return report;
   }
 
@@ -411,7 +442,8 @@ namespace FetiContact
         const auto report       = solve_tresca(result.lambda, result.mu, result);
         result.outer_iterations = 1;
         result.converged        = report.converged;
-        result.message          = report.converged ? "converged" : "SMALBE did not converge";
+        if (!report.infeasible)
+          result.message = report.converged ? "converged" : "SMALBE did not converge";
         return result;
       }
 
@@ -450,6 +482,11 @@ namespace FetiContact
     for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
       {
         const auto report = solve_tresca(result.lambda, result.mu, result);
+        if (report.infeasible)
+          {
+            result.outer_iterations = result.smalbe_iterations;
+            return;
+          }
         const auto target = coulomb_bound(result.lambda);
         last_change       = relative_change(slip_bound, target);
         if (report.converged && last_change <= msa_tolerance)
@@ -485,21 +522,80 @@ namespace FetiContact
     // final precision buys nothing. MSA stops only after a step solved to ε_QP.
     double             previous_change = 1;
     const unsigned int first           = result.outer_iterations;
+    // The last completed step: its result, its slip bounds, its relaxation, its precision.
+    // A slip bound from an inexact step may be too small to hold a body held by friction (its
+    // λ_N is rough); SMALBE then proves the next Tresca problem infeasible, and before that is
+    // reported as "no equilibrium" the step is solved again to the final precision.
+    struct Step
+    {
+      Vector<double>      lambda, mu;
+      std::vector<double> g;
+      double              omega = 1;
+      bool                final = true;
+    };
+    std::optional<Step> previous;
+    const auto          relax = [&](const std::vector<double> &g_old, const double omega) {
+      const auto          target = coulomb_bound(result.lambda);
+      std::vector<double> next(g_old.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        next[k] = std::isfinite(g_old[k]) ? (1 - omega) * g_old[k] + omega * target[k] : target[k];
+      return next;
+    };
     for (msa_iteration = first + 1; msa_iteration <= first + parameters.max_msa_iterations;
          ++msa_iteration)
       {
         qp_tolerance =
           std::max(parameters.qp_tolerance, parameters.inexact_msa_factor * previous_change);
-        const bool          final_precision = qp_tolerance <= parameters.qp_tolerance;
-        const auto          report          = solve_tresca(result.lambda, result.mu, result);
-        const auto          target          = coulomb_bound(result.lambda);
-        std::vector<double> next(g.size());
-        for (unsigned int k = 0; k < nodes.size(); ++k)
+        const bool final_precision = qp_tolerance <= parameters.qp_tolerance;
+        const auto report          = solve_tresca(result.lambda, result.mu, result);
+        if (report.infeasible && previous && !previous->final)
           {
-            const double omega = msa_iteration == first + 1 ? 1.0 : parameters.relaxation;
-            next[k] = std::isfinite(g[k]) ? (1 - omega) * g[k] + omega * target[k] : target[k];
+            out << "MSA iteration " << msa_iteration
+                << ": no equilibrium within the slip bounds of the inexact step "
+                << msa_iteration - 1 << "; that step solved again to " << parameters.qp_tolerance
+                << std::endl;
+            result.no_equilibrium = false;
+            result.message.clear();
+            result.lambda = previous->lambda;
+            result.mu     = previous->mu;
+            set_slip_bounds(previous->g);
+            qp_tolerance       = parameters.qp_tolerance;
+            const auto again   = solve_tresca(result.lambda, result.mu, result);
+            const bool settled = again.converged && !again.infeasible;
+            if (!settled)
+              {
+                result.outer_iterations = msa_iteration;
+                if (!again.infeasible)
+                  result.message =
+                    "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration - 1);
+                else
+                  result.message += " (MSA iteration " + std::to_string(msa_iteration - 1) +
+                                    " solved again to the final precision)";
+                return;
+              }
+            g                = relax(previous->g, previous->omega);
+            last_change      = relative_change(previous->g, g);
+            previous_change  = last_change;
+            previous->final  = true;
+            previous->lambda = result.lambda;
+            previous->mu     = result.mu;
+            set_slip_bounds(g);
+            --msa_iteration;
+            continue;
           }
-        last_change = relative_change(g, next);
+        if (report.infeasible)
+          {
+            result.outer_iterations = msa_iteration;
+            result.message +=
+              " (MSA iteration " + std::to_string(msa_iteration) +
+              (msa_iteration == first + 1 ? ")" :
+                                            ", slip bounds g = F λ_N of the previous iteration)");
+            return;
+          }
+        const double omega       = msa_iteration == first + 1 ? 1.0 : parameters.relaxation;
+        previous                 = Step{result.lambda, result.mu, g, omega, final_precision};
+        std::vector<double> next = relax(g, omega);
+        last_change              = relative_change(g, next);
         g.swap(next);
         previous_change         = last_change;
         result.outer_iterations = msa_iteration;

@@ -46,8 +46,20 @@ namespace FetiContact
     if (rank == 0)
       {
         std::filesystem::create_directories(dir);
-        // A stale summary from an earlier run must not pass for this run's result.
-        std::filesystem::remove(dir + "/summary.json");
+        // Result files of an earlier run must not pass for this run's (a run that stops
+        // without a solution writes none).
+        for (const char *name : {"/summary.json",
+                                 "/contact.csv",
+                                 "/displacements.csv",
+                                 "/solution.pvtu",
+                                 "/solution.pvd",
+                                 "/contact_surface.vtu",
+                                 "/contact_surface.pvd"})
+          std::filesystem::remove(dir + name);
+        for (const auto &entry : std::filesystem::directory_iterator(dir))
+          if (entry.path().filename().string().rfind("solution_", 0) == 0 &&
+              entry.path().extension() == ".vtu")
+            std::filesystem::remove(entry.path());
         std::ofstream(dir + "/parameters.prm") << effective_parameters;
         std::ofstream(dir + "/input.prm") << input;
         log_file.open(dir + "/log.txt");
@@ -230,6 +242,9 @@ namespace FetiContact
           << ", Hessian multiplications " << result.n_bound << " (bound QP) + " << result.n_disc
           << " (disc QP)" << std::endl;
     summary.set("solver_message", result.message);
+    summary.set("no_equilibrium", result.no_equilibrium);
+    message                = result.message;
+    equilibrium_impossible = result.no_equilibrium;
     summary.set("smalbe_iterations", result.smalbe_iterations);
   }
 
@@ -455,7 +470,9 @@ namespace FetiContact
           << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
           << std::endl;
     solve();
-    postprocess();
+    // Without equilibrium the multipliers are not a solution: no displacement or contact files.
+    if (!equilibrium_impossible)
+      postprocess();
     write_summary();
     timer.print_summary();
     return converged;

@@ -413,6 +413,35 @@ namespace FetiContact::QP
     return violation;
   }
 
+  double
+  SeparableSet::support(const Vector<double> &w, const double zero) const
+  {
+    AssertDimension(w.size(), size());
+    const double infinity = std::numeric_limits<double>::infinity();
+    const double small    = zero * w.linfty_norm();
+    double       sup      = 0;
+    for (unsigned int i = 0; i < size(); ++i)
+      {
+        if (kind[i] == Kind::disc || std::abs(w[i]) <= small)
+          continue;
+        const double end = w[i] > 0 ? upper[i] : lower[i]; // ±∞ for a free component
+        if (!std::isfinite(end))
+          return infinity;
+        sup += end * w[i];
+      }
+    for (const Disc &d : discs)
+      {
+        const double a = std::abs(w[d.i]) <= small ? 0. : w[d.i];
+        const double b = std::abs(w[d.j]) <= small ? 0. : w[d.j];
+        if (a == 0 && b == 0)
+          continue;
+        if (!std::isfinite(d.radius))
+          return infinity;
+        sup += d.centre[0] * a + d.centre[1] * b + d.radius * std::hypot(a, b);
+      }
+    return sup;
+  }
+
   bool
   SeparableSet::is_feasible(const Vector<double> &x, const double relative_tolerance) const
   {

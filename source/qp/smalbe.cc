@@ -202,11 +202,16 @@ namespace FetiContact::QP
         // 1. Inner solve until ‖g^P‖ ≤ max(min(M‖Gλ − e‖, η), ε_g ref_g) at its result. The
         //    tolerance passed is the rule at the start, η if λ is feasible there (else a feasible
         //    start would be solved to the final precision at once).
+        //    A call that makes no step at η (λ feasible, the gradient already below η) is
+        //    repeated with the rule itself, min(M · 0, η) = 0 up to the floor, as in Dostál's
+        //    algorithm: otherwise λ, Gλ − e and μ would never change again (seen with one
+        //    subdomain held only by contact and e = 0, where λ₀ is feasible).
+        bool relaxed_start = feasibility == 0;
         while (true)
           {
             const double tolerance =
-              feasibility > 0 ? inner_target(lambda) :
-                                std::max(eta, options.tolerance * gradient_reference(lambda));
+              relaxed_start ? std::max(eta, options.tolerance * gradient_reference(lambda)) :
+                              inner_target(lambda);
             const SolverReport inner_report = inner(A, b_inner, lambda, tolerance);
             step.inner_iterations += inner_report.iterations;
             ++step.inner_calls;
@@ -215,6 +220,12 @@ namespace FetiContact::QP
             g -= b_inner;
             set.projected_gradient(lambda, g, gP);
             norm_gP = gP.l2_norm();
+            const bool stuck_at_eta =
+              relaxed_start && inner_report.iterations == 0 && inner_report.converged;
+            relaxed_start = false;
+            if (stuck_at_eta && norm_gP > inner_target(lambda) &&
+                step.inner_calls < options.max_inner_calls)
+              continue;
             if (norm_gP <= inner_target(lambda) || !inner_report.converged ||
                 inner_report.iterations == 0 || step.inner_calls >= options.max_inner_calls)
               break;
@@ -268,6 +279,25 @@ namespace FetiContact::QP
         step.lagrangian              = L;
         if (options.monitor)
           options.monitor(step);
+        // Infeasibility: α = −r/‖r‖ with αᵀe > σ_Ω(Gᵀα) proves that Gλ = e has no solution
+        // in Ω (the multiplier updates would then grow μ without bound).
+        // Only for a final set (SmalbeOptions::set_final).
+        if (!converged && k > 0 && feasibility > 0 && (!options.set_final || options.set_final()))
+          {
+            Vector<double> alpha(r);
+            alpha *= -1.0 / feasibility;
+            apply_Gt(alpha, Gtv);
+            const double work = alpha * e, support = set.support(Gtv, 1e-12);
+            if (work - support > 1e-6 * (std::abs(work) + std::abs(support)))
+              {
+                report.infeasible          = true;
+                report.certificate_work    = work;
+                report.certificate_support = support;
+                report.certificate         = alpha;
+                break;
+              }
+          }
+
         if (converged)
           {
             report.converged = true;

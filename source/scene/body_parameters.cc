@@ -40,9 +40,10 @@ namespace FetiContact::Parameters
     prm.declare_entry("Grading",
                       "0",
                       Patterns::Double(0, 50),
-                      "Box: β ≥ 0 shrinks the cubes towards the lower corner: with ξ ∈ [0, 1]³ "
-                      "the relative position in the box and ρ = max_d ξ_d, a point moves to "
-                      "ξ g(ρ)/ρ, g(ρ) = (e^{βρ} − 1)/(e^β − 1). Near the corner the cells are "
+                      "Box: β ≥ 0 shrinks the cubes towards the focus (see 'Focus'; the lower "
+                      "corner by default): with ξ ∈ [−1, 1]³ the relative position between the "
+                      "focus and the faces and ρ = max_d |ξ_d|, a point moves to "
+                      "ξ g(ρ)/ρ, g(ρ) = (e^{βρ} − 1)/(e^β − 1). Near the focus the cells are "
                       "β/(e^β − 1) times the uniform size and about equally shaped; away from it "
                       "they grow by about e^(β/n) per cell (n the subdivisions). The faces of the "
                       "box stay in place (boundary ids as without grading). 0: uniform.");
@@ -50,12 +51,20 @@ namespace FetiContact::Parameters
                       "0",
                       Patterns::Double(0),
                       "Box: R > 0 bends the face z = zmin into the sphere of radius R that touches "
-                      "the plane z = zmin at (xmin, ymin), the symmetry axis of the body being the "
-                      "line x = xmin, y = ymin (a quarter of a spherical indenter, with symmetry "
-                      "conditions on x = xmin and y = ymin): a point moves up by (1 − ζ)(R − "
-                      "√(R² − (x − xmin)² − (y − ymin)²)), ζ = (z − zmin)/(zmax − zmin). Needs "
-                      "R − √(R² − (xmax − xmin)² − (ymax − ymin)²) < (zmax − zmin)/2. Applied "
-                      "after the grading. 0: flat.");
+                      "the plane z = zmin at the focus (x_f, y_f), the symmetry axis of the body "
+                      "being the line x = x_f, y = y_f (focus at the lower corner: a quarter of a "
+                      "spherical indenter, with symmetry conditions on x = xmin and y = ymin; in "
+                      "the middle of the edge y = ymin: a half, symmetric about y = ymin): a "
+                      "point moves up by (1 − ζ)(R − √(R² − (x − x_f)² − (y − y_f)²)), "
+                      "ζ = (z − zmin)/(zmax − zmin). Needs R − √(R² − r²) < (zmax − zmin)/2 with "
+                      "r the largest distance from the focus to a corner of the bottom face. "
+                      "Applied after the grading. 0: flat.");
+    prm.declare_entry("Focus",
+                      "",
+                      Patterns::Anything(),
+                      "Box: x, y of the point of the bottom face z = zmin the grading shrinks "
+                      "towards and the spherical bottom touches the plane z = zmin at (inside "
+                      "the face or on its edges). Empty: the lower corner (xmin, ymin).");
     prm.declare_entry("File",
                       "",
                       Patterns::Anything(),
@@ -80,16 +89,34 @@ namespace FetiContact::Parameters
                    std::to_string(d) + ")."));
         const auto s =
           InputParsing::parse_positive_integers(prm.get("Subdivisions"), 3, "Mesh/Subdivisions");
-        subdivisions            = {{s[0], s[1], s[2]}};
-        tetrahedra_per_cube     = prm.get_integer("Tetrahedra per cube");
-        grading                 = prm.get_double("Grading");
-        spherical_bottom_radius = prm.get_double("Spherical bottom radius");
-        const Tensor<1, 3> size = upper_corner - lower_corner;
-        const double       R = spherical_bottom_radius, r2 = size[0] * size[0] + size[1] * size[1];
-        require(R == 0 || (r2 < R * R && R - std::sqrt(R * R - r2) < 0.5 * size[2]),
+        subdivisions                 = {{s[0], s[1], s[2]}};
+        tetrahedra_per_cube          = prm.get_integer("Tetrahedra per cube");
+        grading                      = prm.get_double("Grading");
+        spherical_bottom_radius      = prm.get_double("Spherical bottom radius");
+        focus                        = lower_corner;
+        const std::string focus_text = InputParsing::trim(prm.get("Focus"));
+        if (!focus_text.empty())
+          {
+            const auto xy = InputParsing::parse_doubles(focus_text, 2, "Mesh/Focus");
+            for (unsigned int d = 0; d < 2; ++d)
+              {
+                require(xy[d] >= lower_corner[d] && xy[d] <= upper_corner[d],
+                        "Mesh/Focus: the point (" + focus_text +
+                          ") must lie in the bottom face of the box (coordinate " +
+                          std::to_string(d) + " outside [lower corner, upper corner]).");
+                focus[d] = xy[d];
+              }
+          }
+        const double R  = spherical_bottom_radius;
+        double       r2 = 0; // the largest squared distance from the focus to a bottom corner
+        for (const double x : {lower_corner[0], upper_corner[0]})
+          for (const double y : {lower_corner[1], upper_corner[1]})
+            r2 = std::max(r2, (x - focus[0]) * (x - focus[0]) + (y - focus[1]) * (y - focus[1]));
+        require(R == 0 || (r2 < R * R &&
+                           R - std::sqrt(R * R - r2) < 0.5 * (upper_corner[2] - lower_corner[2])),
                 "Mesh/Spherical bottom radius: the bent bottom must stay in the lower half of "
-                "the box, R − √(R² − (xmax − xmin)² − (ymax − ymin)²) < (zmax − zmin)/2 (a "
-                "larger radius or a smaller footprint).");
+                "the box, R − √(R² − r²) < (zmax − zmin)/2 with r the largest distance from the "
+                "focus to a corner of the bottom face (a larger radius or a smaller footprint).");
       }
     else
       {

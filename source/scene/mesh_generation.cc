@@ -130,20 +130,26 @@ namespace FetiContact::MeshGeneration
   grade_and_bend(Triangulation<3> &mesh,
                  const Point<3>   &p1,
                  const Point<3>   &p2,
+                 const Point<3>   &focus,
                  const double      grading,
                  const double      spherical_bottom_radius)
   {
     const double beta = grading, R = spherical_bottom_radius;
     if (beta == 0 && R == 0)
       return;
+    // The distance from the focus to the face on the side of x_d (0 when the focus lies on it).
+    const auto side = [&](const unsigned int d, const double x) {
+      return x >= focus[d] ? p2[d] - focus[d] : focus[d] - p1[d];
+    };
     GridTools::transform(
       [&](const Point<3> &x) {
         Point<3> xi;
         double   rho = 0;
         for (unsigned int d = 0; d < 3; ++d)
           {
-            xi[d] = (x[d] - p1[d]) / (p2[d] - p1[d]);
-            rho   = std::max(rho, xi[d]);
+            const double length = side(d, x[d]);
+            xi[d]               = length > 0 ? (x[d] - focus[d]) / length : 0.;
+            rho                 = std::max(rho, std::abs(xi[d]));
           }
         // g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1); its limit β/(e^β − 1) at ρ = 0.
         const double scale =
@@ -152,10 +158,11 @@ namespace FetiContact::MeshGeneration
             (rho > 0 ? std::expm1(beta * rho) / std::expm1(beta) / rho : beta / std::expm1(beta));
         Point<3> y;
         for (unsigned int d = 0; d < 3; ++d)
-          y[d] = p1[d] + scale * xi[d] * (p2[d] - p1[d]);
+          y[d] = focus[d] + scale * xi[d] * side(d, x[d]);
         if (R > 0)
           {
-            const double r2   = (y[0] - p1[0]) * (y[0] - p1[0]) + (y[1] - p1[1]) * (y[1] - p1[1]);
+            const double r2 =
+              (y[0] - focus[0]) * (y[0] - focus[0]) + (y[1] - focus[1]) * (y[1] - focus[1]);
             const double zeta = (y[2] - p1[2]) / (p2[2] - p1[2]);
             y[2] += (1 - zeta) * (R - std::sqrt(R * R - r2));
           }
@@ -199,6 +206,7 @@ namespace FetiContact::MeshGeneration
         grade_and_bend(mesh,
                        parameters.lower_corner,
                        parameters.upper_corner,
+                       parameters.focus,
                        parameters.grading,
                        parameters.spherical_bottom_radius);
       }

@@ -47,9 +47,10 @@ namespace FetiContact
 
   /**
    * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
-   * displacement component, or (frictionless zones) only components orthogonal to the node's
-   * normal, such as a symmetry plane's roller condition (a vertex in two zones belongs to the
-   * first), in zone order and by vertex number. Rigid plane: χ(x_k) is the orthogonal projection of
+   * displacement component, or only components orthogonal to the node's normal, such as a
+   * symmetry plane's roller condition (then t2 is the last prescribed axis, whose tangential row
+   * acts on no free DoF; a vertex in two zones belongs to the first), in zone order and by vertex
+   * number. Rigid plane: χ(x_k) is the orthogonal projection of
    * x_k on the plane and n_k the plane's normal pointing into the obstacle. Body pair: n_k is from
    * x_k towards χ(x_k) when the gap is positive and the outer unit normal of Γ_c (the area-weighted
    * mean of the adjacent face normals) when it is zero. For a body pair every slave node must have

@@ -7,6 +7,7 @@
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
+#include <feticontact/qp/smalbe.h>
 
 #include <ostream>
 #include <string>
@@ -56,7 +57,13 @@ namespace FetiContact
       unsigned int           smalbe_iterations = 0;
       unsigned int           n_bound = 0, n_disc = 0;
       bool                   converged = false;
-      std::string            message;
+      /**
+       * SMALBE proved that no λ within the current bounds balances the loads on the floating
+       * subdomains (QP::SmalbeReport::infeasible): no equilibrium exists with these slip
+       * bounds, e.g. tangential loads above F × the normal force on a body held only by contact.
+       */
+      bool        no_equilibrium = false;
+      std::string message;
     };
 
     ContactSolver(const DualProblem               &dual,
@@ -98,7 +105,7 @@ namespace FetiContact
     void
     set_slip_bounds(const std::vector<double> &g);
     /** One SMALBE solve for the current slip bounds, warm-started from λ, μ. */
-    QP::SolverReport
+    QP::SmalbeReport
     solve_tresca(dealii::Vector<double> &lambda, dealii::Vector<double> &mu, Result &result);
     /** The block Gauss–Seidel inner solver (Algorithm 1; Algorithm 2 updates the radii in it). */
     QP::SolverReport
@@ -143,6 +150,8 @@ namespace FetiContact
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;
     double                 last_change   = 0;
+    /** Radius updates inside the combined loop of Algorithm 2 (for SmalbeOptions::set_final). */
+    unsigned int radius_updates = 0;
     /** The stage of the continuation in F: the friction coefficients are multiplied by it. */
     double friction_scale = 1;
   };

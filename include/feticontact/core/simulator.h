@@ -47,6 +47,22 @@ namespace FetiContact
     bool
     run();
 
+    /**
+     * The contact solver's closing message ("converged", or why it stopped). When it proved
+     * that no equilibrium exists (no_equilibrium()), run() writes no result files, only log.txt,
+     * history.csv and summary.json with "converged": false.
+     */
+    const std::string &
+    solver_message() const
+    {
+      return message;
+    }
+    bool
+    no_equilibrium() const
+    {
+      return equilibrium_impossible;
+    }
+
   private:
     void
     prepare_output_directory();
@@ -102,7 +118,9 @@ namespace FetiContact
     bool                                alpha_given = false;
     std::vector<dealii::Vector<double>> u;
     JsonObject                          summary;
-    bool                                converged  = false;
+    bool                                converged              = false;
+    bool                                equilibrium_impossible = false;
+    std::string                         message;
     unsigned int                        iterations = 0;
     unsigned int                        n_bound = 0, n_disc = 0;
   };

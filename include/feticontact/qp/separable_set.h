@@ -192,6 +192,16 @@ namespace FetiContact::QP
     nonzero_on_discs(const dealii::Vector<double> &v) const;
 
     /**
+     * The support function σ_Ω(w) = sup_{x∈Ω} xᵀw: per interval u w_i (w_i > 0) or l w_i
+     * (w_i < 0), per disc cᵀw_k + r‖w_k‖; +∞ when a free component, an infinite interval end or
+     * an infinite radius meets a non-zero w. Components with |w_i| ≤ zero · ‖w‖_∞ count as 0 (the
+     * rounding of a w computed as Gᵀα). With it a vector α proves that Gλ = e has no solution in
+     * Ω when αᵀe > σ_Ω(Gᵀα) (SMALBE's infeasibility certificate).
+     */
+    double
+    support(const dealii::Vector<double> &w, const double zero = 0) const;
+
+    /**
      * The largest violation of a block constraint: max(l − x_i, x_i − u, ‖x_k − c‖ − r, 0) over
      * all blocks (an absolute number, for tests).
      */

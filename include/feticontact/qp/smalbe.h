@@ -67,6 +67,12 @@ namespace FetiContact::QP
      */
     std::function<bool()> same_problem;
     /**
+     * Whether the set Ω is final, asked before the infeasibility certificate is tested (see
+     * smalbe()): a certificate for a set that the caller still changes (the radii of Algorithm 2
+     * before λ_N has settled) proves nothing about the final one. Empty: always final.
+     */
+    std::function<bool()> set_final;
+    /**
      * c ∈ (0, 1]: an inner solve stops no later than at ‖g^P‖ ≤ c ε_g ref_g (the floor of the
      * adaptive precision). With c = 1 the inner solves stop at the final gradient tolerance; when
      * ‖Gλ − e‖ is then still above ε_f, a multiplier update changes the gradient by less than
@@ -125,6 +131,17 @@ namespace FetiContact::QP
     double rho = 0, M = 0, F_norm = 0, G_norm = 0;
     /** μ, the multiplier of Gλ = e (a copy of the output argument). */
     dealii::Vector<double> mu;
+    /**
+     * Whether SMALBE stopped because Gλ = e has no solution in Ω: α = e − Gλ_k of some outer
+     * iteration satisfied αᵀe > σ_Ω(Gᵀα) (SeparableSet::support), so that every λ ∈ Ω has
+     * αᵀ(Gλ − e) < 0. In FETI terms: the loads do more work on the rigid motion α than the
+     * multipliers allowed by Ω can absorb, so the floating subdomains cannot be in equilibrium.
+     * certificate_work = αᵀe and certificate_support = σ_Ω(Gᵀα) (with ‖α‖ = 1).
+     */
+    bool                   infeasible          = false;
+    double                 certificate_work    = 0;
+    double                 certificate_support = 0;
+    dealii::Vector<double> certificate; ///< α (empty unless infeasible)
   };
 
   /**
@@ -148,7 +165,11 @@ namespace FetiContact::QP
    *     multiplier that goes with λ_k, and the one returned.)
    *  4. If k > 0 and L(λ_k, μ_k, ρ) < L(λ_{k−1}, μ_{k−1}, ρ) + ρ/2 ‖Gλ_k − e‖²:
    *     M_{k+1} = M_k/β_M, else M_{k+1} = M_k.
-   * After each inner solve one multiplication by A gives the gradient and L (counted).
+   * After each inner solve one multiplication by A gives the gradient and L (counted). Then the
+   * residual proposes a certificate of infeasibility, α = (e − Gλ_k)/‖e − Gλ_k‖ (for the
+   * residual of least norm over Ω it is one whenever that norm is positive, and SMALBE's iterates
+   * approach it when Gλ = e is infeasible): if αᵀe − σ_Ω(Gᵀα) > 1e-6 (|αᵀe| + |σ_Ω(Gᵀα)|),
+   * no λ ∈ Ω satisfies Gλ = e and SMALBE stops with SmalbeReport::infeasible.
    * With SmalbeOptions::projector, F and h are replaced by PFP and Ph (P = I − GᵀG, e = 0).
    *
    * Every threshold is relative (DESIGN.md §4), so that multiplying F and h by s > 0 leaves λ

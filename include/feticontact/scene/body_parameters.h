@@ -34,10 +34,15 @@ namespace FetiContact::Parameters
     std::array<unsigned int, 3> subdivisions{{1, 1, 1}};
     /** Tetrahedra per cube of the generated box: 5 or 6 (Kuhn split around the main diagonal). */
     unsigned int tetrahedra_per_cube = 6;
-    /** Box: β ≥ 0, cubes shrink towards the lower corner (see MeshGeneration::grade_and_bend). */
+    /** Box: β ≥ 0, cubes shrink towards the focus (see MeshGeneration::grade_and_bend). */
     double grading = 0;
     /** Box: R > 0 bends the face z = zmin into a sphere of radius R; 0: flat. */
     double spherical_bottom_radius = 0;
+    /**
+     * Box: the point (x_f, y_f, zmin) of the bottom face the grading shrinks towards and the
+     * spherical bottom touches the plane z = zmin at; the lower corner unless given.
+     */
+    dealii::Point<3> focus;
 
     /** Gmsh file (`.msh`); boundary ids are the physical tags of its triangles. */
     std::string file;

@@ -28,17 +28,22 @@ namespace FetiContact::MeshGeneration
                       const dealii::Point<3>            &p2);
 
   /**
-   * Moves the vertices of the box [p1, p2] (its faces stay where they are): with ξ the relative
-   * position in the box and ρ = max_d ξ_d, ξ ← ξ g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1) for
-   * the grading β > 0 (cells of β/(e^β − 1) times the uniform size near p1, growing
-   * geometrically away from it, each about as wide as deep), then, for R > 0, z ← z + (1 − ζ)(R −
-   * √(R² − (x − x1)² − (y − y1)²)) with ζ the relative height: the face z = z1 becomes the
-   * sphere of radius R touching the plane z = z1 at (x1, y1), the face z = z2 stays flat.
+   * Moves the vertices of the box [p1, p2] (its faces stay where they are) towards the focus
+   * c ∈ [p1, p2] (c_z = z1): with ξ_d ∈ [−1, 1] the relative position of x_d between c_d and the
+   * face on its side (ξ_d = (x_d − c_d)/(p2_d − c_d) above c_d, (x_d − c_d)/(c_d − p1_d) below)
+   * and ρ = max_d |ξ_d|, ξ ← ξ g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1) for the grading β > 0
+   * (cells of β/(e^β − 1) times the uniform size near c, growing geometrically away from it,
+   * each about as wide as deep), then, for R > 0, z ← z + (1 − ζ)(R − √(R² − (x − c_x)² −
+   * (y − c_y)²)) with ζ the relative height: the face z = z1 becomes the sphere of radius R
+   * touching the plane z = z1 at (c_x, c_y), the face z = z2 stays flat. With c = p1 (a corner)
+   * a quarter of a spherical indenter, with c in the middle of an edge of the bottom face a half,
+   * with c in its middle the whole indenter.
    */
   void
   grade_and_bend(dealii::Triangulation<3> &mesh,
                  const dealii::Point<3>   &p1,
                  const dealii::Point<3>   &p2,
+                 const dealii::Point<3>   &focus,
                  const double              grading,
                  const double              spherical_bottom_radius);
 

@@ -136,7 +136,8 @@ def plot(csv_path, png_path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     with open(csv_path) as f:
-        rows = [r for r in csv.DictReader(f) if r["status"] == "converged"]
+        rows = [dict(r, nu=r.get("nu") or "0.3") for r in csv.DictReader(f)
+                if r["status"] == "converged"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
     qs = [i / 100 for i in range(101)]
     ax.plot(qs, [(1 - q) ** (1 / 3) for q in qs], "k-",

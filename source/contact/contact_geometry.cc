@@ -199,11 +199,14 @@ namespace FetiContact
                     }
                 if (conflicts)
                   continue;
-                Tensor<1, 3> e;
-                e[axis] = 1;
-                node.t2 = e - (e * node.n) * node.n;
-                node.t2 /= node.t2.norm();
-                node.t1 = cross_product_3d(node.t2, node.n);
+                if (axis != numbers::invalid_unsigned_int)
+                  {
+                    Tensor<1, 3> e;
+                    e[axis] = 1;
+                    node.t2 = e - (e * node.n) * node.n;
+                    node.t2 /= node.t2.norm();
+                    node.t1 = cross_product_3d(node.t2, node.n);
+                  }
               }
             taken.insert({zone.body, vertex});
             nodes.push_back(node);

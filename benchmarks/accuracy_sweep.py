@@ -23,9 +23,9 @@ tolerance = t` (DESIGN.md §4). For each k and t:
 The discretization error of mesh k is that of its reference solve against the finest mesh's,
 max_v |u_k − u_fine| / max_v |u_fine| over the vertices of the coarsest mesh (they belong to
 every mesh when the coarsest k divides every other k, as 8 | 16 and 8 | 24).
---keep-measured keeps the rows of the k already in --csv and measures only the others; the
-reference solves are taken from --work (reference_k<k>/) when there, else solved again (they are
-needed for the discretization error).
+--keep-measured keeps the rows already in --csv and runs only the missing (k, tolerance) pairs;
+the reference solves are taken from --work (reference_k<k>/) when there, else solved again (they
+are needed for the errors and the discretization error).
 The measurement uses the standard library only; --plot needs matplotlib.
 """
 import csv
@@ -101,39 +101,39 @@ def time_without_output(summary):
     return t["total"] - t.get("output", 0.0)
 
 
+def reference_row(summary, k, reference_tolerance, status):
+    return dict(k=k, n=summary["n_primal"], tolerance=reference_tolerance, status=status,
+                time=time_without_output(summary), time_solve=summary["times"]["solve"],
+                iter=summary["outer_iterations"],
+                n_A=summary["hessian_multiplications"]["total"], e_max=0.0, e_energy=0.0,
+                e_force=0.0, status_changes=0, runs=1)
+
+
 def measure(exe, ks, tolerances, repeats, repeats_large, algorithm, reference_tolerance, timeout,
             keep, save, measured=()):
     """Runs the sweep; save(rows, discretization) after every row (a long sweep that is cut
-    short keeps what it measured). Rows in `measured` are kept for their k, which then only
-    needs its reference solve."""
+    short keeps what it measured). Rows in `measured` are kept: only the (k, tolerance) pairs
+    missing from them are run, and a reference solve only when --work does not hold it."""
     rows, discretization = [], {}
     references = {}
     for k in ks:
         ref_dir = os.path.join(keep, f"reference_k{k}")
-        old = [r for r in measured if r["k"] == k]
-        if old:
-            rows += old
-            references[k] = ref_dir
-            if os.path.exists(os.path.join(ref_dir, "displacements.csv")):
-                print(f"k = {k}: rows and reference solve kept", flush=True)
-                continue
+        references[k] = ref_dir
+        old = {r["tolerance"]: r for r in measured if r["k"] == k and r.get("runs")}
+        if os.path.exists(os.path.join(ref_dir, "displacements.csv")) and old:
+            print(f"k = {k}: reference solve kept", flush=True)
+        else:
             summary, status = run(exe, k, reference_tolerance, algorithm, ref_dir, timeout)
-            print(f"k = {k}: rows kept, reference at {reference_tolerance:g}: {status}", flush=True)
+            print(f"k = {k}: reference at {reference_tolerance:g}: {status}", flush=True)
             if summary is None or not summary["converged"]:
                 raise SystemExit(f"the reference solve at k = {k} failed: {status}")
-            continue
-        summary, status = run(exe, k, reference_tolerance, algorithm, ref_dir, timeout)
-        print(f"k = {k}: reference at {reference_tolerance:g}: {status}", flush=True)
-        if summary is None or not summary["converged"]:
-            raise SystemExit(f"the reference solve at k = {k} failed: {status}")
-        references[k] = ref_dir
-        rows.append(dict(k=k, n=summary["n_primal"], tolerance=reference_tolerance, status=status,
-                         time=time_without_output(summary), time_solve=summary["times"]["solve"],
-                         iter=summary["outer_iterations"],
-                         n_A=summary["hessian_multiplications"]["total"], e_max=0.0,
-                         e_energy=0.0, e_force=0.0, status_changes=0, runs=1))
+            old[reference_tolerance] = reference_row(summary, k, reference_tolerance, status)
+        rows.append(old[reference_tolerance])
         reference_contact = read_contact(ref_dir)
         for t in tolerances:
+            if t in old:
+                rows.append(old[t])
+                continue
             times, solve_times, summary, status = [], [], None, ""
             n_runs = repeats if k < 16 else repeats_large
             with tempfile.TemporaryDirectory() as out:

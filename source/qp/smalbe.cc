@@ -192,6 +192,8 @@ namespace FetiContact::QP
     double       best_feasibility = std::numeric_limits<double>::infinity();
     unsigned int since_best       = 0;
     double       norm_gP          = 0;
+    // Whether a relaxed start at η has made no step (then the rule is used from there on).
+    bool eta_exhausted = false;
     linear_term();
     for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
       {
@@ -206,7 +208,11 @@ namespace FetiContact::QP
         //    repeated with the rule itself, min(M · 0, η) = 0 up to the floor, as in Dostál's
         //    algorithm: otherwise λ, Gλ − e and μ would never change again (seen with one
         //    subdomain held only by contact and e = 0, where λ₀ is feasible).
-        bool relaxed_start = feasibility == 0;
+        //    Once a relaxed start has made no step, later outer iterations use the rule too:
+        //    with one inner call per outer iteration (the combined loop) and λ feasible in
+        //    every one (k = 0: one subdomain held by Dirichlet conditions) the start would
+        //    otherwise be relaxed, and stuck, forever.
+        bool relaxed_start = feasibility == 0 && !eta_exhausted;
         while (true)
           {
             const double tolerance =
@@ -223,6 +229,7 @@ namespace FetiContact::QP
             const bool stuck_at_eta =
               relaxed_start && inner_report.iterations == 0 && inner_report.converged;
             relaxed_start = false;
+            eta_exhausted |= stuck_at_eta;
             if (stuck_at_eta && norm_gP > inner_target(lambda) &&
                 step.inner_calls < options.max_inner_calls)
               continue;

@@ -1,24 +1,25 @@
 #!/usr/bin/env python3
 """Hertz contact (DESIGN.md §6): refinement study of prm/hertz.prm against the analytic solution.
 
-    python3 benchmarks/hertz.py [--exe build/feticontact] [--n 8,12,16,24,32]
-        [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv]
+    python3 benchmarks/hertz.py [--exe build/feticontact] [--n 12,16,24,32,40]
+        [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv] [--work DIR]
     /usr/bin/python3 benchmarks/hertz.py --plot doc/data/hertz_profile.csv doc/hertz_pressure.png
 
-For each number n of subdivisions per edge (the grading of prm/hertz.prm kept) the scene is solved
-and its contact.csv evaluated:
+The study is feticontact's own (`Refinement study/Subdivision factors` = n/16 with
+Verification/Hertz of prm/hertz.prm): it solves the scene for every n (subdivisions per edge, the
+grading kept) and writes a deal.II ConvergenceTable (convergence_table.org) with the measured
+contact radius a and peak pressure p0, their errors against a = (3PR/(4E*))^(1/3) and
+p0 = 3P/(2πa²), E* = E/(1 − ν²), and the rates log(e_{i−1}/e_i)/log(n_i/n_{i−1}). This script puts
+that table into --markdown and checks it independently: from each cycle's contact.csv it measures
   - p0: the pressure λ_N / area of the node at the contact point (r = 0); the lumped pressure is
     the mean of p over the node's patch, so it approaches p0 from below as h → 0;
-  - a: the contact radius, the point between the outermost node in contact (pressure above
-    1e-6 of the largest) and the
-    next node outwards on the symmetry line y = 0 where the linearly interpolated p² vanishes
+  - a: the point between the outermost node in contact (pressure above 1e-6 of the largest) and
+    the next node outwards on the symmetry line y = 0 where the linearly interpolated p² vanishes
     (Hertz: p² is linear in r², so it is interpolated in r² between the last two nodes in contact
     and cut at zero, but never beyond the first open node);
-  - the total contact force against the applied P (equilibrium, 4 × the quarter).
-Errors are relative to a = (3PR/(4E*))^(1/3) and p0 = 3P/(2πa²) with E* = E/(1 − ν²), rates
-log(e_1/e_2)/log(h_1/h_2) with h the size of the element at the contact point, as deal.II's
-ConvergenceTable computes them (reduction_rate_log2 with h in place of 2). The measurement part
-uses the standard library only; --plot needs matplotlib.
+  - the total contact force against the applied P (equilibrium, 4 × the quarter);
+and requires a and p0 to agree with feticontact's to 1e-9 (contact.csv has 12 digits). The
+measurement part uses the standard library only; --plot needs matplotlib.
 """
 import csv
 import json
@@ -40,18 +41,11 @@ def option(name, default):
     return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
 
 
-def solve(exe, n, outdir):
-    subprocess.run([exe, "--set", f"Body 1/Mesh/Subdivisions={n}, {n}, {n}",
-                    "--set", f"Output/Directory={outdir}", "--set", "Output/Write vtu=false",
-                    "prm/hertz.prm"], check=True, capture_output=True,
-                   env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    with open(os.path.join(outdir, "summary.json")) as f:
-        summary = json.load(f)
+def read_contact(outdir):
     with open(os.path.join(outdir, "contact.csv")) as f:
-        rows = [dict(r=math.hypot(float(r["x"]), float(r["y"])), y=float(r["y"]),
+        return [dict(r=math.hypot(float(r["x"]), float(r["y"])), y=float(r["y"]),
                      x=float(r["x"]), force=float(r["lambda_N"]), p=float(r["pressure"]))
                 for r in csv.DictReader(f)]
-    return summary, rows
 
 
 def contact_radius(rows):
@@ -74,62 +68,79 @@ def contact_radius(rows):
 
 def study():
     exe = option("--exe", "build/feticontact")
-    ns = [int(v) for v in option("--n", "8,12,16,24,32").split(",")]
+    ns = [int(v) for v in option("--n", "12,16,24,32,40").split(",")]
     md_path = option("--markdown", "doc/data/hertz.md")
     csv_path = option("--csv", "doc/data/hertz_profile.csv")
+    work = option("--work", tempfile.mkdtemp(prefix="hertz_"))
+    factors = ", ".join(f"{n / 16:g}" for n in ns)
+    command = [exe, "--set", f"Refinement study/Subdivision factors={factors}",
+               "--set", f"Output/Directory={work}", "--set", "Output/Write vtu=false",
+               "prm/hertz.prm"]
+    run = subprocess.run(command, capture_output=True, text=True,
+                         env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+    if run.returncode != 0:
+        raise SystemExit(f"feticontact failed ({run.returncode}):\n{run.stderr}")
+    with open(os.path.join(work, "convergence_table.org")) as f:
+        convergence_table = f.read()
     results, profiles = [], []
-    with tempfile.TemporaryDirectory() as tmp:
-        for n in ns:
-            summary, rows = solve(exe, n, os.path.join(tmp, f"n{n}"))
-            centre = min(rows, key=lambda r: r["r"])
-            a, r_in, r_out = contact_radius(rows)
-            h = L / n * GRADING / math.expm1(GRADING)  # the element at the contact point
-            n_across = sum(1 for r in rows if abs(r["y"]) <= 1e-12 * L and 0 < r["x"] <= A)  # nodes on (0, a]
-            total = 4 * sum(r["force"] for r in rows)
-            results.append(dict(n=n, h=h, dofs=summary["n_primal"], m=summary["m_contact"],
-                                n_across=n_across, a=a, r_in=r_in, r_out=r_out, p0=centre["p"],
-                                total=total, time=summary["times"]["solve"],
-                                n_A=summary["hessian_multiplications"]["total"]))
-            profiles += [dict(n=n, r=r["r"], p=r["p"]) for r in rows if r["force"] > 0 or
-                         r["r"] <= 1.5 * A]
-            e = results[-1]
-            print(f"n = {n}: a = {a:.5e} ({(a - A) / A:+.2%}), p0 = {e['p0']:.5e} "
-                  f"({(e['p0'] - P0) / P0:+.2%}), {n_across} elements across a, total force "
-                  f"{total:.6g} N, {e['time']:.2f} s", flush=True)
+    for cycle, n in enumerate(ns, start=1):
+        outdir = os.path.join(work, f"cycle-{cycle}")
+        with open(os.path.join(outdir, "summary.json")) as f:
+            summary = json.load(f)
+        rows = read_contact(outdir)
+        centre = min(rows, key=lambda r: r["r"])
+        a, r_in, r_out = contact_radius(rows)
+        hertz = summary["hertz"]
+        for key, mine in (("a", a), ("p0", centre["p"])):
+            if abs(mine - hertz[key]) > 1e-9 * abs(mine):
+                raise SystemExit(f"n = {n}: {key} of feticontact {hertz[key]:.12e} differs from "
+                                 f"this script's {mine:.12e}")
+        h = L / n * GRADING / math.expm1(GRADING)  # the element at the contact point
+        total = 4 * sum(r["force"] for r in rows)
+        results.append(dict(n=n, h=h, dofs=summary["n_primal"], m=summary["m_contact"],
+                            n_across=hertz["nodes_across_a"], a=a, r_in=r_in, r_out=r_out,
+                            p0=centre["p"], total=total, time=summary["times"]["solve"],
+                            n_A=summary["hessian_multiplications"]["total"]))
+        profiles += [dict(n=n, r=r["r"], p=r["p"]) for r in rows if r["force"] > 0 or
+                     r["r"] <= 1.5 * A]
+        e = results[-1]
+        print(f"n = {n}: a = {a:.5e} ({(a - A) / A:+.2%}), p0 = {e['p0']:.5e} "
+              f"({(e['p0'] - P0) / P0:+.2%}), {e['n_across']} nodes across a, total force "
+              f"{total:.6g} N, {e['time']:.2f} s", flush=True)
     os.makedirs(os.path.dirname(md_path), exist_ok=True)
     with open(csv_path, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=["n", "r", "p"])
         writer.writeheader()
         writer.writerows(profiles)
+    text = table(results, convergence_table, " ".join(
+        f'"{c}"' if " " in c else c for c in ["python3"] + sys.argv))
     with open(md_path, "w") as f:
-        f.write(table(results))
-    print(table(results))
+        f.write(text)
+    print(text)
     print(f"wrote {md_path} and {csv_path}")
 
 
-def rate(results, i, key):
-    if i == 0:
-        return "–"
-    e1, e2 = abs(results[i - 1][key] - REF[key]), abs(results[i][key] - REF[key])
-    h1, h2 = results[i - 1]["h"], results[i]["h"]
-    if e1 == 0 or e2 == 0:
-        return "–"
-    return f"{math.log(e1 / e2) / math.log(h1 / h2):.2f}"
+def markdown_table(org):
+    """deal.II's org-mode table with the header separator Markdown needs."""
+    lines = [line.rstrip() for line in org.splitlines() if line.strip()]
+    return "\n".join(lines[:1] + ["|" + "---|" * (lines[0].count("|") - 1)] + lines[1:])
 
 
-REF = {"a": A, "p0": P0}
-
-
-def table(results):
+def table(results, convergence_table, command):
     out = ["<!-- written by benchmarks/hertz.py -->", "",
+           f"Command: `{command}` (feticontact's refinement study of prm/hertz.prm).", "",
            f"Hertz: a = {A:.5e} m (a/R = {A / R:.3f}), p0 = {P0:.5e} Pa, P = {P:g} N.", "",
-           "| n | unknowns | contact nodes | h at r = 0 (m) | elements across a | a (m) | a error | rate "
-           "| p0 (Pa) | p0 error | rate | total contact force / P − 1 | time (s) | n_A |",
-           "|---" * 14 + "|"]
+           "deal.II ConvergenceTable written by feticontact (output/hertz/convergence_table.org;"
+           " errors relative, rates log(e_{i−1}/e_i)/log(n_i/n_{i−1})):", "",
+           markdown_table(convergence_table), "",
+           "Signed errors, checked by this script from contact.csv (h: the element at the "
+           "contact point):", "",
+           "| n | unknowns | h at r = 0 (m) | nodes across a | a error | p0 error "
+           "| total contact force / P − 1 | time (s) | n_A |",
+           "|---" * 9 + "|"]
     for i, r in enumerate(results):
-        out.append(f"| {r['n']} | {r['dofs']} | {r['m']} | {r['h']:.2e} | {r['n_across']} | "
-                   f"{r['a']:.5e} | {(r['a'] - A) / A:+.2%} | {rate(results, i, 'a')} | "
-                   f"{r['p0']:.5e} | {(r['p0'] - P0) / P0:+.2%} | {rate(results, i, 'p0')} | "
+        out.append(f"| {r['n']} | {r['dofs']} | {r['h']:.2e} | {r['n_across']} | "
+                   f"{(r['a'] - A) / A:+.2%} | {(r['p0'] - P0) / P0:+.2%} | "
                    f"{r['total'] / P - 1:.1e} | {r['time']:.2f} | {r['n_A']} |")
     return "\n".join(out) + "\n"
 

@@ -4,6 +4,7 @@
  *   feticontact scene.prm                 run the scene
  *   feticontact --validate scene.prm      parse and check the parameter file, then exit
  *   feticontact --set "Body 1/Mesh/Subdivisions=24, 8, 8" scene.prm   override an entry
+ *   feticontact --set "Refinement study/Subdivision factors=1, 2" scene.prm   a refinement study
  *   feticontact --print-parameters        every parameter with its default and documentation
  *   feticontact --help
  */
@@ -13,6 +14,7 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_geometry.h>
+#include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/scene/scene_parameters.h>
 
@@ -126,11 +128,24 @@ main(int argc, char **argv)
           return 0;
         }
 
-      std::ostringstream effective;
-      prm.print_parameters(effective, dealii::ParameterHandler::PRM);
       std::ifstream      in(filename);
       std::ostringstream verbatim;
       verbatim << in.rdbuf();
+
+      if (!scene.refinement_study.subdivision_factors.empty())
+        {
+          RefinementStudy study(comm, filename, overrides, verbatim.str());
+          if (!study.run())
+            {
+              if (root)
+                std::cerr << "Error: " << study.message() << "." << std::endl;
+              return 2;
+            }
+          return 0;
+        }
+
+      std::ostringstream effective;
+      prm.print_parameters(effective, dealii::ParameterHandler::PRM);
 
       Simulator  simulator(comm, scene, effective.str(), verbatim.str());
       const bool converged = simulator.run();

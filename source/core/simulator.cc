@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 
 namespace FetiContact
@@ -283,6 +285,10 @@ namespace FetiContact
                                               vertex_u,
                                               check,
                                               tresca ? parameters.contact_solver.slip_bound : -1.0);
+        // Before any file is written: a scene that does not fit the comparison is refused
+        // without result files.
+        if (parameters.verification.hertz.enabled)
+          run_statistics.hertz = compare_with_hertz(parameters, contact_nodes, results);
         for (unsigned int k = 0; k < contact_nodes.size(); ++k)
           {
             const auto        &node = contact_nodes[k];
@@ -318,7 +324,16 @@ namespace FetiContact
         pcout << "Check: penetration " << check.penetration << ", cone violation "
               << check.cone_violation << ", complementarity " << check.complementarity
               << ", slip angle " << check.slip_angle << std::endl;
+        if (run_statistics.hertz)
+          {
+            if (pcout.is_active())
+              run_statistics.hertz->print(pcout.get_stream());
+            summary.set("hertz", run_statistics.hertz->json());
+          }
       }
+    else
+      require(!parameters.verification.hertz.enabled,
+              "Verification/Hertz: the scene has no contact nodes.");
 
     JsonObject equilibrium;
     double     worst = 0;
@@ -428,12 +443,25 @@ namespace FetiContact
       total += value;
     t.set("total", total);
 
+    double h_min = std::numeric_limits<double>::max();
+    for (const auto &body : bodies)
+      h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
+    run_statistics.n_primal         = n_primal;
+    run_statistics.n_contact_nodes  = contact_nodes.size();
+    run_statistics.outer_iterations = iterations;
+    run_statistics.hessian_multiplications =
+      contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
+    run_statistics.h_min               = h_min;
+    run_statistics.solve_time          = time("solve");
+    run_statistics.time_without_output = total - time("output");
+
     JsonObject s;
     s.set("converged", converged)
       .set("n_primal", n_primal)
       .set("n_primal_feti", n_primal_feti)
       .set("n_subdomains", first_subdomain.back())
       .set("n_rigid_modes", mode_offset.back())
+      .set("h_min", h_min)
       .set("m_total", dual->size())
       .set("m_equality", layout.n_equality)
       .set("m_contact", layout.n_normal + layout.n_tangential)

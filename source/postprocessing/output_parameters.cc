@@ -58,6 +58,7 @@ namespace FetiContact::Parameters
                       "the relative difference of the displacements from it, in the maximum "
                       "norm and in the energy norm of the body's stiffness (summary.json: "
                       "reference_difference). Empty: no comparison.");
+    HertzComparison::declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -69,6 +70,47 @@ namespace FetiContact::Parameters
     reference_displacements = InputParsing::trim(prm.get("Reference displacements"));
     require(reference_displacements.empty() || std::ifstream(reference_displacements).good(),
             "Verification/Reference displacements: cannot open '" + reference_displacements + "'.");
+    hertz.parse_parameters(prm);
+    prm.leave_subsection();
+  }
+
+  void
+  HertzComparison::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Hertz");
+    prm.declare_entry("Enabled",
+                      "false",
+                      Patterns::Bool(),
+                      "Compare the contact of zone 1 (a body with a spherical bottom on a rigid "
+                      "plane) with Hertz's solution a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²), "
+                      "E* = E/(1 − ν²): the contact radius and the peak pressure measured from the "
+                      "nodal pressures λ_N / area (log.txt, summary.json: hertz).");
+    prm.declare_entry("Total force",
+                      "0",
+                      Patterns::Double(0),
+                      "P: the total normal force on the whole sphere [N]; 0: the computed normal "
+                      "contact force times the symmetry factor (scenes loaded by a prescribed "
+                      "displacement).");
+    prm.declare_entry("Sphere radius",
+                      "0",
+                      Patterns::Double(0),
+                      "R [m]; 0: the Spherical bottom radius of the zone's body.");
+    prm.declare_entry("Symmetry factor",
+                      "1",
+                      Patterns::Double(1),
+                      "The whole sphere over the part meshed: 4 for a quarter model (two symmetry "
+                      "planes), 2 for a half model, 1 for the whole body.");
+    prm.leave_subsection();
+  }
+
+  void
+  HertzComparison::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Hertz");
+    enabled         = prm.get_bool("Enabled");
+    total_force     = prm.get_double("Total force");
+    sphere_radius   = prm.get_double("Sphere radius");
+    symmetry_factor = prm.get_double("Symmetry factor");
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

@@ -2,6 +2,7 @@
 #include <feticontact/scene/scene_parameters.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -29,6 +30,7 @@ namespace FetiContact::Parameters
     Feti::declare_parameters(prm);
     Output::declare_parameters(prm);
     Verification::declare_parameters(prm);
+    RefinementStudy::declare_parameters(prm);
   }
 
   void
@@ -57,6 +59,63 @@ namespace FetiContact::Parameters
     feti.parse_parameters(prm);
     output.parse_parameters(prm);
     verification.parse_parameters(prm);
+    refinement_study.parse_parameters(prm);
+    if (verification.hertz.enabled)
+      {
+        require(!contact.zones.empty() && contact.zones[0].type == ContactZone::Type::rigid_plane,
+                "Verification/Hertz: contact zone 1 must be a rigid plane.");
+        const auto &body = bodies[contact.zones[0].body];
+        require(verification.hertz.sphere_radius > 0 || body.mesh.spherical_bottom_radius > 0,
+                "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or "
+                "give body '" +
+                  body.name + "' a Spherical bottom radius).");
+      }
+    if (!refinement_study.subdivision_factors.empty())
+      for (const auto &body : bodies)
+        require(body.mesh.type == Mesh::Type::box,
+                "Refinement study: body '" + body.name +
+                  "' reads its mesh from a file; a refinement study multiplies the Subdivisions "
+                  "of generated box meshes.");
+  }
+
+  void
+  RefinementStudy::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Refinement study");
+    prm.declare_entry(
+      "Subdivision factors",
+      "",
+      Patterns::Anything(),
+      "Empty: solve the scene once. Else a comma-separated list of factors, "
+      "e.g. '1, 1.5, 2, 3': the scene is solved once per factor with the "
+      "Subdivisions of every (box) body multiplied by it and rounded, into "
+      "Output/Directory/cycle-N, and Output/Directory/convergence_table.txt "
+      "(and .org, refinement_study.json) tabulates unknowns, h_min, iterations, "
+      "time and, with Verification/Hertz, the errors of a and p0 with their "
+      "rates against the factor (deal.II's ConvergenceTable; each cell's size scales as "
+      "1/factor).");
+    prm.leave_subsection();
+  }
+
+  void
+  RefinementStudy::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Refinement study");
+    const std::string text = InputParsing::trim(prm.get("Subdivision factors"));
+    prm.leave_subsection();
+    subdivision_factors.clear();
+    if (text.empty())
+      return;
+    for (const auto &item : InputParsing::split(text, ','))
+      {
+        const double f = InputParsing::parse_double(item, "Refinement study/Subdivision factors");
+        require(f > 0 && std::isfinite(f),
+                "Refinement study/Subdivision factors must be positive; got '" +
+                  InputParsing::trim(item) + "'.");
+        require(subdivision_factors.empty() || f > subdivision_factors.back(),
+                "Refinement study/Subdivision factors must increase; got '" + text + "'.");
+        subdivision_factors.push_back(f);
+      }
   }
 
   namespace

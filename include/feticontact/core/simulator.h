@@ -11,6 +11,7 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/feti/dual_problem.h>
+#include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -18,6 +19,7 @@
 #include <fstream>
 #include <memory>
 #include <mpi.h>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -61,6 +63,25 @@ namespace FetiContact
     no_equilibrium() const
     {
       return equilibrium_impossible;
+    }
+
+    /** What a refinement study tabulates of a run (RefinementStudy). */
+    struct Statistics
+    {
+      unsigned int n_primal = 0, n_contact_nodes = 0, outer_iterations = 0,
+                   hessian_multiplications = 0;
+      /** The smallest cell diameter of all bodies. */
+      double h_min = 0;
+      /** Wall time of the solve and of the whole run without output [s]. */
+      double solve_time = 0, time_without_output = 0;
+      /** Verification/Hertz, if enabled. */
+      std::optional<HertzResult> hertz;
+    };
+    /** Available after run(). */
+    const Statistics &
+    statistics() const
+    {
+      return run_statistics;
     }
 
   private:
@@ -123,5 +144,6 @@ namespace FetiContact
     std::string                         message;
     unsigned int                        iterations = 0;
     unsigned int                        n_bound = 0, n_disc = 0;
+    Statistics                          run_statistics;
   };
 } // namespace FetiContact

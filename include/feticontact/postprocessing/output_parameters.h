@@ -19,6 +19,29 @@ namespace FetiContact::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
+  /**
+   * `subsection Verification / subsection Hertz`: compare the contact of a body with a spherical
+   * bottom on a rigid plane (contact zone 1) with Hertz's solution (DESIGN.md §6).
+   */
+  struct HertzComparison
+  {
+    bool enabled = false;
+    /**
+     * The total normal force P on the whole sphere; 0: the computed normal contact force times
+     * the symmetry factor (for scenes loaded by a prescribed displacement).
+     */
+    double total_force = 0;
+    /** The sphere's radius R; 0: the `Spherical bottom radius` of the zone's body. */
+    double sphere_radius = 0;
+    /** The whole sphere over the part meshed: 4 for a quarter model, 2 for a half, 1 for all. */
+    double symmetry_factor = 1;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /** `subsection Verification`: checks against an independent solve. */
   struct Verification
   {
@@ -33,6 +56,8 @@ namespace FetiContact::Parameters
      * (summary.json: reference_difference). Empty: none.
      */
     std::string reference_displacements;
+    /** Hertz's solution for the contact radius and peak pressure. */
+    HertzComparison hertz;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -14,6 +14,22 @@
 namespace FetiContact::Parameters
 {
   /**
+   * `subsection Refinement study`: solve the scene on a sequence of meshes, each generated box
+   * mesh with its `Subdivisions` multiplied by a factor (the decomposition, grading and every
+   * other entry kept), and tabulate the results with their convergence rates (RefinementStudy).
+   */
+  struct RefinementStudy
+  {
+    /** The factors, one solve each, in the given order (increasing); empty: a single run. */
+    std::vector<double> subdivision_factors;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /**
    * The whole parameter file: the bodies (`subsection Body 1`, `Body 2`, …, as many as
    * `Number of bodies`), the FETI solver, output and verification.
    */
@@ -25,6 +41,7 @@ namespace FetiContact::Parameters
     Feti              feti;
     Output            output;
     Verification      verification;
+    RefinementStudy   refinement_study;
 
     /** Declares everything for a scene with @p n_bodies bodies and @p n_zones contact zones. */
     static void

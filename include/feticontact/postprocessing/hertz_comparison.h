@@ -1,0 +1,59 @@
+#pragma once
+
+#include <feticontact/base/json_writer.h>
+#include <feticontact/contact/contact_geometry.h>
+#include <feticontact/contact/contact_results.h>
+#include <feticontact/postprocessing/output_parameters.h>
+#include <feticontact/scene/scene_parameters.h>
+
+#include <ostream>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The contact of a body with a spherical bottom on a rigid plane against Hertz's solution
+   * (DESIGN.md §6): E* = E/(1 − ν²), a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
+   * p(r) = p0 √(1 − r²/a²).
+   *
+   * Measured from the nodal pressures p = λ_N / area of contact zone 1 (the lumped pressure, the
+   * mean of p over the node's patch, so it approaches p0 from below as h → 0):
+   *  - the touch point: the node of the zone with the smallest initial gap;
+   *  - p0: the pressure at that node;
+   *  - a: along the ray from the touch point in the direction of x projected on the plane (for a
+   *    quarter or half model: its symmetry line), between the outermost node in contact
+   *    (p > 1e-6 max p) and the next node outwards, where p², linear in r² for Hertz, extrapolated
+   *    from the last two nodes in contact, vanishes (never beyond the first open node).
+   */
+  struct HertzResult
+  {
+    /** Hertz: P, R, E*, a and p0. */
+    double P = 0, R = 0, E_star = 0, a_hertz = 0, p0_hertz = 0;
+    /** Measured: a, p0, and the normal contact force times the symmetry factor. */
+    double a = 0, p0 = 0, total_normal_force = 0;
+    /** Contact nodes on the ray within the measured radius (the touch point excluded). */
+    unsigned int nodes_across_a = 0;
+    /** |a − a_H| / a_H and |p0 − p0_H| / p0_H. */
+    double
+    a_error() const;
+    double
+    p0_error() const;
+
+    JsonObject
+    json() const;
+    /** A few lines for log.txt. */
+    void
+    print(std::ostream &out) const;
+  };
+
+  /**
+   * Evaluates zone 1 of @p scene (it must be a rigid plane; its body's material and, unless
+   * `Verification/Hertz/Sphere radius` is given, its `Spherical bottom radius` are used).
+   * Throws InputError when the scene does not fit (no rigid plane, no radius, fewer than two
+   * nodes on the ray, nothing in contact).
+   */
+  HertzResult
+  compare_with_hertz(const Parameters::Scene              &scene,
+                     const std::vector<ContactNode>       &nodes,
+                     const std::vector<ContactNodeResult> &results);
+} // namespace FetiContact

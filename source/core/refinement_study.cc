@@ -1,0 +1,151 @@
+#include <deal.II/base/mpi.h>
+
+#include <feticontact/base/json_writer.h>
+#include <feticontact/core/refinement_study.h>
+#include <feticontact/core/simulator.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  RefinementStudy::RefinementStudy(const MPI_Comm                  comm,
+                                   const std::string              &filename,
+                                   const std::vector<std::string> &overrides,
+                                   const std::string              &input)
+    : comm(comm)
+    , filename(filename)
+    , overrides(overrides)
+    , input(input)
+  {}
+
+  bool
+  RefinementStudy::run()
+  {
+    const bool root = Utilities::MPI::this_mpi_process(comm) == 0;
+    const auto base_directory = std::filesystem::path(filename).parent_path().string();
+
+    ParameterHandler base_prm;
+    Parameters::Scene::read_parameter_file(base_prm, filename, overrides);
+    Parameters::Scene base;
+    base.parse_parameters(base_prm, base_directory);
+    const std::string directory = base.output.directory;
+    if (root)
+      {
+        std::filesystem::create_directories(directory);
+        for (const char *name :
+             {"convergence_table.txt", "convergence_table.org", "refinement_study.json"})
+          std::filesystem::remove(std::filesystem::path(directory) / name);
+      }
+
+    ConvergenceTable                     table;
+    std::map<std::string, std::vector<double>> columns;
+    const auto add = [&](const std::string &key, const auto value) {
+      table.add_value(key, value);
+      columns[key].push_back(double(value));
+    };
+    const auto &factors = base.refinement_study.subdivision_factors;
+    for (unsigned int cycle = 0; cycle < factors.size(); ++cycle)
+      {
+        // This cycle's overrides: the subdivisions of every body times the factor, its own
+        // output folder.
+        std::vector<std::string> cycle_overrides = overrides;
+        std::ostringstream       subdivisions;
+        for (unsigned int b = 0; b < base.bodies.size(); ++b)
+          {
+            std::ostringstream entry;
+            entry << "Body " << b + 1 << "/Mesh/Subdivisions=";
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                const long n = std::max(
+                  1L, std::lround(base.bodies[b].mesh.subdivisions[d] * factors[cycle]));
+                entry << (d > 0 ? ", " : "") << n;
+                subdivisions << (d > 0 ? "×" : (b > 0 ? "; " : "")) << n;
+              }
+            cycle_overrides.push_back(entry.str());
+          }
+        const std::string cycle_directory = directory + "/cycle-" + std::to_string(cycle + 1);
+        cycle_overrides.push_back("Output/Directory=" + cycle_directory);
+
+        ParameterHandler prm;
+        Parameters::Scene::read_parameter_file(prm, filename, cycle_overrides);
+        Parameters::Scene scene;
+        scene.parse_parameters(prm, base_directory);
+        std::ostringstream effective;
+        prm.print_parameters(effective, ParameterHandler::PRM);
+        if (root)
+          std::cout << "\nRefinement study: cycle " << cycle + 1 << " of " << factors.size()
+                    << ", factor " << factors[cycle] << ", subdivisions " << subdivisions.str()
+                    << ", output in " << cycle_directory << std::endl;
+
+        Simulator simulator(comm, scene, effective.str(), input);
+        if (!simulator.run())
+          {
+            failure = "refinement study: cycle " + std::to_string(cycle + 1) + " (factor " +
+                      std::to_string(factors[cycle]) + "): " + simulator.solver_message() +
+                      " (see " + cycle_directory + "/log.txt)";
+            break;
+          }
+        const auto &s = simulator.statistics();
+        table.add_value("cycle", cycle + 1);
+        columns["cycle"].push_back(cycle + 1);
+        add("factor", factors[cycle]);
+        add("unknowns", s.n_primal);
+        add("contact nodes", s.n_contact_nodes);
+        add("h_min", s.h_min);
+        add("Iter", s.outer_iterations);
+        add("n_A", s.hessian_multiplications);
+        add("solve [s]", s.solve_time);
+        if (s.hertz)
+          {
+            add("a", s.hertz->a);
+            add("a error", s.hertz->a_error());
+            add("p0", s.hertz->p0);
+            add("p0 error", s.hertz->p0_error());
+          }
+      }
+
+    if (!columns.empty())
+      {
+        for (const std::string key : {"h_min", "a", "a error", "p0", "p0 error"})
+          if (columns.count(key))
+            {
+              table.set_scientific(key, true);
+              table.set_precision(key, 3);
+            }
+        table.set_precision("solve [s]", 2);
+        for (const std::string key : {"a error", "p0 error"})
+          if (columns.count(key))
+            // Every cell's size is h/factor: the grading and the spherical bottom are fixed
+            // maps of the box, refined uniformly by the factor.
+            table.evaluate_convergence_rates(key, "factor", ConvergenceTable::reduction_rate_log2,
+                                             1);
+        if (root)
+          {
+            std::cout << "\nRefinement study (" << directory << "/convergence_table.txt):\n";
+            table.write_text(std::cout, TableHandler::table_with_headers);
+            write_table(table, directory);
+            JsonObject json;
+            for (const auto &[key, values] : columns)
+              json.set(key, values);
+            std::ofstream(directory + "/refinement_study.json") << json.str() << '\n';
+          }
+      }
+    return failure.empty();
+  }
+
+  void
+  RefinementStudy::write_table(ConvergenceTable &table, const std::string &directory) const
+  {
+    std::ofstream text(directory + "/convergence_table.txt");
+    table.write_text(text, TableHandler::table_with_headers);
+    std::ofstream org(directory + "/convergence_table.org");
+    table.write_text(org, TableHandler::org_mode_table);
+  }
+} // namespace FetiContact

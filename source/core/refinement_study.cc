@@ -28,7 +28,7 @@ namespace FetiContact
   bool
   RefinementStudy::run()
   {
-    const bool root = Utilities::MPI::this_mpi_process(comm) == 0;
+    const bool root           = Utilities::MPI::this_mpi_process(comm) == 0;
     const auto base_directory = std::filesystem::path(filename).parent_path().string();
 
     ParameterHandler base_prm;
@@ -44,9 +44,9 @@ namespace FetiContact
           std::filesystem::remove(std::filesystem::path(directory) / name);
       }
 
-    ConvergenceTable                     table;
+    ConvergenceTable                           table;
     std::map<std::string, std::vector<double>> columns;
-    const auto add = [&](const std::string &key, const auto value) {
+    const auto                                 add = [&](const std::string &key, const auto value) {
       table.add_value(key, value);
       columns[key].push_back(double(value));
     };
@@ -63,8 +63,8 @@ namespace FetiContact
             entry << "Body " << b + 1 << "/Mesh/Subdivisions=";
             for (unsigned int d = 0; d < 3; ++d)
               {
-                const long n = std::max(
-                  1L, std::lround(base.bodies[b].mesh.subdivisions[d] * factors[cycle]));
+                const long n =
+                  std::max(1L, std::lround(base.bodies[b].mesh.subdivisions[d] * factors[cycle]));
                 entry << (d > 0 ? ", " : "") << n;
                 subdivisions << (d > 0 ? "×" : (b > 0 ? "; " : "")) << n;
               }
@@ -124,7 +124,9 @@ namespace FetiContact
           if (columns.count(key))
             // Every cell's size is h/factor: the grading and the spherical bottom are fixed
             // maps of the box, refined uniformly by the factor.
-            table.evaluate_convergence_rates(key, "factor", ConvergenceTable::reduction_rate_log2,
+            table.evaluate_convergence_rates(key,
+                                             "factor",
+                                             ConvergenceTable::reduction_rate_log2,
                                              1);
         if (root)
           {

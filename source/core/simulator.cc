@@ -442,6 +442,26 @@ namespace FetiContact
     for (const auto &[name, value] : times)
       total += value;
     t.set("total", total);
+    // Inside the solve: the applications of F (local solves with the factors, B, Bᵀ, the sum over
+    // ranks; the slowest rank) and the rest, the QP's own work (vector operations, projections,
+    // the coarse problem's applications of G). The cost floor of the method is the
+    // factorization and n_A applications of F; total_over_floor compares the run without output
+    // with it.
+    const double       hessian_time = Utilities::MPI::max(solve_F_time, comm);
+    const double       mean_F = solve_F_applications > 0 ? hessian_time / solve_F_applications : 0;
+    const unsigned int n_A    = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
+    const double       floor  = time("factorization") + n_A * mean_F;
+    t.set("hessian_applications", hessian_time)
+      .set("qp_bookkeeping", time("solve") - hessian_time)
+      .set("one_hessian_application", mean_F)
+      .set("cost_floor", floor)
+      .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
+    pcout << "Time: solve " << time("solve") << " s = applications of F " << hessian_time << " s ("
+          << solve_F_applications << ", " << mean_F << " s each) + QP bookkeeping "
+          << time("solve") - hessian_time
+          << " s; cost floor (factorization + n_A × one application of F) " << floor
+          << " s, run without output / floor "
+          << (floor > 0 ? (total - time("output")) / floor : 0.) << std::endl;
 
     double h_min = std::numeric_limits<double>::max();
     for (const auto &body : bodies)
@@ -498,6 +518,8 @@ namespace FetiContact
           << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
           << std::endl;
     solve();
+    solve_F_time         = dual->F_time;
+    solve_F_applications = dual->n_F_applications;
     // Without equilibrium the multipliers are not a solution: no displacement or contact files.
     if (!equilibrium_impossible)
       postprocess();

@@ -1,6 +1,7 @@
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/dual_problem.h>
 
+#include <chrono>
 #include <unordered_map>
 
 namespace FetiContact
@@ -94,6 +95,7 @@ namespace FetiContact
   void
   DualProblem::apply_F(const Vector<double> &x, Vector<double> &y) const
   {
+    const auto start = std::chrono::steady_clock::now();
     y.reinit(size());
     for (unsigned int i = 0; i < owned.size(); ++i)
       {
@@ -103,6 +105,7 @@ namespace FetiContact
       }
     MPITools::sum_in_place(comm, y.begin(), y.size());
     ++n_F_applications;
+    F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   std::vector<Vector<double>>

@@ -60,8 +60,8 @@ namespace FetiContact
     const auto &body = scene.bodies[zone.body];
 
     HertzResult h;
-    h.R = parameters.sphere_radius > 0 ? parameters.sphere_radius :
-                                         body.mesh.spherical_bottom_radius;
+    h.R =
+      parameters.sphere_radius > 0 ? parameters.sphere_radius : body.mesh.spherical_bottom_radius;
     require(h.R > 0,
             "Verification/Hertz: no sphere radius (set Sphere radius, or give body '" + body.name +
               "' a Spherical bottom radius).");
@@ -84,13 +84,14 @@ namespace FetiContact
     h.p0_hertz = 3 * h.P / (2 * numbers::PI * h.a_hertz * h.a_hertz);
 
     // The touch point, and the ray from it along x projected on the plane.
-    const unsigned int centre = *std::min_element(
-      zone_nodes.begin(), zone_nodes.end(), [&](const unsigned int i, const unsigned int j) {
-        return nodes[i].gap < nodes[j].gap;
-      });
-    h.p0                    = pressure(centre);
-    const Tensor<1, 3> &n   = nodes[centre].n;
-    Tensor<1, 3>        dir = Tensor<1, 3>({1., 0., 0.}) - n[0] * n;
+    const unsigned int centre = *std::min_element(zone_nodes.begin(),
+                                                  zone_nodes.end(),
+                                                  [&](const unsigned int i, const unsigned int j) {
+                                                    return nodes[i].gap < nodes[j].gap;
+                                                  });
+    h.p0                      = pressure(centre);
+    const Tensor<1, 3> &n     = nodes[centre].n;
+    Tensor<1, 3>        dir   = Tensor<1, 3>({1., 0., 0.}) - n[0] * n;
     require(dir.norm() > 1e-6,
             "Verification/Hertz: the plane's normal is along x; the ray needs another direction.");
     dir /= dir.norm();

@@ -145,5 +145,8 @@ namespace FetiContact
     unsigned int                        iterations = 0;
     unsigned int                        n_bound = 0, n_disc = 0;
     Statistics                          run_statistics;
+    /** Time in and number of applications of F up to the end of the solve. */
+    double       solve_F_time         = 0;
+    unsigned int solve_F_applications = 0;
   };
 } // namespace FetiContact

@@ -40,7 +40,7 @@ namespace FetiContact
       return c.size();
     }
 
-    /** y = F x (counted in n_F_applications). */
+    /** y = F x (counted in n_F_applications, timed in F_time). */
     void
     apply_F(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
 
@@ -62,6 +62,8 @@ namespace FetiContact
     CoarseProblem          coarse;
     dealii::Vector<double> h, c, e;
     mutable unsigned int   n_F_applications = 0;
+    /** Wall time spent in apply_F (local solves, B and Bᵀ, the sum over ranks) [s]. */
+    mutable double F_time = 0;
 
   private:
     /** B_i in coordinate form: rows (dual indices), DoFs of subdomain i, values. */

@@ -64,7 +64,14 @@ namespace FetiContact::Parameters
                       "max(QP relative tolerance, c × the relative change of the slip bound in "
                       "step j − 1) (1 in step 1); MSA stops only after a step solved to the QP "
                       "relative tolerance. 0: every step to the QP relative tolerance.");
-    prm.declare_entry("Maximum SMALBE iterations", "200", Patterns::Integer(1), "");
+    prm.declare_entry("Maximum SMALBE iterations",
+                      "auto",
+                      Patterns::Anything(),
+                      "The limit of SMALBE's outer iterations per QP solve, or 'auto': 200 for "
+                      "algorithm 2 (per call of its loop, which is then repeated warm), 2000 for "
+                      "the others. With a small penalty (algorithm 1: ρ = 0.1‖F‖) ‖Gλ − e‖ can "
+                      "fall by only a few percent per iteration; the brick with Algorithm 1 at "
+                      "F = 0.1 or 1e-8 or without contact needs 300–700 (doc/validation.md).");
     prm.declare_entry("Maximum inner iterations",
                       "10000",
                       Patterns::Integer(1),
@@ -149,11 +156,23 @@ namespace FetiContact::Parameters
     inner_tolerance_floor = prm.get_double("Inner tolerance floor");
     require(inner_tolerance_floor > 0,
             "Contact solver/Inner tolerance floor must lie in (0, 1]; got 0.");
-    max_smalbe_iterations = prm.get_integer("Maximum SMALBE iterations");
-    max_inner_iterations  = prm.get_integer("Maximum inner iterations");
-    gauss_seidel_sweeps   = prm.get_integer("Gauss-Seidel sweeps");
-    relaxation            = prm.get_double("Relaxation");
-    continuation_steps    = prm.get_integer("Friction continuation steps");
+    const std::string smalbe_limit = InputParsing::trim(prm.get("Maximum SMALBE iterations"));
+    if (smalbe_limit == "auto")
+      max_smalbe_iterations = algorithm == Algorithm::algorithm_2 ? 200 : 2000;
+    else
+      {
+        const double limit =
+          InputParsing::parse_double(smalbe_limit, "Contact solver/Maximum SMALBE iterations");
+        require(limit >= 1 && limit == std::floor(limit) && limit <= 1e9,
+                "Contact solver/Maximum SMALBE iterations must be 'auto' or a positive integer; "
+                "got '" +
+                  smalbe_limit + "'.");
+        max_smalbe_iterations = static_cast<unsigned int>(limit);
+      }
+    max_inner_iterations = prm.get_integer("Maximum inner iterations");
+    gauss_seidel_sweeps  = prm.get_integer("Gauss-Seidel sweeps");
+    relaxation           = prm.get_double("Relaxation");
+    continuation_steps   = prm.get_integer("Friction continuation steps");
     require(relaxation > 0, "Contact solver/Relaxation must be in (0, 1]; got 0.");
     const std::string penalty = prm.get("Penalty factor");
     if (penalty == "auto")

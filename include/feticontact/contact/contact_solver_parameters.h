@@ -45,8 +45,9 @@ namespace FetiContact::Parameters
      */
     double inexact_msa_factor = 1e-2;
     /** QP::SmalbeOptions::inner_floor. */
-    double       inner_tolerance_floor = 1;
-    unsigned int max_smalbe_iterations = 200;
+    double inner_tolerance_floor = 1;
+    /** SMALBE outer iterations per QP solve ("auto": 200 for algorithm 2, 2000 otherwise). */
+    unsigned int max_smalbe_iterations = 2000;
     unsigned int max_inner_iterations  = 10000;
     /** Gauss–Seidel sweeps over (λ_c, λ_t) per inner problem (Algorithm 1). */
     unsigned int gauss_seidel_sweeps = 1;

@@ -8,7 +8,7 @@ below which solving harder buys nothing.
         [--tolerances 1e-2,1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10] [--repeats 3]
         [--repeats-large 1] [--algorithm mpgp] [--reference-tolerance 1e-12] [--timeout 7200]
         [--csv doc/data/accuracy_sweep.csv] [--markdown doc/data/accuracy_sweep.md]
-        [--work DIR] [--keep-measured]
+        [--work DIR] [--keep-measured] [--add-repeats N]
     /usr/bin/python3 benchmarks/accuracy_sweep.py --plot doc/data/accuracy_sweep.csv doc/accuracy_sweep.png
 
 One tolerance t sets both relative tolerances, `MSA relative tolerance = t` and `QP relative
@@ -23,6 +23,8 @@ tolerance = t` (DESIGN.md §4). For each k and t:
 The discretization error of mesh k is that of its reference solve against the finest mesh's,
 max_v |u_k − u_fine| / max_v |u_fine| over the vertices of the coarsest mesh (they belong to
 every mesh when the coarsest k divides every other k, as 8 | 16 and 8 | 24).
+--add-repeats N runs the measured rows of the meshes --k again until each has N runs (for the
+rows measured once; the medians then cover all runs, and each repeat must reproduce n_A).
 --keep-measured keeps the rows already in --csv and runs only the missing (k, tolerance) pairs;
 the reference solves are taken from --work (reference_k<k>/) when there, else solved again (they
 are needed for the errors and the discretization error).
@@ -37,13 +39,13 @@ import subprocess
 import sys
 import tempfile
 
+from cli import arguments, option
+
 PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
 FIELDS = ["k", "n", "tolerance", "status", "time", "time_solve", "iter", "n_A", "e_max",
           "e_energy", "e_force", "status_changes", "runs"]
-
-
-def option(name, default):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+# The single runs behind the medians (';'-separated), so that --add-repeats can add runs later.
+RAW = ["times", "solve_times"]
 
 
 def run(exe, k, tolerance, algorithm, outdir, timeout, reference=None):
@@ -151,6 +153,7 @@ def measure(exe, ks, tolerances, repeats, repeats_large, algorithm, reference_to
                 e_force, changes = contact_errors(out, reference_contact)
             d = summary["reference_difference"]
             row = dict(k=k, n=summary["n_primal"], tolerance=t, status=status,
+                       times=times, solve_times=solve_times,
                        time=statistics.median(times), time_solve=statistics.median(solve_times),
                        iter=summary["outer_iterations"],
                        n_A=summary["hessian_multiplications"]["total"],
@@ -170,12 +173,44 @@ def measure(exe, ks, tolerances, repeats, repeats_large, algorithm, reference_to
     return rows, discretization
 
 
+def add_repeats(exe, rows, ks, target, algorithm, timeout, save, discretization):
+    """More runs for the measured rows of the meshes ks that have fewer than target runs (their
+    single runs known): the medians are taken over all runs, and every new run must repeat the
+    stored multiplication count (the solver is deterministic)."""
+    for row in rows:
+        if row["k"] not in ks or row["status"] != "converged" or row.get("e_max") == 0.0:
+            continue
+        missing = target - row["runs"]
+        if missing <= 0:
+            continue
+        if len(row["times"]) != row["runs"]:
+            print(f"k = {row['k']}, t = {row['tolerance']:g}: single runs unknown, skipped")
+            continue
+        for _ in range(missing):
+            with tempfile.TemporaryDirectory() as out:
+                summary, status = run(exe, row["k"], row["tolerance"], algorithm, out, timeout)
+            if summary is None or summary["hessian_multiplications"]["total"] != row["n_A"]:
+                raise SystemExit(f"k = {row['k']}, t = {row['tolerance']:g}: the repeat gave "
+                                 f"{status}, n_A {summary and summary['hessian_multiplications']}"
+                                 f" against {row['n_A']}")
+            row["times"].append(time_without_output(summary))
+            row["solve_times"].append(summary["times"]["solve"])
+        row["runs"] = len(row["times"])
+        row["time"] = statistics.median(row["times"])
+        row["time_solve"] = statistics.median(row["solve_times"])
+        save(rows, discretization)
+        print(f"k = {row['k']}, t = {row['tolerance']:g}: {row['runs']} runs, median "
+              f"{row['time']:.3g} s ({', '.join(f'{v:.3g}' for v in row['times'])})", flush=True)
+
+
 def write_csv(path, rows, discretization):
     with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=FIELDS + ["discretization_error"])
+        w = csv.DictWriter(f, fieldnames=FIELDS + ["discretization_error"] + RAW)
         w.writeheader()
         for r in rows:
-            w.writerow({**r, "discretization_error": discretization.get(r["k"], "")})
+            raw = {key: ";".join(repr(v) for v in r.get(key, [])) for key in RAW}
+            w.writerow({**{key: r.get(key, "") for key in FIELDS},
+                        "discretization_error": discretization.get(r["k"], ""), **raw})
 
 
 def read_csv(path):
@@ -191,6 +226,11 @@ def read_csv(path):
                 r[key] = float(r[key])
         if r.get("discretization_error"):
             discretization[r["k"]] = float(r["discretization_error"])
+        for key in RAW:
+            r[key] = [float(v) for v in r[key].split(";")] if r.get(key) else []
+        # Rows written before the raw columns: a single run is its own median.
+        if r.get("runs") == 1 and not r["times"]:
+            r["times"], r["solve_times"] = [r["time"]], [r["time_solve"]]
     return rows, discretization
 
 
@@ -255,6 +295,9 @@ def main():
         i = sys.argv.index("--plot")
         plot(sys.argv[i + 1], sys.argv[i + 2])
         return
+    arguments(__doc__, ["--add-repeats", "--algorithm", "--csv", "--exe", "--k", "--markdown",
+              "--reference-tolerance", "--repeats", "--repeats-large", "--timeout",
+              "--tolerances", "--work"], ["--keep-measured"])
     exe = option("--exe", "build/feticontact")
     ks = [int(v) for v in option("--k", "8,16,24").split(",")]
     tolerances = [float(v) for v in
@@ -273,6 +316,16 @@ def main():
         write_csv(csv_path, rows, discretization)
         write_markdown(md_path, rows, discretization, command)
 
+    if "--add-repeats" in sys.argv:
+        rows, discretization = read_csv(csv_path)
+        if os.path.exists(md_path):
+            with open(md_path) as f:
+                first = [line for line in f if line.startswith("Command: `")]
+            if first:
+                command = first[0][len("Command: `"):].rstrip().rstrip("`") + "`, then `" + command
+        add_repeats(exe, rows, ks, int(option("--add-repeats", "3")), algorithm, timeout, save,
+                    discretization)
+        return
     measured = read_csv(csv_path)[0] if "--keep-measured" in sys.argv else []
     rows, discretization = measure(exe, ks, tolerances, repeats, repeats_large, algorithm,
                                    reference_tolerance, timeout, keep, save, measured)

@@ -26,6 +26,8 @@ import subprocess
 import sys
 import tempfile
 
+from cli import arguments, option
+
 # The seed's Tables 1-3 (Matlab 7, Pentium 4 3 GHz), as printed. Table 2's n_A^QPP + n_A^QPQ do
 # not add up to the printed n_A in the extracted text; both are quoted as printed.
 SEED = {
@@ -39,10 +41,6 @@ SEED = {
     "time4": [61, 548, 2114, 7724, 20534],
 }
 SEED_K = [4, 6, 8, 10, 12]
-
-
-def option(name, default):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
 
 
 def run_case(exe, k, friction, algorithm, polygon, repeats, timeout):
@@ -76,6 +74,8 @@ def run_case(exe, k, friction, algorithm, polygon, repeats, timeout):
 
 
 def measure():
+    arguments(__doc__, ["--csv", "--exe", "--k", "--limit", "--markdown", "--only",
+              "--repeats", "--timeout"], ["--merge", "--report-only"])
     exe = option("--exe", "build/feticontact")
     ks = [int(v) for v in option("--k", "4,6,8,10,12,16,20,24").split(",")]
     repeats = int(option("--repeats", "3"))

@@ -32,16 +32,14 @@ import subprocess
 import sys
 import tempfile
 
+from cli import arguments, option
+
 R, E, MU, L = 0.02, 2.1e11, 0.3, 0.007
 NU = float(sys.argv[sys.argv.index("--poisson") + 1]) if "--poisson" in sys.argv else 0.3
 E_STAR = E / (1 - NU ** 2)
 PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "cattaneo_mindlin.prm")
 FIELDS = ["n", "nu", "q", "q_meas", "P", "Q", "a_hertz", "a_meas", "c_meas", "c_over_a", "c_theory",
           "x_stick", "stick", "slip", "n_A", "time", "status"]
-
-
-def option(name, default):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
 
 
 def solve(exe, n, traction_x, outdir):
@@ -162,6 +160,8 @@ def main():
         i = sys.argv.index("--plot")
         plot(sys.argv[i + 1], sys.argv[i + 2])
         return
+    arguments(__doc__, ["--csv", "--exe", "--markdown", "--n", "--ratios", "--sliding",
+              "--poisson"], [])
     exe = option("--exe", "build/feticontact")
     ns = [int(v) for v in option("--n", "16").split(",")]
     ratios = [float(v) for v in option("--ratios", "0,0.2,0.4,0.6,0.8,0.9").split(",")]

@@ -29,16 +29,14 @@ import subprocess
 import sys
 import tempfile
 
+from cli import arguments, option
+
 R, E, NU, P = 0.02, 2.1e11, 0.3, 5e3
 L = 0.007            # edge of the quarter box (prm/hertz.prm)
 GRADING = 6.0      # β of prm/hertz.prm
 E_STAR = E / (1 - NU ** 2)
 A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
 P0 = 3 * P / (2 * math.pi * A ** 2)
-
-
-def option(name, default):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
 
 
 def read_contact(outdir):
@@ -67,6 +65,7 @@ def contact_radius(rows):
 
 
 def study():
+    arguments(__doc__, ["--csv", "--exe", "--markdown", "--n", "--work"], [])
     exe = option("--exe", "build/feticontact")
     ns = [int(v) for v in option("--n", "12,16,24,32,40").split(",")]
     md_path = option("--markdown", "doc/data/hertz.md")

@@ -19,12 +19,10 @@ import subprocess
 import sys
 import tempfile
 
+from cli import arguments, option
+
 PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
 CORNER = (3.0, 1.0, 1.0)
-
-
-def option(name, default):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
 
 
 def run(exe, k, nu):
@@ -53,6 +51,7 @@ def run(exe, k, nu):
 
 
 def main():
+    arguments(__doc__, ["--exe", "--k", "--markdown", "--nu"], [])
     exe = option("--exe", "build/feticontact")
     ks = [int(v) for v in option("--k", "4,8,16").split(",")]
     nus = [float(v) for v in option("--nu", "0,0.3,0.45,0.49,0.499").split(",")]

@@ -32,6 +32,7 @@ def main():
     exe, prm, outdir = sys.argv[1:4]
     shutil.rmtree(outdir, ignore_errors=True)
     here = os.path.dirname(os.path.abspath(__file__))
+    sys.path.insert(0, os.path.join(here, "..", "benchmarks"))  # hertz.py imports cli.py
     spec = importlib.util.spec_from_file_location(
         "hertz", os.path.join(here, "..", "benchmarks", "hertz.py"))
     hertz = importlib.util.module_from_spec(spec)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages this project needs, skipping those already present.
 # deal.II 9.4.1 pulls in Trilinos 13.2 (Amesos2, Epetra, Tpetra), SuiteSparse (CHOLMOD),
-# METIS, p4est and Open MPI. OpenBLAS replaces the reference BLAS: CHOLMOD's supernodal
+# METIS, p4est and Open MPI. libfclib-dev writes FCLIB problems (Output/Write FCLIB problem).
+# OpenBLAS replaces the reference BLAS: CHOLMOD's supernodal
 # factorization is about 8x faster with it. numdiff compares test output with tolerances.
 set -euo pipefail
 
@@ -13,6 +14,7 @@ packages=(
   openmpi-bin libopenmpi-dev
   libopenblas0-pthread libopenblas-pthread-dev
   numdiff
+  libfclib-dev
   python3 python3-numpy python3-matplotlib
 )
 

@@ -8,6 +8,7 @@
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/postprocessing/contact_output.h>
+#include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/solution_output.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/qp/projected_cg.h>
@@ -140,6 +141,10 @@ namespace FetiContact
         owned.push_back(s.get());
       // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
       contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
+      require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
+              "Verification/Hertz: the scene has no contact nodes.");
+      require(!contact_nodes.empty() || !parameters.output.write_fclib,
+              "Output/Write FCLIB problem: the scene has no contact nodes.");
       const bool polygonal =
         parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
       rows                    = build_contact_rows(contact_nodes,
@@ -302,6 +307,18 @@ namespace FetiContact
         if (rank == 0)
           {
             write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
+            if (parameters.output.write_fclib)
+              {
+                std::string title = "feticontact:";
+                for (const auto &body : bodies)
+                  title += (body->index > 0 ? ", " : " ") + body->parameters.name;
+                write_fclib(
+                  parameters.output.directory + "/fclib_problem.hdf5",
+                  assemble_fclib_problem(bodies, contact_nodes, results, vertex_u, mapping, fe),
+                  title,
+                  "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
+                  "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
+              }
             if (parameters.output.write_vtu)
               write_contact_surface_vtu(
                 parameters.output.directory, bodies, contact_nodes, results, contact_triangles);
@@ -331,9 +348,6 @@ namespace FetiContact
             summary.set("hertz", run_statistics.hertz->json());
           }
       }
-    else
-      require(!parameters.verification.hertz.enabled,
-              "Verification/Hertz: the scene has no contact nodes.");
 
     JsonObject equilibrium;
     double     worst = 0;

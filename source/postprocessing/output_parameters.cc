@@ -1,4 +1,5 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/output_parameters.h>
 
 #include <fstream>
@@ -26,6 +27,15 @@ namespace FetiContact::Parameters
                       "false",
                       Patterns::Bool(),
                       "Write displacements.csv: body, x, y, z, ux, uy, uz for every mesh vertex.");
+    prm.declare_entry("Write FCLIB problem",
+                      "false",
+                      Patterns::Bool(),
+                      "Write the discrete contact problem and the computed solution to "
+                      "fclib_problem.hdf5 in the global form of the Frictional Contact Library "
+                      "(FCLIB): M the stiffness of the undecomposed bodies without prescribed "
+                      "DoFs, H the contact frames [normal, t1, t2], w the gaps, mu per contact "
+                      "(doc/fclib.md), for Siconos or any other FCLIB solver. Coulomb friction "
+                      "only.");
     prm.leave_subsection();
   }
 
@@ -37,6 +47,10 @@ namespace FetiContact::Parameters
     require(!directory.empty(), "Output/Directory must not be empty.");
     write_vtu              = prm.get_bool("Write vtu");
     write_displacement_csv = prm.get_bool("Write displacement csv");
+    write_fclib            = prm.get_bool("Write FCLIB problem");
+    require(!write_fclib || fclib_available(),
+            "Output/Write FCLIB problem: this build has no FCLIB (install libfclib-dev, then run "
+            "cmake again).");
     prm.leave_subsection();
   }
 

@@ -70,6 +70,15 @@ namespace FetiContact::Parameters
                 "give body '" +
                   body.name + "' a Spherical bottom radius).");
       }
+    if (output.write_fclib)
+      {
+        require(!contact.zones.empty(),
+                "Output/Write FCLIB problem: the scene has no contact zones (FCLIB's problems "
+                "have contacts).");
+        require(contact_solver.friction_law == ContactSolver::FrictionLaw::coulomb,
+                "Output/Write FCLIB problem: FCLIB's problems have Coulomb friction; this scene "
+                "sets Contact solver/Friction law = tresca.");
+      }
     if (!refinement_study.subdivision_factors.empty())
       for (const auto &body : bodies)
         require(body.mesh.type == Mesh::Type::box,

@@ -12,6 +12,8 @@ namespace FetiContact::Parameters
     std::string directory              = "output";
     bool        write_vtu              = true;
     bool        write_displacement_csv = false;
+    /** The discrete problem and solution in FCLIB's global form (fclib_problem.hdf5). */
+    bool write_fclib = false;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -94,8 +94,7 @@ main(int argc, char **argv)
   fclib_solution *solution = problem ? fclib_read_solution(file.c_str()) : nullptr;
   if (!problem || !solution)
     {
-      std::cerr << "fclib_check: libfclib cannot read the problem and solution of " << file
-                << '\n';
+      std::cerr << "fclib_check: libfclib cannot read the problem and solution of " << file << '\n';
       return 1;
     }
   const fclib_matrix &M = *problem->M, &H = *problem->H;
@@ -112,23 +111,25 @@ main(int argc, char **argv)
 
   // M symmetric: Σ over entries of M − Mᵀ, by comparing column j with row j.
   {
-    double               asymmetry = 0, largest = 0;
-    std::vector<double>  row(n, 0.0);
+    double              asymmetry = 0, largest = 0;
+    std::vector<double> row(n, 0.0);
     for (int j = 0; j < n; ++j)
       for (int p = M.p[j]; p < M.p[j + 1]; ++p)
         largest = std::max(largest, std::abs(M.x[p]));
     for (int j = 0; j < n; ++j)
       for (int p = M.p[j]; p < M.p[j + 1]; ++p)
         {
-          const int i = M.i[p];
+          const int i   = M.i[p];
           double    mji = 0; // M(j, i): column i, row j
           for (int q = M.p[i]; q < M.p[i + 1]; ++q)
             if (M.i[q] == j)
               mji = M.x[q];
           asymmetry = std::max(asymmetry, std::abs(M.x[p] - mji));
         }
-    check(asymmetry <= 1e-12 * largest, "M symmetric (max |M − Mᵀ| / max |M|)",
-          asymmetry / largest, 1e-12);
+    check(asymmetry <= 1e-12 * largest,
+          "M symmetric (max |M − Mᵀ| / max |M|)",
+          asymmetry / largest,
+          1e-12);
   }
 
   const std::vector<double> v(solution->v, solution->v + n), u(solution->u, solution->u + m),
@@ -152,8 +153,10 @@ main(int argc, char **argv)
     for (int i = 0; i < n; ++i)
       residual[i] = Mv[i] - Hr[i] - f[i];
     const double scale = std::max({max_abs(Mv), max_abs(Hr), max_abs(f)});
-    check(max_abs(residual) <= tolerance * scale, "M v − H r − f (relative)",
-          max_abs(residual) / scale, tolerance);
+    check(max_abs(residual) <= tolerance * scale,
+          "M v − H r − f (relative)",
+          max_abs(residual) / scale,
+          tolerance);
   }
 
   // The Coulomb conditions of every contact. Natural map: r − P_C(r − ρ û), û = u + μ‖u_T‖ e_N,
@@ -165,22 +168,27 @@ main(int argc, char **argv)
     for (int k = 0; k < nc; ++k)
       {
         const double *rk = &r[3 * k], *uk = &u[3 * k], mu = problem->mu[k];
-        negative_force   = std::max(negative_force, -rk[0]);
-        penetration      = std::max(penetration, -uk[0]);
-        cone = std::max(cone, std::hypot(rk[1], rk[2]) - mu * rk[0]);
+        negative_force = std::max(negative_force, -rk[0]);
+        penetration    = std::max(penetration, -uk[0]);
+        cone           = std::max(cone, std::hypot(rk[1], rk[2]) - mu * rk[0]);
         pressed += rk[0] > 0 ? 1 : 0;
         const double ut = std::hypot(uk[1], uk[2]);
-        double       z[3]{rk[0] - rho * (uk[0] + mu * ut), rk[1] - rho * uk[1], rk[2] - rho * uk[2]};
+        double z[3]{rk[0] - rho * (uk[0] + mu * ut), rk[1] - rho * uk[1], rk[2] - rho * uk[2]};
         project_on_cone(z, mu);
-        natural = std::max(natural, std::hypot(rk[0] - z[0], std::hypot(rk[1] - z[1], rk[2] - z[2])));
+        natural =
+          std::max(natural, std::hypot(rk[0] - z[0], std::hypot(rk[1] - z[1], rk[2] - z[2])));
       }
     check(pressed > 0, "some contact pressed", pressed, 1);
-    check(negative_force <= tolerance * r_max, "r_N ≥ 0 (relative)", negative_force / r_max,
+    check(negative_force <= tolerance * r_max,
+          "r_N ≥ 0 (relative)",
+          negative_force / r_max,
           tolerance);
     check(penetration <= tolerance * u_max, "u_N ≥ 0 (relative)", penetration / u_max, tolerance);
     check(cone <= tolerance * r_max, "‖r_T‖ ≤ μ r_N (relative)", cone / r_max, tolerance);
-    check(natural <= tolerance * r_max, "natural map r − P_C(r − ρ û) (relative)",
-          natural / r_max, tolerance);
+    check(natural <= tolerance * r_max,
+          "natural map r − P_C(r − ρ û) (relative)",
+          natural / r_max,
+          tolerance);
   }
 
   fclib_delete_global(problem);

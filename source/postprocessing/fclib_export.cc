@@ -32,19 +32,19 @@ namespace FetiContact
   } // namespace
 
   FclibProblem
-  assemble_fclib_problem(const std::vector<std::unique_ptr<Body>>        &bodies,
-                         const std::vector<ContactNode>                  &nodes,
-                         const std::vector<ContactNodeResult>            &results,
-                         const std::vector<std::vector<Tensor<1, 3>>>    &vertex_u,
-                         const Mapping<3>                                &mapping,
-                         const FiniteElement<3>                          &fe)
+  assemble_fclib_problem(const std::vector<std::unique_ptr<Body>>     &bodies,
+                         const std::vector<ContactNode>               &nodes,
+                         const std::vector<ContactNodeResult>         &results,
+                         const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                         const Mapping<3>                             &mapping,
+                         const FiniteElement<3>                       &fe)
   {
     FclibProblem problem;
     // Rows of M as (column, value), global free numbering; M is symmetric, so its compressed
     // columns are its compressed rows.
     std::vector<std::vector<std::pair<int, double>>> rows;
-    std::vector<BodyDofs>                             body_dofs(bodies.size());
-    int                                               offset = 0;
+    std::vector<BodyDofs>                            body_dofs(bodies.size());
+    int                                              offset = 0;
     for (const auto &body : bodies)
       {
         DoFHandler<3> dof_handler(body->mesh);
@@ -146,8 +146,7 @@ namespace FetiContact
                         column.emplace_back(i, coefficient);
                     }
                   else
-                    problem.w[3 * k + c] +=
-                      coefficient * *bodies[b]->prescribed.at(vertex)[d];
+                    problem.w[3 * k + c] += coefficient * *bodies[b]->prescribed.at(vertex)[d];
                 }
             std::sort(column.begin(), column.end());
             for (const auto &[i, value] : column)
@@ -201,7 +200,7 @@ namespace FetiContact
     std::string  math_info =
       "M symmetric positive semidefinite (definite when every body is held by prescribed "
       "displacements); quasi-static: v, u are displacements, r forces";
-    fclib_info info{const_cast<char *>(title.c_str()),
+    fclib_info   info{const_cast<char *>(title.c_str()),
                     const_cast<char *>(description.c_str()),
                     math_info.data()};
     fclib_global global{};

@@ -19,6 +19,7 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
+#include <sys/resource.h>
 
 namespace FetiContact
 {
@@ -489,6 +490,20 @@ namespace FetiContact
     run_statistics.solve_time          = time("solve");
     run_statistics.time_without_output = total - time("output");
 
+    // Peak resident memory of every rank (the process's high-water mark: replicated meshes,
+    // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library).
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const std::vector<double> peak_mib =
+      Utilities::MPI::all_gather(comm, static_cast<double>(usage.ru_maxrss) / 1024.0);
+    JsonObject memory;
+    memory.set("peak_rss_mib_max", *std::max_element(peak_mib.begin(), peak_mib.end()))
+      .set("peak_rss_mib_per_rank", peak_mib);
+    pcout << "Peak resident memory per rank: ";
+    for (const double p : peak_mib)
+      pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;
+    pcout << std::endl;
+
     JsonObject s;
     s.set("converged", converged)
       .set("n_primal", n_primal)
@@ -514,6 +529,7 @@ namespace FetiContact
              "total")
       .set("local_solver", parameters.feti.local_solver)
       .set("times", t)
+      .set("memory", memory)
       .append(summary);
     if (rank == 0)
       std::ofstream(parameters.output.directory + "/summary.json") << s.str() << '\n';

@@ -1,0 +1,292 @@
+#!/usr/bin/env python3
+"""Performance at scale on the brick (DESIGN.md §5, F = 0.3, MPGP, TFETI, default tolerances):
+numerical scalability with the subdomain size fixed, MPI speed-up on this machine, the cost
+floor, peak memory, the coarse problem against the number of subdomains, and one monolithic
+linear solve beside the contact solve.
+
+    python3 benchmarks/scaling.py [--exe build/feticontact]
+        [--monolithic build/benchmarks/monolithic_solve] [--cells-per-subdomain 8]
+        [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
+        [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
+        [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
+    /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
+
+Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
+--cells-per-subdomain), split into 3a × a × a cubic subdomains of c × c × c cells, for every a
+of --a; each is run with every rank count of --np (`mpirun -np P`, one OpenBLAS thread per
+rank). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
+grows. "Coarse problem": c = 2 and a of --coarse-a (3a³ subdomains, up to 1,029 at a = 7),
+where the time of setting up the coarse problem GGᵀ is read. --monolithic gives the program that
+assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
+CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
+(--linear-only runs only these, e.g. on the second core beside a one-rank study).
+
+Times come from summary.json (TimerOutput phases) and are medians of --repeats runs; "total" is
+the run without output (setup, assembly, factorization, coarse problem, solve, primal recovery),
+the quantity that summary.json's total_over_floor compares with the cost floor; peak memory
+is the largest peak resident set size of the ranks. The CSV is rewritten after every run, so an
+interrupted study keeps what it measured; --merge keeps the rows of the existing CSV that are not
+measured again; --report-only rewrites the tables from the CSV. Standard library only, except
+--plot (matplotlib).
+"""
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+from cli import arguments, option
+
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
+FIELDS = ["series", "a", "c", "k", "np", "n_subdomains", "n", "m", "coarse", "iter", "smalbe",
+          "n_A", "setup", "assembly", "factorization", "coarse_problem", "solve", "hessian",
+          "bookkeeping", "one_F", "total", "floor_ratio", "peak_mib", "converged", "runs"]
+MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve", "linear_total",
+               "peak_mib", "residual"]
+
+
+def settings(k, blocks):
+    return ["--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+            "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
+            "--set", "Contact/Zone 1/Friction coefficient=0.3",
+            "--set", "Contact solver/Algorithm=mpgp",
+            "--set", "FETI/Dirichlet treatment=total",
+            "--set", "Output/Write vtu=false",
+            "--set", "Output/Write displacement csv=false"]
+
+
+def env():
+    return dict(os.environ, OPENBLAS_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+
+def run_contact(exe, series, a, c, k, blocks, ranks, repeats):
+    runs = []
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as out:
+            command = [exe, *settings(k, blocks), "--set", f"Output/Directory={out}", PRM]
+            if ranks > 1:
+                command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
+            p = subprocess.run(command, capture_output=True, text=True, env=env())
+            path = os.path.join(out, "summary.json")
+            if p.returncode != 0 or not os.path.exists(path):
+                raise SystemExit(f"run failed (exit {p.returncode}): {' '.join(command)}\n"
+                                 f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+            with open(path) as f:
+                runs.append(json.load(f))
+    first = runs[0]
+    for r in runs[1:]:
+        if r["hessian_multiplications"]["total"] != first["hessian_multiplications"]["total"]:
+            print(f"warning: n_A differs between repeats ({r['hessian_multiplications']['total']}"
+                  f" vs {first['hessian_multiplications']['total']})", flush=True)
+
+    def median(name):
+        return statistics.median(r["times"][name] for r in runs)
+
+    return {"series": series, "a": a, "c": c, "k": k, "np": ranks,
+            "n_subdomains": first["n_subdomains"], "n": first["n_primal"],
+            "m": first["m_total"], "coarse": first["n_rigid_modes"],
+            "iter": first["outer_iterations"], "smalbe": first["smalbe_iterations"],
+            "n_A": first["hessian_multiplications"]["total"],
+            "setup": median("setup"), "assembly": median("assembly"),
+            "factorization": median("factorization"), "coarse_problem": median("coarse_problem"),
+            "solve": median("solve"), "hessian": median("hessian_applications"),
+            "bookkeeping": median("qp_bookkeeping"), "one_F": median("one_hessian_application"),
+            "total": statistics.median(r["times"]["total"] - r["times"]["output"] for r in runs),
+            "floor_ratio": median("total_over_floor"),
+            "peak_mib": max(r["memory"]["peak_rss_mib_max"] for r in runs),
+            "converged": all(r["converged"] for r in runs), "runs": len(runs)}
+
+
+def run_monolithic(exe, a, c, k):
+    command = [exe, *settings(k, (1, 1, 1)), PRM]
+    p = subprocess.run(command, capture_output=True, text=True, env=env())
+    if p.returncode != 0:
+        raise SystemExit(f"monolithic solve failed (exit {p.returncode}): {' '.join(command)}\n"
+                         f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+    result = json.loads(p.stdout.strip().splitlines()[-1])
+    return {"series": "linear", "a": a, "c": c, "k": k, "n": result["n"],
+            "assembly": result["assembly"], "factorization": result["factorization"],
+            "solve": result["solve"],
+            "linear_total": result["assembly"] + result["factorization"] + result["solve"],
+            "peak_mib": result["peak_rss_mib"], "residual": result["relative_residual"]}
+
+
+def key(row):
+    return (row["series"], int(row["a"]), int(row["c"]), int(row.get("np") or 0))
+
+
+def save(path, rows, fields):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        for r in sorted(rows, key=key):
+            w.writerow(r)
+
+
+def load(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def g(value, digits=3):
+    return f"{float(value):.{digits}g}"
+
+
+def report(rows, md_path, command):
+    contact = [r for r in rows if r["series"] != "linear"]
+    linear = {int(r["a"]): r for r in rows if r["series"] == "linear"}
+    out = ["<!-- written by benchmarks/scaling.py -->", "",
+           f"Command: `{command}`. Brick, F = 0.3, MPGP, TFETI, CHOLMOD, default tolerances "
+           "(MSA 1e-6, QP 1e-8); times [s] from summary.json, medians of the runs counted in "
+           "'runs'; one OpenBLAS thread per rank.", ""]
+
+    def table(title, series, ranks):
+        sel = sorted([r for r in contact if r["series"] == series and int(r["np"]) == ranks],
+                     key=lambda r: int(r["k"]))
+        if not sel:
+            return
+        n_a0 = float(sel[0]["n_A"])
+        out.extend([f"### {title}", "",
+                    "| k | subdomains | H/h | n | m | coarse | Iter | n_A | n_A / first | "
+                    "assembly | factorization | coarse | solve | total | total / floor | "
+                    "peak MiB/rank | runs |",
+                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"])
+        for r in sel:
+            hh = int(r["k"]) // (int(r["a"]) if series != "seed" else 1)
+            out.append(f"| {r['k']} | {r['n_subdomains']} | {hh} | {r['n']} | {r['m']} | "
+                       f"{r['coarse']} | {r['iter']} | {r['n_A']} | "
+                       f"{float(r['n_A']) / n_a0:.2f} | {g(r['assembly'])} | "
+                       f"{g(r['factorization'])} | {g(r['coarse_problem'])} | {g(r['solve'])} | "
+                       f"{g(r['total'])} | {float(r['floor_ratio']):.2f} | "
+                       f"{float(r['peak_mib']):.0f} | {r['runs']} |")
+        out.append("")
+
+    table("Fixed H/h (c × c × c cells per subdomain), one rank", "weak", 1)
+    table("Seed setting: three subdomains, h → 0, one rank", "seed", 1)
+    table("Coarse problem against the number of subdomains (c = 2), one rank", "coarse", 1)
+
+    weak = [r for r in contact if r["series"] == "weak"]
+    ranks = sorted({int(r["np"]) for r in weak})
+    if len(ranks) > 1:
+        out.extend(["### MPI: wall time without output (total) on 1 and more ranks", "",
+                    "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
+                    " | " + " | ".join(f"speed-up np={p} | efficiency np={p}"
+                                       for p in ranks[1:]) +
+                    " | " + " | ".join(f"peak MiB/rank np={p}" for p in ranks) + " |",
+                    "|" + "---|" * (3 + len(ranks) + 2 * (len(ranks) - 1) + len(ranks))])
+        for k in sorted({int(r["k"]) for r in weak}):
+            by = {int(r["np"]): r for r in weak if int(r["k"]) == k}
+            if 1 not in by:
+                continue
+            t1 = float(by[1]["total"])
+            cells = [g(by[p]["total"]) if p in by else "" for p in ranks]
+            for p in ranks[1:]:
+                cells += ([f"{t1 / float(by[p]['total']):.2f}",
+                           f"{t1 / float(by[p]['total']) / p:.2f}"] if p in by else ["", ""])
+            cells += [f"{float(by[p]['peak_mib']):.0f}" if p in by else "" for p in ranks]
+            out.append(f"| {k} | {by[1]['n']} | {by[1]['n_subdomains']} | " +
+                       " | ".join(cells) + " |")
+        out.append("")
+
+    if linear:
+        out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
+                    "contact solve (one rank)", "",
+                    "| k | n | linear: assembly | factorization | solve | total | peak MiB | "
+                    "relative residual | contact total (np=1) | contact / linear |",
+                    "|---|---|---|---|---|---|---|---|---|---|"])
+        for a, r in sorted(linear.items()):
+            c = [x for x in weak if int(x["a"]) == a and int(x["np"]) == 1]
+            ct = float(c[0]["total"]) if c else None
+            out.append(f"| {r['k']} | {r['n']} | {g(r['assembly'])} | {g(r['factorization'])} | "
+                       f"{g(r['solve'])} | {g(r['linear_total'])} | {float(r['peak_mib']):.0f} | "
+                       f"{float(r['residual']):.1e} | {g(ct) if ct else ''} | "
+                       f"{ct / float(r['linear_total']):.2f} |" if ct else "|")
+        out.append("")
+    with open(md_path, "w") as f:
+        f.write("\n".join(out))
+
+
+def plot(csv_path, png_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = load(csv_path)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
+    for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s")]:
+        sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
+                     key=lambda r: int(r["n"]))
+        if sel:
+            axes[0].semilogx([int(r["n"]) for r in sel], [int(r["n_A"]) for r in sel],
+                             marker=marker, label=label)
+    axes[0].set_xlabel("primal unknowns n")
+    axes[0].set_ylabel("n_A (multiplications by F)")
+    axes[0].set_ylim(bottom=0)
+    axes[0].legend()
+    axes[0].set_title("Numerical scalability (F = 0.3, MPGP)")
+    sel = sorted([r for r in rows if r["series"] in ("weak", "coarse") and r["np"] == "1"],
+                 key=lambda r: int(r["n_subdomains"]))
+    axes[1].loglog([int(r["n_subdomains"]) for r in sel],
+                   [float(r["coarse_problem"]) for r in sel], "o", label="coarse problem setup")
+    axes[1].set_xlabel("subdomains")
+    axes[1].set_ylabel("time [s]")
+    axes[1].legend()
+    axes[1].set_title("Coarse problem GGᵀ")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=110)
+
+
+def main():
+    if "--plot" in sys.argv:
+        i = sys.argv.index("--plot")
+        plot(sys.argv[i + 1], sys.argv[i + 2])
+        return
+    arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
+                        "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
+                        "--markdown"], ["--merge", "--report-only", "--linear-only"])
+    exe = option("--exe", "build/feticontact")
+    mono = option("--monolithic", "")
+    c = int(option("--cells-per-subdomain", "8"))
+    a_list = [int(v) for v in option("--a", "1,2,3,4,5,6").split(",") if v]
+    ranks = [int(v) for v in option("--np", "1,2").split(",") if v]
+    seed_k = [int(v) for v in option("--seed-k", "8,16").split(",") if v]
+    coarse_a = [int(v) for v in option("--coarse-a", "1,3,5,7").split(",") if v]
+    repeats = int(option("--repeats", "1"))
+    csv_path = option("--csv", "doc/data/scaling.csv")
+    linear_path = option("--linear-csv", "doc/data/scaling_linear.csv")
+    md_path = option("--markdown", "doc/data/scaling.md")
+    command = "python3 " + " ".join(sys.argv)
+    merge = "--merge" in sys.argv or "--report-only" in sys.argv
+    rows = load(csv_path) if merge and os.path.exists(csv_path) else []
+    linear = load(linear_path) if merge and os.path.exists(linear_path) else []
+    if "--report-only" in sys.argv:
+        report(rows + linear, md_path, command)
+        return
+
+    def add(row):
+        table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \
+            else (rows, csv_path, FIELDS)
+        table[:] = [r for r in table if key(r) != key(row)] + [row]
+        save(path, table, fields)
+        report(rows + linear, md_path, command)
+        print({x: row[x] for x in row if x in ("series", "a", "k", "np", "n", "n_A", "total",
+                                                "linear_total", "peak_mib")}, flush=True)
+
+    for a in a_list:
+        if "--linear-only" not in sys.argv:
+            for p in ranks:
+                add(run_contact(exe, "weak", a, c, a * c, (3 * a, a, a), p, repeats))
+        if mono:
+            add(run_monolithic(mono, a, c, a * c))
+    if "--linear-only" in sys.argv:
+        return
+    for k in seed_k:
+        add(run_contact(exe, "seed", k, k, k, (3, 1, 1), 1, repeats))
+    for a in coarse_a:
+        add(run_contact(exe, "coarse", a, 2, 2 * a, (3 * a, a, a), 1, repeats))
+
+
+if __name__ == "__main__":
+    main()

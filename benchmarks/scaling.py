@@ -26,7 +26,8 @@ the run without output (setup, assembly, factorization, coarse problem, solve, p
 the quantity that summary.json's total_over_floor compares with the cost floor; peak memory
 is the largest peak resident set size of the ranks. The CSV is rewritten after every run, so an
 interrupted study keeps what it measured; --merge keeps the rows of the existing CSV that are not
-measured again; --report-only rewrites the tables from the CSV. Standard library only, except
+measured again, also those that another study writes into the same CSV meanwhile (two studies
+may run side by side); --report-only rewrites the tables from the CSV. Standard library only, except
 --plot (matplotlib).
 """
 import csv
@@ -268,6 +269,10 @@ def main():
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \
             else (rows, csv_path, FIELDS)
+        if merge and os.path.exists(path):
+            # Rows that another study wrote into the same CSV since this one started stay.
+            mine = {key(r) for r in table}
+            table[:] = table + [r for r in load(path) if key(r) not in mine]
         table[:] = [r for r in table if key(r) != key(row)] + [row]
         save(path, table, fields)
         report(rows + linear, md_path, command)

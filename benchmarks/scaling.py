@@ -9,6 +9,7 @@ linear solve beside the contact solve.
         [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
+        [--expansion "projected cg"] [--add-summary SERIES,A,C,NP,PATH/summary.json]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
 
 Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
@@ -20,6 +21,9 @@ where the time of setting up the coarse problem GGᵀ is read. --monolithic give
 assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
+--expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
+series are named "weak_pcg" etc. --add-summary adds the row of a run made with the same settings
+whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 
 Times come from summary.json (TimerOutput phases) and are medians of --repeats runs; "total" is
 the run without output (setup, assembly, factorization, coarse problem, solve, primal recovery),
@@ -48,8 +52,8 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual"]
 
 
-def settings(k, blocks):
-    return ["--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+def settings(k, blocks, expansion="fixed"):
+    return ["--set", f"Contact solver/Expansion step={expansion}","--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
             "--set", "Contact solver/Algorithm=mpgp",
@@ -63,11 +67,12 @@ def env():
                 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
-def run_contact(exe, series, a, c, k, blocks, ranks, repeats):
+def run_contact(exe, series, a, c, k, blocks, ranks, repeats, expansion="fixed"):
     runs = []
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as out:
-            command = [exe, *settings(k, blocks), "--set", f"Output/Directory={out}", PRM]
+            command = [exe, *settings(k, blocks, expansion), "--set", f"Output/Directory={out}",
+                       PRM]
             if ranks > 1:
                 command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
             p = subprocess.run(command, capture_output=True, text=True, env=env())
@@ -77,6 +82,11 @@ def run_contact(exe, series, a, c, k, blocks, ranks, repeats):
                                  f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
             with open(path) as f:
                 runs.append(json.load(f))
+    return row_from_summaries(runs, series, a, c, k, ranks)
+
+
+def row_from_summaries(runs, series, a, c, k, ranks):
+    """The table row of the runs (summary.json contents) of one case."""
     first = runs[0]
     for r in runs[1:]:
         if r["hessian_multiplications"]["total"] != first["hessian_multiplications"]["total"]:
@@ -121,7 +131,7 @@ def key(row):
 
 def save(path, rows, fields):
     with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         w.writeheader()
         for r in sorted(rows, key=key):
             w.writerow(r)
@@ -156,7 +166,7 @@ def report(rows, md_path, command):
                     "peak MiB/rank | runs |",
                     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"])
         for r in sel:
-            hh = int(r["k"]) // (int(r["a"]) if series != "seed" else 1)
+            hh = int(r["k"]) // (int(r["a"]) if not series.startswith("seed") else 1)
             out.append(f"| {r['k']} | {r['n_subdomains']} | {hh} | {r['n']} | {r['m']} | "
                        f"{r['coarse']} | {r['iter']} | {r['n_A']} | "
                        f"{float(r['n_A']) / n_a0:.2f} | {g(r['assembly'])} | "
@@ -165,9 +175,12 @@ def report(rows, md_path, command):
                        f"{float(r['peak_mib']):.0f} | {r['runs']} |")
         out.append("")
 
-    table("Fixed H/h (c × c × c cells per subdomain), one rank", "weak", 1)
-    table("Seed setting: three subdomains, h → 0, one rank", "seed", 1)
-    table("Coarse problem against the number of subdomains (c = 2), one rank", "coarse", 1)
+    titles = {"weak": "Fixed H/h (c × c × c cells per subdomain)",
+              "seed": "Seed setting: three subdomains, h → 0",
+              "coarse": "Coarse problem against the number of subdomains (c = 2)"}
+    for base, title in titles.items():
+        for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg")]:
+            table(f"{title}{note}, one rank", base + suffix, 1)
 
     weak = [r for r in contact if r["series"] == "weak"]
     ranks = sorted({int(r["np"]) for r in weak})
@@ -216,7 +229,8 @@ def plot(csv_path, png_path):
     import matplotlib.pyplot as plt
     rows = load(csv_path)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
-    for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s")]:
+    for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s"),
+                                  ("weak_pcg", "fixed H/h, projected CG expansion", "^")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -246,7 +260,8 @@ def main():
         return
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
-                        "--markdown"], ["--merge", "--report-only", "--linear-only"])
+                        "--markdown", "--expansion", "--add-summary"],
+              ["--merge", "--report-only", "--linear-only"])
     exe = option("--exe", "build/feticontact")
     mono = option("--monolithic", "")
     c = int(option("--cells-per-subdomain", "8"))
@@ -265,6 +280,8 @@ def main():
     if "--report-only" in sys.argv:
         report(rows + linear, md_path, command)
         return
+    expansion = option("--expansion", "fixed")
+    suffix = "" if expansion == "fixed" else "_" + expansion.replace("projected cg", "pcg")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \
@@ -279,18 +296,26 @@ def main():
         print({x: row[x] for x in row if x in ("series", "a", "k", "np", "n", "n_A", "total",
                                                 "linear_total", "peak_mib")}, flush=True)
 
+    if "--add-summary" in sys.argv:
+        series, a, c, p, path = option("--add-summary", "").split(",", 4)
+        with open(path) as f:
+            add(row_from_summaries([json.load(f)], series, int(a), int(c), int(a) * int(c),
+                                   int(p)))
+        return
     for a in a_list:
         if "--linear-only" not in sys.argv:
             for p in ranks:
-                add(run_contact(exe, "weak", a, c, a * c, (3 * a, a, a), p, repeats))
+                add(run_contact(exe, "weak" + suffix, a, c, a * c, (3 * a, a, a), p, repeats,
+                                expansion))
         if mono:
             add(run_monolithic(mono, a, c, a * c))
     if "--linear-only" in sys.argv:
         return
     for k in seed_k:
-        add(run_contact(exe, "seed", k, k, k, (3, 1, 1), 1, repeats))
+        add(run_contact(exe, "seed" + suffix, k, k, k, (3, 1, 1), 1, repeats, expansion))
     for a in coarse_a:
-        add(run_contact(exe, "coarse", a, 2, 2 * a, (3 * a, a, a), 1, repeats))
+        add(run_contact(exe, "coarse" + suffix, a, 2, 2 * a, (3 * a, a, a), 1, repeats,
+                        expansion))
 
 
 if __name__ == "__main__":

@@ -205,6 +205,9 @@ namespace FetiContact
     options.max_iterations = parameters.max_inner_iterations;
     options.step           = 1.9 / hessian_norm;
     options.disc_rotations = parameters.disc_rotations;
+    options.expansion      = parameters.projected_cg_expansion ?
+                               QP::MpgpOptions::Expansion::projected_cg :
+                               QP::MpgpOptions::Expansion::fixed_step;
     for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
       {
         // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
@@ -218,6 +221,7 @@ namespace FetiContact
             lambda[n_T + i] = x[i];
           report.iterations += r.iterations;
           report.converged &= r.converged;
+          result.count_steps(r);
         }
         if (n_T == 0)
           break;
@@ -243,6 +247,7 @@ namespace FetiContact
             lambda[i] = x[i];
           report.iterations += r.iterations;
           report.converged &= r.converged;
+          result.count_steps(r);
         }
       }
     return report;
@@ -303,6 +308,9 @@ namespace FetiContact
     options.inner.max_iterations  = parameters.max_inner_iterations;
     options.inner.step            = 1.9 / hessian_norm;
     options.inner.disc_rotations  = parameters.disc_rotations;
+    options.inner.expansion       = parameters.projected_cg_expansion ?
+                                      QP::MpgpOptions::Expansion::projected_cg :
+                                      QP::MpgpOptions::Expansion::fixed_step;
     options.projector             = projector;
     options.inner_floor           = parameters.inner_tolerance_floor;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
@@ -333,9 +341,11 @@ namespace FetiContact
             op(v, y);
             ++calls;
           };
-          QP::MpgpOptions o = options.inner;
-          o.tolerance       = tolerance;
-          r                 = QP::mpgp(counted, b, set, x, o);
+          QP::MpgpOptions o      = options.inner;
+          o.tolerance            = tolerance;
+          const auto mpgp_report = QP::mpgp(counted, b, set, x, o);
+          result.count_steps(mpgp_report);
+          r = mpgp_report;
           result.n_bound += calls;
         }
       last_lambda = x;

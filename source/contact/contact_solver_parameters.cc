@@ -118,6 +118,16 @@ namespace FetiContact::Parameters
                       "active discs along their circles (true), or only proportioning steps do, "
                       "as in Dostál–Kozubek and Kučera's KPG (false; much slower when most "
                       "nodes slip).");
+    prm.declare_entry("Expansion step",
+                      "fixed",
+                      Patterns::Selection("fixed|projected cg"),
+                      "How MPGP/MPRGP activates constraints when a conjugate gradient step "
+                      "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
+                      "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
+                      "contact node per expansion) or 'projected cg' (the whole conjugate "
+                      "gradient step projected onto the feasible set, kept if the energy "
+                      "decreased, else the fixed step; Kružík et al. 2020). Measured in "
+                      "doc/performance.md.");
     prm.leave_subsection();
   }
 
@@ -186,10 +196,11 @@ namespace FetiContact::Parameters
                 "Contact solver/Penalty factor must be 'auto' or a positive number; got '" +
                   penalty + "'.");
       }
-    equality_constraint = prm.get("Equality constraint") == "projector" ?
-                            EqualityConstraint::projector :
-                            EqualityConstraint::penalty;
-    disc_rotations      = prm.get_bool("Disc rotations");
+    equality_constraint    = prm.get("Equality constraint") == "projector" ?
+                               EqualityConstraint::projector :
+                               EqualityConstraint::penalty;
+    disc_rotations         = prm.get_bool("Disc rotations");
+    projected_cg_expansion = prm.get("Expansion step") == "projected cg";
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

@@ -254,6 +254,11 @@ namespace FetiContact
     message                = result.message;
     equilibrium_impossible = result.no_equilibrium;
     summary.set("smalbe_iterations", result.smalbe_iterations);
+    summary.set("mpgp_steps",
+                JsonObject()
+                  .set("cg", result.cg_steps)
+                  .set("expansion", result.expansion_steps)
+                  .set("proportioning", result.proportioning_steps));
   }
 
   void

@@ -219,16 +219,38 @@ namespace FetiContact::QP
               }
             else
               {
-                // Expansion step: feasible half step, then the fixed-step projected step along
-                // the free gradient of the fixed-disc mode (its decrease of f is guaranteed for
-                // ᾱ ≤ 2/‖A‖; a rotation of a strongly pressed disc by ᾱ would not be).
-                x.add(-alpha_f, p);
-                set.project(x);
-                g.add(-alpha_f, Ap);
-                set.free_gradient(x, g, phi, DiscMode::fixed);
-                x.add(-alpha_bar, phi);
-                set.project(x);
-                gradient();
+                bool expanded = false;
+                if (options.expansion == MpgpOptions::Expansion::projected_cg)
+                  {
+                    // The whole conjugate gradient step, projected: every constraint that it
+                    // crosses becomes active at once. Kept only if f decreased.
+                    x_old = x;
+                    g_old = g;
+                    x.add(-alpha_cg, p);
+                    set.project(x);
+                    gradient();
+                    expanded = !increased();
+                    if (!expanded)
+                      {
+                        x = x_old;
+                        g = g_old;
+                        ++report.expansion_fallbacks;
+                      }
+                  }
+                if (!expanded)
+                  {
+                    // Expansion step: feasible half step, then the fixed-step projected step
+                    // along the free gradient of the fixed-disc mode (its decrease of f is
+                    // guaranteed for ᾱ ≤ 2/‖A‖; a rotation of a strongly pressed disc by ᾱ
+                    // would not be).
+                    x.add(-alpha_f, p);
+                    set.project(x);
+                    g.add(-alpha_f, Ap);
+                    set.free_gradient(x, g, phi, DiscMode::fixed);
+                    x.add(-alpha_bar, phi);
+                    set.project(x);
+                    gradient();
+                  }
                 update_sets();
                 p        = z;
                 p_is_phi = true;

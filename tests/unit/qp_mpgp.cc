@@ -225,7 +225,9 @@ namespace
     /** Fixed active discs (Dostál–Kozubek, KPG), proportioning step from the arc model. */
     fixed_discs,
     /** Fixed active discs with the fixed step ᾱ in projected proportioning steps. */
-    fixed_step
+    fixed_step,
+    /** Rotations, and expansion by the projected conjugate gradient step. */
+    projected_cg
   };
 
   std::string
@@ -237,6 +239,8 @@ namespace
           return "";
         case Variant::fixed_discs:
           return ", fixed discs";
+        case Variant::projected_cg:
+          return ", projected CG expansion";
         default:
           return ", fixed discs, fixed-step proportioning";
       }
@@ -262,8 +266,11 @@ namespace
     Vector<double> b(problem.b);
     b *= s;
     QP::MpgpOptions options;
-    options.tolerance                 = tolerance * b.l2_norm();
-    options.disc_rotations            = variant == Variant::rotations;
+    options.tolerance      = tolerance * b.l2_norm();
+    options.disc_rotations = variant == Variant::rotations || variant == Variant::projected_cg;
+    options.expansion      = variant == Variant::projected_cg ?
+                               QP::MpgpOptions::Expansion::projected_cg :
+                               QP::MpgpOptions::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     Result result;
     result.x      = x0;
@@ -418,6 +425,7 @@ main()
     const Result r = solve_and_check(name, p, x0);
     solve_and_check(name, p, x0, 1, Variant::fixed_discs);
     solve_and_check(name, p, x0, 1, Variant::fixed_step);
+    solve_and_check(name, p, x0, 1, Variant::projected_cg);
     return r;
   };
   // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
@@ -463,6 +471,7 @@ main()
   scaled("generic mix", mix, Variant::rotations);
   scaled("generic mix", mix, Variant::fixed_discs);
   scaled("generic mix", mix, Variant::fixed_step);
+  scaled("generic mix", mix, Variant::projected_cg);
   {
     Vector<double> x0(mix.n);
     for (auto &v : x0)
@@ -552,6 +561,21 @@ main()
     const Result  r = solve_and_check("bounds only (MPRGP)", p, Vector<double>(p.n));
     check(r.report.proportioning_fallbacks == 0, "no projected proportioning without discs");
     scaled("bounds only (MPRGP)", p, Variant::rotations);
+    scaled("bounds only (MPRGP)", p, Variant::projected_cg);
+  }
+  {
+    // Many constraints that become active from a start where all are free: the fixed-step
+    // expansion activates about one per expansion, the projected CG step all those it crosses.
+    const Problem p = make_problem({{R::free, 20}, {R::lower_inside, 40}, {R::lower_active, 200}});
+    const Result  fixed = solve_and_check("many active bounds", p, Vector<double>(p.n));
+    const Result  pcg =
+      solve_and_check("many active bounds", p, Vector<double>(p.n), 1, Variant::projected_cg);
+    check(2 * pcg.report.expansion_steps < fixed.report.expansion_steps &&
+            pcg.report.hessian_multiplications < fixed.report.hessian_multiplications,
+          "projected CG expansion: " + std::to_string(pcg.report.expansion_steps) +
+            " expansions, " + std::to_string(pcg.report.hessian_multiplications) +
+            " multiplications against " + std::to_string(fixed.report.expansion_steps) + ", " +
+            std::to_string(fixed.report.hessian_multiplications) + " with the fixed step");
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

@@ -56,7 +56,18 @@ namespace FetiContact
       unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
       unsigned int           smalbe_iterations = 0;
       unsigned int           n_bound = 0, n_disc = 0;
-      bool                   converged = false;
+      /** MPGP's steps summed over all its calls (QP::MpgpReport): conjugate gradient,
+       *  expansion and proportioning steps. */
+      unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+      bool         converged = false;
+
+      void
+      count_steps(const QP::MpgpReport &r)
+      {
+        cg_steps += r.cg_steps;
+        expansion_steps += r.expansion_steps;
+        proportioning_steps += r.proportioning_steps;
+      }
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating
        * subdomains (QP::SmalbeReport::infeasible): no equilibrium exists with these slip

@@ -67,6 +67,8 @@ namespace FetiContact::Parameters
     EqualityConstraint equality_constraint = EqualityConstraint::projector;
     /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
     bool disc_rotations = true;
+    /** MPGP's expansion step: true the projected conjugate gradient step, false the fixed step. */
+    bool projected_cg_expansion = false;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -64,6 +64,25 @@ namespace FetiContact::QP
      * normal force, at the edge of a contact zone) otherwise dominates the Hessian along them.
      */
     bool precondition_rotations = true;
+    /** How an expansion step (the conjugate gradient step leaves Ω) adds constraints. */
+    enum class Expansion
+    {
+      /**
+       * Dostál–Schöberl: the feasible half step to the boundary of Ω, then the fixed step
+       * P_Ω(x − ᾱφ). With ᾱ ≈ 2/‖A‖ small, this adds little more than the one constraint met
+       * by the half step, so the number of expansions grows with the number of constraints that
+       * become active (measured: about the number of open contact nodes).
+       */
+      fixed_step,
+      /**
+       * The whole conjugate gradient step projected, P_Ω(x − α_cg p) (Kružík, Horák, Hapla,
+       * Pospíšil, "Active set expansion strategies in MPRGP algorithm", Adv. Eng. Softw. 2020),
+       * which adds every constraint that the unconstrained step crosses; accepted only if f
+       * decreased, otherwise replaced by the fixed_step expansion (one more multiplication).
+       */
+      projected_cg
+    };
+    Expansion expansion = Expansion::fixed_step;
     /** Power iterations for ᾱ when step = 0. */
     unsigned int norm_iterations = 10;
     /** Called after every step with (step number, ‖g^P‖). */
@@ -85,8 +104,10 @@ namespace FetiContact::QP
   {
     /** Conjugate gradient steps (x − α_cg p stayed in Ω). */
     unsigned int cg_steps = 0;
-    /** Expansion steps (feasible half step, then P_Ω(x − ᾱ φ)). */
+    /** Expansion steps (feasible half step, then P_Ω(x − ᾱ φ); or P_Ω(x − α_cg p)). */
     unsigned int expansion_steps = 0;
+    /** Projected conjugate gradient expansions that increased f and were replaced. */
+    unsigned int expansion_fallbacks = 0;
     /** Proportioning steps (along β: exact line search, or projected step with discs). */
     unsigned int proportioning_steps = 0;
     /**

@@ -118,16 +118,17 @@ namespace FetiContact::Parameters
                       "active discs along their circles (true), or only proportioning steps do, "
                       "as in Dostál–Kozubek and Kučera's KPG (false; much slower when most "
                       "nodes slip).");
-    prm.declare_entry("Expansion step",
-                      "fixed",
-                      Patterns::Selection("fixed|projected cg"),
-                      "How MPGP/MPRGP activates constraints when a conjugate gradient step "
-                      "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
-                      "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
-                      "contact node per expansion) or 'projected cg' (the whole conjugate "
-                      "gradient step projected onto the feasible set, kept if the energy "
-                      "decreased, else the fixed step; Kružík et al. 2020). Measured in "
-                      "doc/performance.md.");
+    prm.declare_entry(
+      "Expansion step",
+      "fixed",
+      Patterns::Selection("fixed|projected cg"),
+      "How MPGP/MPRGP activates constraints when a conjugate gradient step "
+      "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
+      "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
+      "contact node per expansion) or 'projected cg' (the whole conjugate "
+      "gradient step projected onto the feasible set, kept if the energy "
+      "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg). Measured in "
+      "doc/performance.md.");
     prm.leave_subsection();
   }
 

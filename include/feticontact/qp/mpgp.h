@@ -75,10 +75,11 @@ namespace FetiContact::QP
        */
       fixed_step,
       /**
-       * The whole conjugate gradient step projected, P_Ω(x − α_cg p) (Kružík, Horák, Hapla,
-       * Pospíšil, "Active set expansion strategies in MPRGP algorithm", Adv. Eng. Softw. 2020),
-       * which adds every constraint that the unconstrained step crosses; accepted only if f
-       * decreased, otherwise replaced by the fixed_step expansion (one more multiplication).
+       * The whole conjugate gradient step projected, P_Ω(x − α_cg p) (the "projcg" expansion
+       * with fallback of Kružík et al., "Active set expansion strategies in MPRGP algorithm",
+       * Adv. Eng. Softw. 2020, as in PERMON's QPSMPGP), which adds every constraint that the
+       * unconstrained step crosses; accepted only if f decreased, otherwise replaced by the
+       * fixed_step expansion (one more multiplication).
        */
       projected_cg
     };

@@ -150,7 +150,9 @@ def report(rows, md_path, command):
     contact = [r for r in rows if r["series"] != "linear"]
     linear = {int(r["a"]): r for r in rows if r["series"] == "linear"}
     out = ["<!-- written by benchmarks/scaling.py -->", "",
-           f"Command: `{command}`. Brick, F = 0.3, MPGP, TFETI, CHOLMOD, default tolerances "
+           f"Written by `{command}` from the rows of the CSV files beside this file (the "
+           "commands that measured them: doc/performance.md). Brick, F = 0.3, MPGP, TFETI, "
+           "CHOLMOD, default tolerances "
            "(MSA 1e-6, QP 1e-8); times [s] from summary.json, medians of the runs counted in "
            "'runs'; one OpenBLAS thread per rank.", ""]
 
@@ -214,10 +216,10 @@ def report(rows, md_path, command):
         for a, r in sorted(linear.items()):
             c = [x for x in weak if int(x["a"]) == a and int(x["np"]) == 1]
             ct = float(c[0]["total"]) if c else None
+            ratio = f"{ct / float(r['linear_total']):.2f}" if ct else ""
             out.append(f"| {r['k']} | {r['n']} | {g(r['assembly'])} | {g(r['factorization'])} | "
                        f"{g(r['solve'])} | {g(r['linear_total'])} | {float(r['peak_mib']):.0f} | "
-                       f"{float(r['residual']):.1e} | {g(ct) if ct else ''} | "
-                       f"{ct / float(r['linear_total']):.2f} |" if ct else "|")
+                       f"{float(r['residual']):.1e} | {g(ct) if ct else ''} | {ratio} |")
         out.append("")
     with open(md_path, "w") as f:
         f.write("\n".join(out))
@@ -241,14 +243,22 @@ def plot(csv_path, png_path):
     axes[0].set_ylim(bottom=0)
     axes[0].legend()
     axes[0].set_title("Numerical scalability (F = 0.3, MPGP)")
-    sel = sorted([r for r in rows if r["series"] in ("weak", "coarse") and r["np"] == "1"],
-                 key=lambda r: int(r["n_subdomains"]))
-    axes[1].loglog([int(r["n_subdomains"]) for r in sel],
-                   [float(r["coarse_problem"]) for r in sel], "o", label="coarse problem setup")
+    for series, label, marker in [("coarse", "2 × 2 × 2 cubes per subdomain", "o"),
+                                  ("weak", "8 × 8 × 8 cubes per subdomain", "s")]:
+        sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
+                     key=lambda r: int(r["n_subdomains"]))
+        if sel:
+            axes[1].loglog([int(r["n_subdomains"]) for r in sel],
+                           [float(r["coarse_problem"]) for r in sel], marker=marker, label=label)
+    sel = sorted([r for r in rows if r["series"] == "coarse"], key=lambda r: int(r["n_subdomains"]))
+    if sel:
+        # A line ∝ N_s through the largest "coarse" point, for the eye.
+        n_max, t_max = int(sel[-1]["n_subdomains"]), float(sel[-1]["coarse_problem"])
+        axes[1].loglog([10, n_max], [t_max * 10 / n_max, t_max], "k--", label="∝ subdomains")
     axes[1].set_xlabel("subdomains")
     axes[1].set_ylabel("time [s]")
     axes[1].legend()
-    axes[1].set_title("Coarse problem GGᵀ")
+    axes[1].set_title("Setting up the coarse problem (phase coarse_problem)")
     fig.tight_layout()
     fig.savefig(png_path, dpi=110)
 

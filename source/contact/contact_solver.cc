@@ -196,18 +196,12 @@ namespace FetiContact
       };
 
     QP::SolverReport report;
-    report.converged = true;
-    QP::MpgpOptions options;
+    report.converged        = true;
+    QP::MpgpOptions options = mpgp_options();
     // Each block to tolerance/2: when a sweep changes nothing, both block gradients are then
     // below it and ‖(g^P_c, g^P_t)‖ ≤ tolerance/√2; with `tolerance` itself per block the sweeps
     // could stall with the combined norm between tolerance and √2 tolerance.
-    options.tolerance      = tolerance / 2;
-    options.max_iterations = parameters.max_inner_iterations;
-    options.step           = 1.9 / hessian_norm;
-    options.disc_rotations = parameters.disc_rotations;
-    options.expansion      = parameters.projected_cg_expansion ?
-                               QP::MpgpOptions::Expansion::projected_cg :
-                               QP::MpgpOptions::Expansion::fixed_step;
+    options.tolerance = tolerance / 2;
     for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
       {
         // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
@@ -293,6 +287,19 @@ namespace FetiContact
         << ", inner " << inner << std::endl;
   }
 
+  QP::MpgpOptions
+  ContactSolver::mpgp_options() const
+  {
+    QP::MpgpOptions options;
+    options.max_iterations = parameters.max_inner_iterations;
+    options.step           = 1.9 / hessian_norm;
+    options.disc_rotations = parameters.disc_rotations;
+    options.expansion      = parameters.projected_cg_expansion ?
+                               QP::MpgpOptions::Expansion::projected_cg :
+                               QP::MpgpOptions::Expansion::fixed_step;
+    return options;
+  }
+
   QP::SmalbeReport
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
@@ -305,12 +312,7 @@ namespace FetiContact
     options.rho                   = rho;
     options.F_norm                = F_norm;
     options.G_norm                = G_norm;
-    options.inner.max_iterations  = parameters.max_inner_iterations;
-    options.inner.step            = 1.9 / hessian_norm;
-    options.inner.disc_rotations  = parameters.disc_rotations;
-    options.inner.expansion       = parameters.projected_cg_expansion ?
-                                      QP::MpgpOptions::Expansion::projected_cg :
-                                      QP::MpgpOptions::Expansion::fixed_step;
+    options.inner                 = mpgp_options();
     options.projector             = projector;
     options.inner_floor           = parameters.inner_tolerance_floor;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;

@@ -118,6 +118,11 @@ namespace FetiContact
     /** One SMALBE solve for the current slip bounds, warm-started from λ, μ. */
     QP::SmalbeReport
     solve_tresca(dealii::Vector<double> &lambda, dealii::Vector<double> &mu, Result &result);
+    /** MPGP's options from the parameters (steps, ᾱ = 1.9/‖Hessian‖, discs, expansion), shared
+     *  by SMALBE's inner solves and the block Gauss–Seidel sweeps; the tolerance is the caller's.
+     */
+    QP::MpgpOptions
+    mpgp_options() const;
     /** The block Gauss–Seidel inner solver (Algorithm 1; Algorithm 2 updates the radii in it). */
     QP::SolverReport
     gauss_seidel(const QP::Operator           &A,

@@ -1,7 +1,9 @@
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/dual_problem.h>
 
+#include <algorithm>
 #include <chrono>
+#include <numeric>
 #include <unordered_map>
 
 namespace FetiContact
@@ -45,7 +47,22 @@ namespace FetiContact
           B[i].row.push_back(r);
           B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
           B[i].value.push_back(entry.value);
+          B[i].slot.push_back(k);
         }
+    // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
+    // entries: on one rank the order of the loop over the subdomains.
+    slot_start.assign(rows.row_start.begin(), rows.row_start.end());
+    slot_order.resize(rows.entries.size());
+    for (unsigned int r = 0; r < m; ++r)
+      {
+        const auto first = slot_order.begin() + slot_start[r];
+        const auto last  = slot_order.begin() + slot_start[r + 1];
+        std::iota(first, last, slot_start[r]);
+        std::stable_sort(first, last, [&](const unsigned int a, const unsigned int b) {
+          return rows.entries[a].subdomain < rows.entries[b].subdomain;
+        });
+      }
+    slots.assign(rows.entries.size(), 0.);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -67,20 +84,35 @@ namespace FetiContact
           }
         Vector<double> x(s.f);
         s.apply_generalized_inverse(x);
-        add_B(i, x, h);
+        set_B_slots(i, x);
       }
     MPITools::sum_in_place(comm, e.begin(), e.size());
-    MPITools::sum_in_place(comm, h.begin(), h.size());
+    sum_slots(h);
     h -= c;
     coarse.initialize(comm, G_entries, mode_offset.back(), m);
   }
 
   void
-  DualProblem::add_B(const unsigned int i, const Vector<double> &u, Vector<double> &y) const
+  DualProblem::set_B_slots(const unsigned int i, const Vector<double> &u) const
   {
     const auto &b = B[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
-      y[b.row[k]] += b.value[k] * u[b.dof[k]];
+      slots[b.slot[k]] = b.value[k] * u[b.dof[k]];
+  }
+
+  void
+  DualProblem::sum_slots(Vector<double> &y) const
+  {
+    MPITools::sum_in_place(comm, slots.data(), slots.size());
+    y.reinit(size());
+    for (unsigned int r = 0; r < size(); ++r)
+      {
+        double sum = 0;
+        for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
+          sum += slots[slot_order[k]];
+        y[r] = sum;
+      }
+    std::fill(slots.begin(), slots.end(), 0.);
   }
 
   void
@@ -96,14 +128,13 @@ namespace FetiContact
   DualProblem::apply_F(const Vector<double> &x, Vector<double> &y) const
   {
     const auto start = std::chrono::steady_clock::now();
-    y.reinit(size());
     for (unsigned int i = 0; i < owned.size(); ++i)
       {
         set_Bt(i, x, work[i]);
         owned[i]->apply_generalized_inverse(work[i]);
-        add_B(i, work[i], y);
+        set_B_slots(i, work[i]);
       }
-    MPITools::sum_in_place(comm, y.begin(), y.size());
+    sum_slots(y);
     ++n_F_applications;
     F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -138,10 +169,10 @@ namespace FetiContact
   Vector<double>
   DualProblem::constraint_residual(const std::vector<Vector<double>> &u) const
   {
-    Vector<double> r(size());
+    Vector<double> r;
     for (unsigned int i = 0; i < owned.size(); ++i)
-      add_B(i, u[i], r);
-    MPITools::sum_in_place(comm, r.begin(), r.size());
+      set_B_slots(i, u[i]);
+    sum_slots(r);
     r -= c;
     return r;
   }

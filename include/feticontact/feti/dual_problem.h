@@ -18,7 +18,13 @@ namespace FetiContact
    *
    * with F = B K⁺ Bᵀ, h = B K⁺ f − c, G = Rᵀ Bᵀ, e = Rᵀ f, assembled from the blocks B_i of the
    * subdomains that this rank owns. Dual vectors are replicated on every rank; F is applied
-   * subdomain by subdomain and summed over the ranks (one MPI_Allreduce of m numbers).
+   * subdomain by subdomain and summed over the ranks. The sum is rank-independent: every
+   * subdomain writes its terms B_i u_i into its own slots (one per nonzero of B), one
+   * MPI_Allreduce of nnz(B) numbers collects them, and every row adds its slots in the order of
+   * increasing subdomain. F x, h and B u − c are then the same bits on any number of ranks and
+   * any assignment of subdomains to ranks, and so are the iterates and iteration counts of the
+   * solvers that use them (floating-point addition is not associative: a sum in rank order made
+   * n_A differ by 8 % between one and two ranks).
    * Knows nothing of friction: it sees rows of B and their right-hand side c.
    */
   class DualProblem
@@ -66,15 +72,25 @@ namespace FetiContact
     mutable double F_time = 0;
 
   private:
-    /** B_i in coordinate form: rows (dual indices), DoFs of subdomain i, values. */
+    /**
+     * B_i in coordinate form: rows (dual indices), DoFs of subdomain i, values, and the slot of
+     * each entry (its index among the nonzeros of B).
+     */
     struct LocalBlock
     {
-      std::vector<unsigned int> row, dof;
+      std::vector<unsigned int> row, dof, slot;
       std::vector<double>       value;
     };
 
+    /** Writes the terms of B_i u into the slots of subdomain i. */
     void
-    add_B(const unsigned int i, const dealii::Vector<double> &u, dealii::Vector<double> &y) const;
+    set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
+    /**
+     * y = the sum over the ranks of the slots, row by row in the order of increasing subdomain;
+     * zeroes the slots for the next product.
+     */
+    void
+    sum_slots(dealii::Vector<double> &y) const;
     void
     set_Bt(const unsigned int            i,
            const dealii::Vector<double> &lambda,
@@ -85,5 +101,9 @@ namespace FetiContact
     std::vector<LocalBlock>                     B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;
+    /** The slots of every row in summation order (CSR: slot_start, slot_order). */
+    std::vector<unsigned int> slot_start, slot_order;
+    /** One number per nonzero of B: B_i u_i entry by entry, zero outside this rank's blocks. */
+    mutable std::vector<double> slots;
   };
 } // namespace FetiContact

@@ -10,6 +10,7 @@ linear solve beside the contact solve.
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--add-summary SERIES,A,C,NP,PATH/summary.json]
+        [--pair-a 2,3]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
 
 Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
@@ -24,6 +25,11 @@ CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go 
 --expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
 series are named "weak_pcg" etc. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
+--pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
+the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
+turn --repeats times. Two independent copies need no communication and do the same work, so
+2 × (time alone) / (time of a copy in the pair) bounds the speed-up of two ranks from above; with
+memory-bandwidth-bound local solves it is below 2.
 
 Times come from summary.json (TimerOutput phases) and are medians of --repeats runs; "total" is
 the run without output (setup, assembly, factorization, coarse problem, solve, primal recovery),
@@ -67,22 +73,52 @@ def env():
                 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
+def contact_command(exe, k, blocks, out, expansion="fixed"):
+    return [exe, *settings(k, blocks, expansion), "--set", f"Output/Directory={out}", PRM]
+
+
+def read_summary(p, command, out):
+    path = os.path.join(out, "summary.json")
+    if p.returncode != 0 or not os.path.exists(path):
+        raise SystemExit(f"run failed (exit {p.returncode}): {' '.join(command)}\n"
+                         f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+    with open(path) as f:
+        return json.load(f)
+
+
 def run_contact(exe, series, a, c, k, blocks, ranks, repeats, expansion="fixed"):
     runs = []
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as out:
-            command = [exe, *settings(k, blocks, expansion), "--set", f"Output/Directory={out}",
-                       PRM]
+            command = contact_command(exe, k, blocks, out, expansion)
             if ranks > 1:
                 command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
             p = subprocess.run(command, capture_output=True, text=True, env=env())
-            path = os.path.join(out, "summary.json")
-            if p.returncode != 0 or not os.path.exists(path):
-                raise SystemExit(f"run failed (exit {p.returncode}): {' '.join(command)}\n"
-                                 f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-            with open(path) as f:
-                runs.append(json.load(f))
+            runs.append(read_summary(p, command, out))
     return row_from_summaries(runs, series, a, c, k, ranks)
+
+
+def run_pair(exe, a, c, k, blocks, repeats):
+    """What the hardware allows two ranks: the one-rank run alone on core 0, then two copies
+    of it at once on cores 0 and 1 (taskset), `repeats` times in turn. The rows "pair_alone"
+    (np 1) and "pair" (np 2: the median over both copies) of the same cases."""
+    alone, pair = [], []
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as out:
+            command = ["taskset", "-c", "0"] + contact_command(exe, k, blocks, out)
+            p = subprocess.run(command, capture_output=True, text=True, env=env())
+            alone.append(read_summary(p, command, out))
+        with tempfile.TemporaryDirectory() as out0, tempfile.TemporaryDirectory() as out1:
+            commands = [["taskset", "-c", str(core)] + contact_command(exe, k, blocks, out)
+                        for core, out in [(0, out0), (1, out1)]]
+            procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                      text=True, env=env()) for cmd in commands]
+            for cmd, proc, out in zip(commands, procs, [out0, out1]):
+                stdout, stderr = proc.communicate()
+                pair.append(read_summary(subprocess.CompletedProcess(cmd, proc.returncode,
+                                                                     stdout, stderr), cmd, out))
+    return (row_from_summaries(alone, "pair_alone", a, c, k, 1),
+            row_from_summaries(pair, "pair", a, c, k, 2))
 
 
 def row_from_summaries(runs, series, a, c, k, ranks):
@@ -207,6 +243,30 @@ def report(rows, md_path, command):
                        " | ".join(cells) + " |")
         out.append("")
 
+    pairs = {int(r["k"]): r for r in contact if r["series"] == "pair"}
+    if pairs:
+        out.extend(["### What two cores allow: one run alone against two copies at once", "",
+                    "Two independent one-rank runs on cores 0 and 1 (`--pair-a`); 'bound' = "
+                    "2 × alone / in the pair, the speed-up that two ranks cannot exceed on this "
+                    "machine; 'np=2 measured' from the MPI table above.", "",
+                    "| k | n | one F alone [s] | one F in the pair [s] | bound for F | "
+                    "total alone [s] | total in the pair [s] | bound for the run | "
+                    "np=2 measured | runs |",
+                    "|---|---|---|---|---|---|---|---|---|---|"])
+        for k, r in sorted(pairs.items()):
+            alone = [x for x in contact if x["series"] == "pair_alone" and int(x["k"]) == k]
+            if not alone:
+                continue
+            al = alone[0]
+            by = {int(x["np"]): x for x in weak if int(x["k"]) == k}
+            measured = (f"{float(by[1]['total']) / float(by[2]['total']):.2f}"
+                        if 1 in by and 2 in by else "")
+            out.append(f"| {k} | {r['n']} | {g(al['one_F'])} | {g(r['one_F'])} | "
+                       f"{2 * float(al['one_F']) / float(r['one_F']):.2f} | {g(al['total'])} | "
+                       f"{g(r['total'])} | {2 * float(al['total']) / float(r['total']):.2f} | "
+                       f"{measured} | {al['runs']} |")
+        out.append("")
+
     if linear:
         out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
                     "contact solve (one rank)", "",
@@ -270,7 +330,7 @@ def main():
         return
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
-                        "--markdown", "--expansion", "--add-summary"],
+                        "--markdown", "--expansion", "--add-summary", "--pair-a"],
               ["--merge", "--report-only", "--linear-only"])
     exe = option("--exe", "build/feticontact")
     mono = option("--monolithic", "")
@@ -306,6 +366,11 @@ def main():
         print({x: row[x] for x in row if x in ("series", "a", "k", "np", "n", "n_A", "total",
                                                 "linear_total", "peak_mib")}, flush=True)
 
+    if "--pair-a" in sys.argv:
+        for a in [int(v) for v in option("--pair-a", "").split(",") if v]:
+            for row in run_pair(exe, a, c, a * c, (3 * a, a, a), repeats):
+                add(row)
+        return
     if "--add-summary" in sys.argv:
         series, a, c, p, path = option("--add-summary", "").split(",", 4)
         with open(path) as f:

@@ -63,6 +63,7 @@ namespace FetiContact
         });
       }
     slots.assign(rows.entries.size(), 0.);
+    summed_slots.assign(rows.entries.size(), 0.);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -103,16 +104,15 @@ namespace FetiContact
   void
   DualProblem::sum_slots(Vector<double> &y) const
   {
-    MPITools::sum_in_place(comm, slots.data(), slots.size());
+    MPITools::sum(comm, slots.data(), summed_slots.data(), slots.size());
     y.reinit(size());
     for (unsigned int r = 0; r < size(); ++r)
       {
         double sum = 0;
         for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-          sum += slots[slot_order[k]];
+          sum += summed_slots[slot_order[k]];
         y[r] = sum;
       }
-    std::fill(slots.begin(), slots.end(), 0.);
   }
 
   void

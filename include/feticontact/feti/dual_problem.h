@@ -85,10 +85,7 @@ namespace FetiContact
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
-    /**
-     * y = the sum over the ranks of the slots, row by row in the order of increasing subdomain;
-     * zeroes the slots for the next product.
-     */
+    /** y = the sum over the ranks of the slots, row by row in the order of increasing subdomain. */
     void
     sum_slots(dealii::Vector<double> &y) const;
     void
@@ -103,7 +100,12 @@ namespace FetiContact
     mutable std::vector<dealii::Vector<double>> work;
     /** The slots of every row in summation order (CSR: slot_start, slot_order). */
     std::vector<unsigned int> slot_start, slot_order;
-    /** One number per nonzero of B: B_i u_i entry by entry, zero outside this rank's blocks. */
+    /**
+     * One number per nonzero of B: B_i u_i entry by entry. Only this rank's blocks write their
+     * slots (all of them, in every product), so the others stay zero and need no clearing.
+     */
     mutable std::vector<double> slots;
+    /** The slots summed over the ranks. */
+    mutable std::vector<double> summed_slots;
   };
 } // namespace FetiContact

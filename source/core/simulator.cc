@@ -471,13 +471,20 @@ namespace FetiContact
     const double       mean_F = solve_F_applications > 0 ? hessian_time / solve_F_applications : 0;
     const unsigned int n_A    = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
     const double       floor  = time("factorization") + n_A * mean_F;
+    // Of the applications of F, the work in the subdomains of the slowest and of the fastest
+    // rank; the rest of hessian_applications is the exchange of B u among the ranks and waiting.
+    const double local_slowest = Utilities::MPI::max(solve_F_local_time, comm);
+    const double local_fastest = Utilities::MPI::min(solve_F_local_time, comm);
     t.set("hessian_applications", hessian_time)
+      .set("hessian_local_slowest_rank", local_slowest)
+      .set("hessian_local_fastest_rank", local_fastest)
       .set("qp_bookkeeping", time("solve") - hessian_time)
       .set("one_hessian_application", mean_F)
       .set("cost_floor", floor)
       .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
     pcout << "Time: solve " << time("solve") << " s = applications of F " << hessian_time << " s ("
-          << solve_F_applications << ", " << mean_F << " s each) + QP bookkeeping "
+          << solve_F_applications << ", " << mean_F << " s each; local work " << local_slowest
+          << " s on the slowest rank, " << local_fastest << " s on the fastest) + QP bookkeeping "
           << time("solve") - hessian_time
           << " s; cost floor (factorization + n_A × one application of F) " << floor
           << " s, run without output / floor "
@@ -554,6 +561,7 @@ namespace FetiContact
           << std::endl;
     solve();
     solve_F_time         = dual->F_time;
+    solve_F_local_time   = dual->F_local_time;
     solve_F_applications = dual->n_F_applications;
     // Without equilibrium the multipliers are not a solution: no displacement or contact files.
     if (!equilibrium_impossible)

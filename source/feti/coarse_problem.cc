@@ -38,6 +38,35 @@ namespace FetiContact
     for (unsigned int r = 0; r < n_rows; ++r)
       row_start[r + 1] += row_start[r];
     work.reinit(n_rows);
+
+    // The products with G and Gᵀ are split among the ranks: G x by blocks of modes (rows of G),
+    // Gᵀ x by blocks of dual unknowns (columns of G), each block with about equal numbers of
+    // entries. For the columns of its block a rank keeps G by columns, every column's entries in
+    // the order of increasing mode, so that (Gᵀx)_c is summed in the same order as by rows.
+    mode_blocks = BlockPartition::balanced(comm, row_start);
+    std::vector<unsigned int> entries_before_column(n_cols + 1, 0);
+    for (const unsigned int c : column)
+      ++entries_before_column[c + 1];
+    for (unsigned int c = 0; c < n_cols; ++c)
+      entries_before_column[c + 1] += entries_before_column[c];
+    column_blocks                      = BlockPartition::balanced(comm, entries_before_column);
+    const unsigned int first_column    = column_blocks.begin();
+    const unsigned int n_block_columns = column_blocks.end() - first_column;
+    block_column_start.assign(n_block_columns + 1, 0);
+    for (unsigned int c = 0; c <= n_block_columns; ++c)
+      block_column_start[c] =
+        entries_before_column[first_column + c] - entries_before_column[first_column];
+    block_column_mode.resize(block_column_start.back());
+    block_column_value.resize(block_column_start.back());
+    std::vector<unsigned int> next(block_column_start.begin(), block_column_start.end() - 1);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        if (column[k] >= first_column && column[k] < column_blocks.end())
+          {
+            const unsigned int j  = next[column[k] - first_column]++;
+            block_column_mode[j]  = r;
+            block_column_value[j] = value[k];
+          }
     if (n_rows == 0)
       return;
 
@@ -93,23 +122,40 @@ namespace FetiContact
   void
   CoarseProblem::apply_G(const Vector<double> &x, Vector<double> &y) const
   {
-    y.reinit(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
+    if (y.size() != n_rows)
+      y.reinit(n_rows, true);
+    for (unsigned int r = mode_blocks.begin(); r < mode_blocks.end(); ++r)
       {
         double s = 0;
         for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
           s += value[k] * x[column[k]];
         y[r] = s;
       }
+    mode_blocks.gather(y.begin());
   }
 
   void
   CoarseProblem::apply_Gt(const Vector<double> &x, Vector<double> &y) const
   {
-    y.reinit(n_cols);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        y[column[k]] += value[k] * x[r];
+    add_Gt(x, false, y);
+  }
+
+  void
+  CoarseProblem::add_Gt(const Vector<double> &x, const bool add, Vector<double> &y) const
+  {
+    Assert(!add || y.size() == n_cols, ExcDimensionMismatch(y.size(), n_cols));
+    if (y.size() != n_cols)
+      y.reinit(n_cols, true);
+    const unsigned int first_column = column_blocks.begin();
+    for (unsigned int c = first_column; c < column_blocks.end(); ++c)
+      {
+        const unsigned int j = c - first_column;
+        double             s = add ? y[c] : 0.;
+        for (unsigned int k = block_column_start[j]; k < block_column_start[j + 1]; ++k)
+          s += block_column_value[k] * x[block_column_mode[k]];
+        y[c] = s;
+      }
+    column_blocks.gather(y.begin());
   }
 
   void
@@ -161,9 +207,9 @@ namespace FetiContact
       return;
     apply_G(x, work);
     GGt.solve(work);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        x[column[k]] -= value[k] * work[r];
+    // x_c − Σ_r G_rc w_r as x_c + Σ_r G_rc (−w_r): the same numbers.
+    work *= -1.;
+    add_Gt(work, true, x);
   }
 
   Vector<double>

@@ -64,6 +64,13 @@ namespace FetiContact
       }
     slots.assign(rows.entries.size(), 0.);
     summed_slots.assign(rows.entries.size(), 0.);
+    // The rows are split among the ranks in blocks of about equal numbers of slots; the slots of
+    // a block of rows are a block too (they are numbered row by row).
+    row_blocks = BlockPartition::balanced(comm, slot_start);
+    std::vector<unsigned int> first_slot;
+    for (const unsigned int r : row_blocks.firsts())
+      first_slot.push_back(slot_start[r]);
+    slot_blocks = BlockPartition(comm, first_slot);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -104,15 +111,19 @@ namespace FetiContact
   void
   DualProblem::sum_slots(Vector<double> &y) const
   {
-    MPITools::sum(comm, slots.data(), summed_slots.data(), slots.size());
-    y.reinit(size());
-    for (unsigned int r = 0; r < size(); ++r)
+    // Every rank sums the slots of its block of rows over the ranks and adds them up row by row;
+    // the rows are then gathered.
+    slot_blocks.sum_scatter(slots.data(), summed_slots.data() + slot_blocks.begin());
+    if (y.size() != size())
+      y.reinit(size(), true);
+    for (unsigned int r = row_blocks.begin(); r < row_blocks.end(); ++r)
       {
         double sum = 0;
         for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
           sum += summed_slots[slot_order[k]];
         y[r] = sum;
       }
+    row_blocks.gather(y.begin());
   }
 
   void
@@ -134,6 +145,7 @@ namespace FetiContact
         owned[i]->apply_generalized_inverse(work[i]);
         set_B_slots(i, work[i]);
       }
+    F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sum_slots(y);
     ++n_F_applications;
     F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -25,14 +25,6 @@ namespace FetiContact::MPITools
     return all;
   }
 
-  /** @p sum = the sum over all ranks of every rank's @p values (n doubles each). */
-  inline void
-  sum(const MPI_Comm comm, const double *values, double *sum, const std::size_t n)
-  {
-    if (n > 0)
-      MPI_Allreduce(values, sum, n, MPI_DOUBLE, MPI_SUM, comm);
-  }
-
   /** In-place sum over all ranks of an array of doubles. */
   inline void
   sum_in_place(const MPI_Comm comm, double *values, const std::size_t n)

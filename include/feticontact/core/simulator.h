@@ -147,6 +147,7 @@ namespace FetiContact
     Statistics                          run_statistics;
     /** Time in and number of applications of F up to the end of the solve. */
     double       solve_F_time         = 0;
+    double       solve_F_local_time   = 0;
     unsigned int solve_F_applications = 0;
   };
 } // namespace FetiContact

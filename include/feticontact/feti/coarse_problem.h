@@ -4,6 +4,7 @@
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/base/block_partition.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <functional>
@@ -16,7 +17,9 @@ namespace FetiContact
    * The natural coarse space of FETI: G = Rᵀ Bᵀ (one row per rigid body mode of a floating
    * subdomain, one column per dual unknown), the coarse matrix GGᵀ factorized once by CHOLMOD,
    * and the orthogonal projector P = I − Gᵀ(GGᵀ)⁻¹G onto ker G (Farhat–Mandel–Roux).
-   * G is sparse and replicated on every rank; applying it costs O(nnz(G)).
+   * G is sparse and replicated on every rank; applying it costs O(nnz(G)), divided among the
+   * ranks (BlockPartition: G x by blocks of modes, Gᵀx by blocks of columns, then gathered; the
+   * same bits on any number of ranks). Every rank must call the products together.
    */
   class CoarseProblem
   {
@@ -106,15 +109,23 @@ namespace FetiContact
     coarse_coefficients(const dealii::Vector<double> &x) const;
 
   private:
+    /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
+    void
+    add_Gt(const dealii::Vector<double> &x, const bool add, dealii::Vector<double> &y) const;
     /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
     void
     assemble_GGt(const std::function<bool(unsigned int)> &use_column,
                  dealii::SparsityPattern                 &sparsity,
                  dealii::SparseMatrix<double>            &M) const;
 
-    unsigned int                   n_rows = 0, n_cols = 0;
-    std::vector<unsigned int>      row_start, column;
-    std::vector<double>            value;
+    unsigned int              n_rows = 0, n_cols = 0;
+    std::vector<unsigned int> row_start, column;
+    std::vector<double>       value;
+    /** This rank's blocks of modes (for G x) and of columns (for Gᵀx). */
+    BlockPartition mode_blocks, column_blocks;
+    /** The columns of this rank's block by columns (CSC: start, mode, value). */
+    std::vector<unsigned int>      block_column_start, block_column_mode;
+    std::vector<double>            block_column_value;
     CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
   };

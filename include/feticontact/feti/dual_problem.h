@@ -2,6 +2,7 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/base/block_partition.h>
 #include <feticontact/feti/coarse_problem.h>
 #include <feticontact/feti/equality_constraints.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -19,13 +20,14 @@ namespace FetiContact
    * with F = B K⁺ Bᵀ, h = B K⁺ f − c, G = Rᵀ Bᵀ, e = Rᵀ f, assembled from the blocks B_i of the
    * subdomains that this rank owns. Dual vectors are replicated on every rank; F is applied
    * subdomain by subdomain and summed over the ranks. The sum is rank-independent: every
-   * subdomain writes its terms B_i u_i into its own slots (one per nonzero of B), one
-   * MPI_Allreduce of nnz(B) numbers collects them, and every row adds its slots in the order of
-   * increasing subdomain. F x, h and B u − c are then the same bits on any number of ranks and
-   * any assignment of subdomains to ranks, and so are the iterates and iteration counts of the
-   * solvers that use them (floating-point addition is not associative: a sum in rank order made
-   * n_A differ by 8 % between one and two ranks).
-   * Knows nothing of friction: it sees rows of B and their right-hand side c.
+   * subdomain writes its terms B_i u_i into its own slots (one per nonzero of B), and every row
+   * adds its slots in the order of increasing subdomain. The rows are split among the ranks in
+   * blocks (BlockPartition): an MPI_Reduce_scatter gives each rank the slots of its rows, it adds
+   * them up, and an MPI_Allgatherv gives every rank all rows. F x, h and B u − c are then the same
+   * bits on any number of ranks and any assignment of subdomains to ranks, and so are the iterates
+   * and iteration counts of the solvers that use them (floating-point addition is not associative:
+   * a sum in rank order made n_A differ by 8 % between one and two ranks). Knows nothing of
+   * friction: it sees rows of B and their right-hand side c.
    */
   class DualProblem
   {
@@ -70,6 +72,12 @@ namespace FetiContact
     mutable unsigned int   n_F_applications = 0;
     /** Wall time spent in apply_F (local solves, B and Bᵀ, the sum over ranks) [s]. */
     mutable double F_time = 0;
+    /**
+     * The part of F_time spent in this rank's own subdomains (Bᵀ, the local solves, B): the
+     * rest is the exchange of the slots, the row sums of this rank's block, and waiting for the
+     * other ranks.
+     */
+    mutable double F_local_time = 0;
 
   private:
     /**
@@ -85,7 +93,10 @@ namespace FetiContact
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
-    /** y = the sum over the ranks of the slots, row by row in the order of increasing subdomain. */
+    /**
+     * y = the sum over the ranks of the slots, row by row in the order of increasing subdomain
+     * (each rank its block of rows, then gathered).
+     */
     void
     sum_slots(dealii::Vector<double> &y) const;
     void
@@ -105,7 +116,9 @@ namespace FetiContact
      * slots (all of them, in every product), so the others stay zero and need no clearing.
      */
     mutable std::vector<double> slots;
-    /** The slots summed over the ranks. */
+    /** The slots summed over the ranks (those of this rank's block of rows). */
     mutable std::vector<double> summed_slots;
+    /** This rank's block of rows, and the block of their slots. */
+    BlockPartition row_blocks, slot_blocks;
   };
 } // namespace FetiContact

@@ -9,7 +9,8 @@ linear solve beside the contact solve.
         [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
-        [--expansion "projected cg"] [--add-summary SERIES,A,C,NP,PATH/summary.json]
+        [--expansion "projected cg"] [--hessian-norm-bound max]
+        [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
 
@@ -23,7 +24,8 @@ assembles the stiffness of the undecomposed brick and solves the linear elastic 
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
 --expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
-series are named "weak_pcg" etc. --add-summary adds the row of a run made with the same settings
+series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
+(default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max"). --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
 the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
@@ -58,8 +60,11 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual"]
 
 
-def settings(k, blocks, expansion="fixed"):
-    return ["--set", f"Contact solver/Expansion step={expansion}","--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+def settings(k, blocks, variant=("fixed", "sum")):
+    expansion, bound = variant
+    return ["--set", f"Contact solver/Expansion step={expansion}",
+            "--set", f"Contact solver/Hessian norm bound={bound}",
+            "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
             "--set", "Contact solver/Algorithm=mpgp",
@@ -73,8 +78,8 @@ def env():
                 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
-def contact_command(exe, k, blocks, out, expansion="fixed"):
-    return [exe, *settings(k, blocks, expansion), "--set", f"Output/Directory={out}", PRM]
+def contact_command(exe, k, blocks, out, variant=("fixed", "sum")):
+    return [exe, *settings(k, blocks, variant), "--set", f"Output/Directory={out}", PRM]
 
 
 def read_summary(p, command, out):
@@ -86,11 +91,11 @@ def read_summary(p, command, out):
         return json.load(f)
 
 
-def run_contact(exe, series, a, c, k, blocks, ranks, repeats, expansion="fixed"):
+def run_contact(exe, series, a, c, k, blocks, ranks, repeats, variant=("fixed", "sum")):
     runs = []
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as out:
-            command = contact_command(exe, k, blocks, out, expansion)
+            command = contact_command(exe, k, blocks, out, variant)
             if ranks > 1:
                 command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
             p = subprocess.run(command, capture_output=True, text=True, env=env())
@@ -217,7 +222,9 @@ def report(rows, md_path, command):
               "seed": "Seed setting: three subdomains, h → 0",
               "coarse": "Coarse problem against the number of subdomains (c = 2)"}
     for base, title in titles.items():
-        for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg")]:
+        for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg"),
+                             ("_max", ", Hessian norm bound = max"),
+                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max")]:
             table(f"{title}{note}, one rank", base + suffix, 1)
 
     weak = [r for r in contact if r["series"] == "weak"]
@@ -292,7 +299,9 @@ def plot(csv_path, png_path):
     rows = load(csv_path)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s"),
-                                  ("weak_pcg", "fixed H/h, projected CG expansion", "^")]:
+                                  ("weak_pcg", "fixed H/h, projected CG expansion", "^"),
+                                  ("weak_max", "fixed H/h, Hessian norm bound max", "v"),
+                                  ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -330,7 +339,8 @@ def main():
         return
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
-                        "--markdown", "--expansion", "--add-summary", "--pair-a"],
+                        "--markdown", "--expansion", "--hessian-norm-bound", "--add-summary",
+                        "--pair-a"],
               ["--merge", "--report-only", "--linear-only"])
     exe = option("--exe", "build/feticontact")
     mono = option("--monolithic", "")
@@ -351,7 +361,10 @@ def main():
         report(rows + linear, md_path, command)
         return
     expansion = option("--expansion", "fixed")
-    suffix = "" if expansion == "fixed" else "_" + expansion.replace("projected cg", "pcg")
+    bound = option("--hessian-norm-bound", "sum")
+    variant = (expansion, bound)
+    suffix = ("" if expansion == "fixed" else "_" + expansion.replace("projected cg", "pcg")) + \
+        ("" if bound == "sum" else "_" + bound)
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \
@@ -381,16 +394,16 @@ def main():
         if "--linear-only" not in sys.argv:
             for p in ranks:
                 add(run_contact(exe, "weak" + suffix, a, c, a * c, (3 * a, a, a), p, repeats,
-                                expansion))
+                                variant))
         if mono:
             add(run_monolithic(mono, a, c, a * c))
     if "--linear-only" in sys.argv:
         return
     for k in seed_k:
-        add(run_contact(exe, "seed" + suffix, k, k, k, (3, 1, 1), 1, repeats, expansion))
+        add(run_contact(exe, "seed" + suffix, k, k, k, (3, 1, 1), 1, repeats, variant))
     for a in coarse_a:
         add(run_contact(exe, "coarse" + suffix, a, 2, 2 * a, (3 * a, a, a), 1, repeats,
-                        expansion))
+                        variant))
 
 
 if __name__ == "__main__":

@@ -101,9 +101,13 @@ namespace FetiContact
                                       layout.size(),
                                       10);
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
-    G_norm       = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
-    rho          = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
-    hessian_norm = F_norm + rho * G_norm * G_norm;
+    G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
+    rho    = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
+    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
+    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
+    hessian_norm = parameters.hessian_norm_max && projector ?
+                     std::max(F_norm, rho * G_norm * G_norm) :
+                     F_norm + rho * G_norm * G_norm;
   }
 
   Vector<double>

@@ -129,6 +129,15 @@ namespace FetiContact::Parameters
       "gradient step projected onto the feasible set, kept if the energy "
       "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg). Measured in "
       "doc/performance.md.");
+    prm.declare_entry(
+      "Hessian norm bound",
+      "sum",
+      Patterns::Selection("sum|max"),
+      "The bound of ‖A‖ behind MPGP's fixed step ᾱ = 1.9/‖A‖ (expansion and projected "
+      "gradient steps): 'sum' ‖F‖ + ρ, valid for either equality constraint; 'max' "
+      "max(‖F‖, ρ), valid only for the projector variant, whose Hessian PFP + ρQ acts on "
+      "the complementary orthogonal subspaces ker G̃ and range G̃ᵀ (with the penalty "
+      "ρ = ‖F‖ of 'mpgp' it doubles ᾱ). Measured in doc/performance.md.");
     prm.leave_subsection();
   }
 
@@ -202,6 +211,10 @@ namespace FetiContact::Parameters
                                EqualityConstraint::penalty;
     disc_rotations         = prm.get_bool("Disc rotations");
     projected_cg_expansion = prm.get("Expansion step") == "projected cg";
+    hessian_norm_max       = prm.get("Hessian norm bound") == "max";
+    require(!hessian_norm_max || equality_constraint == EqualityConstraint::projector,
+            "Contact solver/Hessian norm bound = max holds only with Equality constraint = "
+            "projector (the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

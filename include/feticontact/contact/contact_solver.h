@@ -160,7 +160,10 @@ namespace FetiContact
     std::vector<unsigned int> row_tier;
     /** The QP tolerance of the current solve (inexact MSA: looser in early MSA steps). */
     double qp_tolerance = 0;
-    /** ‖F + ρGᵀG‖ ≤ ‖F‖ + ρ‖G‖², for the fixed step ᾱ of the block solves. */
+    /**
+     * The bound of the Hessian's norm behind the fixed step ᾱ = 1.9/‖A‖ of the block solves:
+     * ‖F‖ + ρ‖G̃‖², or max(‖F‖, ρ) for the projector variant (Hessian norm bound = max).
+     */
     double hessian_norm = 0;
     /** λ after the last inner solve (for the status counts of the history). */
     dealii::Vector<double> last_lambda;

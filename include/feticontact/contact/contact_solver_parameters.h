@@ -69,6 +69,11 @@ namespace FetiContact::Parameters
     bool disc_rotations = true;
     /** MPGP's expansion step: true the projected conjugate gradient step, false the fixed step. */
     bool projected_cg_expansion = false;
+    /**
+     * The bound of ‖A‖ for MPGP's fixed step: false ‖F‖ + ρ; true max(‖F‖, ρ), exact for the
+     * projector variant (PFP and ρQ act on complementary orthogonal subspaces).
+     */
+    bool hessian_norm_max = false;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -62,15 +62,4 @@ namespace FetiContact
                      comm);
   }
 
-  void
-  BlockPartition::sum_scatter(const double *values, double *block) const
-  {
-    if (count.size() > 1)
-      {
-        if (first.back() > 0)
-          MPI_Reduce_scatter(values, block, count.data(), MPI_DOUBLE, MPI_SUM, comm);
-      }
-    else
-      std::copy(values + begin(), values + end(), block);
-  }
 } // namespace FetiContact

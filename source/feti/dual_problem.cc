@@ -63,14 +63,7 @@ namespace FetiContact
         });
       }
     slots.assign(rows.entries.size(), 0.);
-    summed_slots.assign(rows.entries.size(), 0.);
-    // The rows are split among the ranks in blocks of about equal numbers of slots; the slots of
-    // a block of rows are a block too (they are numbered row by row).
-    row_blocks = BlockPartition::balanced(comm, slot_start);
-    std::vector<unsigned int> first_slot;
-    for (const unsigned int r : row_blocks.firsts())
-      first_slot.push_back(slot_start[r]);
-    slot_blocks = BlockPartition(comm, first_slot);
+    setup_row_sums(rows, mode_offset.size() - 1);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -109,21 +102,140 @@ namespace FetiContact
   }
 
   void
+  DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
+  {
+    int n_ranks = 1, this_rank = 0;
+    MPI_Comm_size(comm, &n_ranks);
+    MPI_Comm_rank(comm, &this_rank);
+    single_rank          = (n_ranks == 1);
+    const unsigned int m = size();
+
+    // The rank of every subdomain, and of every row: the rank of the first subdomain in the
+    // row's summation order.
+    std::vector<int> subdomain_rank(n_subdomains, -1);
+    for (const Subdomain *s : owned)
+      subdomain_rank[s->global_index] = this_rank;
+    if (n_subdomains > 0)
+      MPI_Allreduce(MPI_IN_PLACE, subdomain_rank.data(), n_subdomains, MPI_INT, MPI_MAX, comm);
+    const auto rank_of_slot = [&](const unsigned int k) {
+      const unsigned int s = rows.entries[k].subdomain;
+      AssertThrow(s < n_subdomains && subdomain_rank[s] >= 0,
+                  ExcMessage("DualProblem: a row of B refers to subdomain " + std::to_string(s) +
+                             ", which no rank owns."));
+      return subdomain_rank[s];
+    };
+    std::vector<int> row_rank(m, 0);
+    for (unsigned int r = 0; r < m; ++r)
+      if (slot_start[r] < slot_start[r + 1])
+        row_rank[r] = rank_of_slot(slot_order[slot_start[r]]);
+
+    // The slots that cross ranks: terms of this rank's subdomains in other ranks' rows (sent)
+    // and the other way round (received), both listed by increasing slot on either side.
+    std::vector<std::vector<unsigned int>> send(n_ranks), receive(n_ranks);
+    for (unsigned int r = 0; r < m; ++r)
+      for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
+        {
+          const int from = rank_of_slot(k), to = row_rank[r];
+          if (from == to)
+            continue;
+          if (from == this_rank)
+            send[to].push_back(k);
+          else if (to == this_rank)
+            receive[from].push_back(k);
+        }
+    send_slots.clear();
+    receive_slots.clear();
+    for (int p = 0; p < n_ranks; ++p)
+      {
+        if (!send[p].empty())
+          send_slots.push_back({p, std::move(send[p]), {}});
+        if (!receive[p].empty())
+          receive_slots.push_back({p, std::move(receive[p]), {}});
+      }
+    for (auto &exchange : send_slots)
+      exchange.buffer.resize(exchange.slots.size());
+    for (auto &exchange : receive_slots)
+      exchange.buffer.resize(exchange.slots.size());
+    requests.resize(send_slots.size() + receive_slots.size());
+
+    // This rank's rows, and the order of all rows in the gathered sums (rank by rank).
+    own_rows.clear();
+    gathered_rows.clear();
+    row_count.assign(n_ranks, 0);
+    row_displacement.assign(n_ranks, 0);
+    for (unsigned int r = 0; r < m; ++r)
+      ++row_count[row_rank[r]];
+    for (int p = 1; p < n_ranks; ++p)
+      row_displacement[p] = row_displacement[p - 1] + row_count[p - 1];
+    gathered_rows.resize(m);
+    std::vector<int> next(row_displacement);
+    for (unsigned int r = 0; r < m; ++r)
+      {
+        gathered_rows[next[row_rank[r]]++] = r;
+        if (row_rank[r] == this_rank)
+          own_rows.push_back(r);
+      }
+    own_sums.resize(own_rows.size());
+    gathered_sums.resize(m);
+  }
+
+  void
   DualProblem::sum_slots(Vector<double> &y) const
   {
-    // Every rank sums the slots of its block of rows over the ranks and adds them up row by row;
-    // the rows are then gathered.
-    slot_blocks.sum_scatter(slots.data(), summed_slots.data() + slot_blocks.begin());
     if (y.size() != size())
       y.reinit(size(), true);
-    for (unsigned int r = row_blocks.begin(); r < row_blocks.end(); ++r)
+    const auto row_sum = [&](const unsigned int r) {
+      double sum = 0;
+      for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
+        sum += slots[slot_order[k]];
+      return sum;
+    };
+    if (single_rank)
       {
-        double sum = 0;
-        for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-          sum += summed_slots[slot_order[k]];
-        y[r] = sum;
+        for (unsigned int r = 0; r < size(); ++r)
+          y[r] = row_sum(r);
+        return;
       }
-    row_blocks.gather(y.begin());
+    // The terms that other ranks' rows need from this rank, and those this rank's rows need
+    // from others (only rows on the boundaries between the ranks' sets of subdomains).
+    unsigned int n_requests = 0;
+    for (auto &exchange : receive_slots)
+      MPI_Irecv(exchange.buffer.data(),
+                exchange.buffer.size(),
+                MPI_DOUBLE,
+                exchange.rank,
+                0,
+                comm,
+                &requests[n_requests++]);
+    for (auto &exchange : send_slots)
+      {
+        for (unsigned int j = 0; j < exchange.slots.size(); ++j)
+          exchange.buffer[j] = slots[exchange.slots[j]];
+        MPI_Isend(exchange.buffer.data(),
+                  exchange.buffer.size(),
+                  MPI_DOUBLE,
+                  exchange.rank,
+                  0,
+                  comm,
+                  &requests[n_requests++]);
+      }
+    MPI_Waitall(n_requests, requests.data(), MPI_STATUSES_IGNORE);
+    for (const auto &exchange : receive_slots)
+      for (unsigned int j = 0; j < exchange.slots.size(); ++j)
+        slots[exchange.slots[j]] = exchange.buffer[j];
+    // Every rank adds up its rows; then every rank gets all rows.
+    for (unsigned int j = 0; j < own_rows.size(); ++j)
+      own_sums[j] = row_sum(own_rows[j]);
+    MPI_Allgatherv(own_sums.data(),
+                   own_sums.size(),
+                   MPI_DOUBLE,
+                   gathered_sums.data(),
+                   row_count.data(),
+                   row_displacement.data(),
+                   MPI_DOUBLE,
+                   comm);
+    for (unsigned int q = 0; q < gathered_rows.size(); ++q)
+      y[gathered_rows[q]] = gathered_sums[q];
   }
 
   void

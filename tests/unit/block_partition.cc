@@ -2,7 +2,6 @@
 //  - the blocks are contiguous, in rank order, cover [0, n), and each weighs at most its share
 //    of the total plus the heaviest single index;
 //  - gather() gives every rank every block, exactly;
-//  - sum_scatter() gives every rank the sums over the ranks of its block, exactly (integers);
 //  - the degenerate cases: no indices, fewer indices than ranks, all weight on one index.
 
 #include <deal.II/base/mpi.h>
@@ -55,15 +54,6 @@ namespace
     for (unsigned int i = 0; i < n; ++i)
       gathered = gathered && values[i] == 0.5 * i + 1;
     check(gathered, name + ": gather gives every rank every block");
-
-    for (unsigned int i = 0; i < n; ++i)
-      values[i] = (rank + 1.) * i;
-    std::vector<double> block(blocks.end() - blocks.begin(), -1.);
-    blocks.sum_scatter(values.data(), block.data());
-    bool summed = true;
-    for (unsigned int i = blocks.begin(); i < blocks.end(); ++i)
-      summed = summed && block[i - blocks.begin()] == 0.5 * n_ranks * (n_ranks + 1.) * i;
-    check(summed, name + ": sum_scatter gives the sums over the ranks of this rank's block");
   }
 } // namespace
 

@@ -12,9 +12,9 @@ namespace FetiContact
    * operations in the same order as on one rank, so the result is the same bits on any number of
    * ranks; only the work is divided.
    *
-   * Used for the products with B (the sums of the slots B_i u_i, DualProblem) and with G and Gᵀ
-   * (CoarseProblem), whose replicated passes over nnz(B) and nnz(G) numbers were the part of every
-   * Hessian multiplication that two ranks did twice.
+   * Used for the products with G and Gᵀ (CoarseProblem), whose replicated passes over nnz(G)
+   * numbers were a part of every Hessian multiplication that two ranks did twice, and for the
+   * assignment of subdomains to ranks (Simulator).
    */
   class BlockPartition
   {
@@ -60,12 +60,6 @@ namespace FetiContact
     void
     gather(double *values) const;
 
-    /**
-     * @p block (this rank's block only, end() − begin() numbers) ← the sum over the ranks of
-     * their @p values (n numbers each) in this block: an MPI_Reduce_scatter.
-     */
-    void
-    sum_scatter(const double *values, double *block) const;
 
   private:
     MPI_Comm                  comm = MPI_COMM_SELF;

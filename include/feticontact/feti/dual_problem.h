@@ -2,7 +2,6 @@
 
 #include <deal.II/lac/vector.h>
 
-#include <feticontact/base/block_partition.h>
 #include <feticontact/feti/coarse_problem.h>
 #include <feticontact/feti/equality_constraints.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -21,13 +20,14 @@ namespace FetiContact
    * subdomains that this rank owns. Dual vectors are replicated on every rank; F is applied
    * subdomain by subdomain and summed over the ranks. The sum is rank-independent: every
    * subdomain writes its terms B_i u_i into its own slots (one per nonzero of B), and every row
-   * adds its slots in the order of increasing subdomain. The rows are split among the ranks in
-   * blocks (BlockPartition): an MPI_Reduce_scatter gives each rank the slots of its rows, it adds
-   * them up, and an MPI_Allgatherv gives every rank all rows. F x, h and B u − c are then the same
-   * bits on any number of ranks and any assignment of subdomains to ranks, and so are the iterates
-   * and iteration counts of the solvers that use them (floating-point addition is not associative:
-   * a sum in rank order made n_A differ by 8 % between one and two ranks). Knows nothing of
-   * friction: it sees rows of B and their right-hand side c.
+   * adds its slots in the order of increasing subdomain. Every row belongs to the rank of the
+   * first subdomain in that order: the terms of other ranks' subdomains in it (rows on the
+   * boundaries between the ranks' sets of subdomains) are sent to that rank point to point, it
+   * adds up its rows, and an MPI_Allgatherv gives every rank all rows. F x, h and B u − c are then
+   * the same bits on any number of ranks and any assignment of subdomains to ranks, and so are the
+   * iterates and iteration counts of the solvers that use them (floating-point addition is not
+   * associative: a sum in rank order made n_A differ by 8 % between one and two ranks). Knows
+   * nothing of friction: it sees rows of B and their right-hand side c.
    */
   class DualProblem
   {
@@ -93,9 +93,12 @@ namespace FetiContact
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
+    /** The rows of each rank and the slots that cross ranks (from the rows and the owners). */
+    void
+    setup_row_sums(const DualRows &rows, const unsigned int n_subdomains);
     /**
      * y = the sum over the ranks of the slots, row by row in the order of increasing subdomain
-     * (each rank its block of rows, then gathered).
+     * (each rank its rows, then gathered).
      */
     void
     sum_slots(dealii::Vector<double> &y) const;
@@ -112,13 +115,27 @@ namespace FetiContact
     /** The slots of every row in summation order (CSR: slot_start, slot_order). */
     std::vector<unsigned int> slot_start, slot_order;
     /**
-     * One number per nonzero of B: B_i u_i entry by entry. Only this rank's blocks write their
-     * slots (all of them, in every product), so the others stay zero and need no clearing.
+     * One number per nonzero of B: B_i u_i entry by entry. This rank's blocks write their slots
+     * (all of them, in every product); the slots of other ranks' subdomains in this rank's rows
+     * are received before the rows are added up; the rest stay zero and are never read.
      */
     mutable std::vector<double> slots;
-    /** The slots summed over the ranks (those of this rank's block of rows). */
-    mutable std::vector<double> summed_slots;
-    /** This rank's block of rows, and the block of their slots. */
-    BlockPartition row_blocks, slot_blocks;
+    /**
+     * The slots exchanged with one other rank: their indices (increasing) and a buffer for
+     * their values.
+     */
+    struct SlotExchange
+    {
+      int                         rank;
+      std::vector<unsigned int>   slots;
+      mutable std::vector<double> buffer;
+    };
+    bool                             single_rank = true;
+    std::vector<SlotExchange>        send_slots, receive_slots;
+    mutable std::vector<MPI_Request> requests;
+    /** This rank's rows (increasing); all rows in the order of the gathered sums. */
+    std::vector<unsigned int>   own_rows, gathered_rows;
+    std::vector<int>            row_count, row_displacement;
+    mutable std::vector<double> own_sums, gathered_sums;
   };
 } // namespace FetiContact

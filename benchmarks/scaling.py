@@ -17,7 +17,8 @@ linear solve beside the contact solve.
 Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
 --cells-per-subdomain), split into 3a × a × a cubic subdomains of c × c × c cells, for every a
 of --a; each is run with every rank count of --np (`mpirun -np P`, one OpenBLAS thread per
-rank). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
+rank; with several rank counts and --repeats the runs alternate, 1, 2, 1, 2, …, so that the
+speed-ups are ratios of medians measured side by side). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
 grows. "Coarse problem": c = 2 and a of --coarse-a (3a³ subdomains, up to 1,029 at a = 7),
 where the time of setting up the coarse problem GGᵀ is read. --monolithic gives the program that
 assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
@@ -55,7 +56,8 @@ from cli import arguments, option
 PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
 FIELDS = ["series", "a", "c", "k", "np", "n_subdomains", "n", "m", "coarse", "iter", "smalbe",
           "n_A", "setup", "assembly", "factorization", "coarse_problem", "solve", "hessian",
-          "bookkeeping", "one_F", "total", "floor_ratio", "peak_mib", "converged", "runs"]
+          "bookkeeping", "one_F", "total", "floor_ratio", "peak_mib", "converged", "runs",
+          "local_slowest", "local_fastest"]
 MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve", "linear_total",
                "peak_mib", "residual"]
 
@@ -91,16 +93,30 @@ def read_summary(p, command, out):
         return json.load(f)
 
 
+def run_contact_once(exe, k, blocks, ranks, variant=("fixed", "sum")):
+    """summary.json of one run on `ranks` ranks."""
+    with tempfile.TemporaryDirectory() as out:
+        command = contact_command(exe, k, blocks, out, variant)
+        if ranks > 1:
+            command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
+        p = subprocess.run(command, capture_output=True, text=True, env=env())
+        return read_summary(p, command, out)
+
+
 def run_contact(exe, series, a, c, k, blocks, ranks, repeats, variant=("fixed", "sum")):
-    runs = []
-    for _ in range(repeats):
-        with tempfile.TemporaryDirectory() as out:
-            command = contact_command(exe, k, blocks, out, variant)
-            if ranks > 1:
-                command = ["mpirun", "-np", str(ranks), "--bind-to", "core"] + command
-            p = subprocess.run(command, capture_output=True, text=True, env=env())
-            runs.append(read_summary(p, command, out))
+    runs = [run_contact_once(exe, k, blocks, ranks, variant) for _ in range(repeats)]
     return row_from_summaries(runs, series, a, c, k, ranks)
+
+
+def run_contact_interleaved(exe, series, a, c, k, blocks, rank_counts, repeats, variant):
+    """The runs of every rank count in turn (1, 2, 1, 2, …), so that a drift of this virtual
+    machine's speed over the study falls on all rank counts alike: the speed-ups are ratios of
+    medians measured side by side. One row per rank count."""
+    runs = {p: [] for p in rank_counts}
+    for _ in range(repeats):
+        for p in rank_counts:
+            runs[p].append(run_contact_once(exe, k, blocks, p, variant))
+    return [row_from_summaries(runs[p], series, a, c, k, p) for p in rank_counts]
 
 
 def run_pair(exe, a, c, k, blocks, repeats):
@@ -137,6 +153,11 @@ def row_from_summaries(runs, series, a, c, k, ranks):
     def median(name):
         return statistics.median(r["times"][name] for r in runs)
 
+    def median_if_present(name):
+        # The work in a rank's own subdomains (summary.json since commit 628ad20).
+        values = [r["times"][name] for r in runs if name in r["times"]]
+        return statistics.median(values) if values else ""
+
     return {"series": series, "a": a, "c": c, "k": k, "np": ranks,
             "n_subdomains": first["n_subdomains"], "n": first["n_primal"],
             "m": first["m_total"], "coarse": first["n_rigid_modes"],
@@ -149,7 +170,9 @@ def row_from_summaries(runs, series, a, c, k, ranks):
             "total": statistics.median(r["times"]["total"] - r["times"]["output"] for r in runs),
             "floor_ratio": median("total_over_floor"),
             "peak_mib": max(r["memory"]["peak_rss_mib_max"] for r in runs),
-            "converged": all(r["converged"] for r in runs), "runs": len(runs)}
+            "converged": all(r["converged"] for r in runs), "runs": len(runs),
+            "local_slowest": median_if_present("hessian_local_slowest_rank"),
+            "local_fastest": median_if_present("hessian_local_fastest_rank")}
 
 
 def run_monolithic(exe, a, c, k):
@@ -392,9 +415,9 @@ def main():
         return
     for a in a_list:
         if "--linear-only" not in sys.argv:
-            for p in ranks:
-                add(run_contact(exe, "weak" + suffix, a, c, a * c, (3 * a, a, a), p, repeats,
-                                variant))
+            for row in run_contact_interleaved(exe, "weak" + suffix, a, c, a * c,
+                                               (3 * a, a, a), ranks, repeats, variant):
+                add(row)
         if mono:
             add(run_monolithic(mono, a, c, a * c))
     if "--linear-only" in sys.argv:

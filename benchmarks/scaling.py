@@ -272,6 +272,24 @@ def report(rows, md_path, command):
             out.append(f"| {k} | {by[1]['n']} | {by[1]['n_subdomains']} | " +
                        " | ".join(cells) + " |")
         out.append("")
+        # Where the time of the multi-rank runs goes beside the local work.
+        split = [r for r in weak if r.get("local_slowest") and int(r["np"]) > 1]
+        if split:
+            out.extend(["### MPI: the applications of F and the bookkeeping on more ranks", "",
+                        "'F' = the applications of F on the slowest rank; 'local' = its work in "
+                        "its own subdomains (the slowest and the fastest rank); 'exchange and "
+                        "waiting' = F − local (slowest rank; of the medians), the exchange of B u among "
+                        "the ranks and the waits for the other rank; 'bookkeeping' = the rest of the solve "
+                        "(replicated QP work and the split products with G). Medians [s].", "",
+                        "| k | np | F | local, slowest rank | local, fastest rank | "
+                        "exchange and waiting | bookkeeping | runs |",
+                        "|---|---|---|---|---|---|---|---|"])
+            for r in sorted(split, key=lambda r: (int(r["k"]), int(r["np"]))):
+                out.append(f"| {r['k']} | {r['np']} | {g(r['hessian'])} | "
+                           f"{g(r['local_slowest'])} | {g(r['local_fastest'])} | "
+                           f"{g(float(r['hessian']) - float(r['local_slowest']))} | "
+                           f"{g(r['bookkeeping'])} | {r['runs']} |")
+            out.append("")
 
     pairs = {int(r["k"]): r for r in contact if r["series"] == "pair"}
     if pairs:

@@ -254,6 +254,10 @@ def report(rows, md_path, command):
     ranks = sorted({int(r["np"]) for r in weak})
     if len(ranks) > 1:
         out.extend(["### MPI: wall time without output (total) on 1 and more ranks", "",
+                    "'speed-up' is the ratio of the medians. On the virtual machine of these "
+                    "runs a one-rank run right after a two-rank run was 10–20 % slower than "
+                    "after a one-rank run (doc/performance.md, ninth session), so with the runs "
+                    "alternating the ratios overstate the speed-up.", "",
                     "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
                     " | " + " | ".join(f"speed-up np={p} | efficiency np={p}"
                                        for p in ranks[1:]) +

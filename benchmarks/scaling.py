@@ -11,14 +11,16 @@ linear solve beside the contact solve.
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
-        [--pair-a 2,3]
+        [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
 
 Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
 --cells-per-subdomain), split into 3a × a × a cubic subdomains of c × c × c cells, for every a
 of --a; each is run with every rank count of --np (`mpirun -np P`, one OpenBLAS thread per
-rank; with several rank counts and --repeats the runs alternate, 1, 2, 1, 2, …, so that the
-speed-ups are ratios of medians measured side by side). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
+rank; the --repeats runs of one rank count, then those of the next; with --alternate the runs
+alternate, 1, 2, 1, 2, …, which spreads a drift of the machine's speed over all rank counts
+but, on the machine of doc/performance.md, slows every one-rank run that follows a two-rank
+run by 10–20 %). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
 grows. "Coarse problem": c = 2 and a of --coarse-a (3a³ subdomains, up to 1,029 at a = 7),
 where the time of setting up the coarse problem GGᵀ is read. --monolithic gives the program that
 assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
@@ -386,7 +388,7 @@ def main():
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--add-summary",
                         "--pair-a"],
-              ["--merge", "--report-only", "--linear-only"])
+              ["--merge", "--report-only", "--linear-only", "--alternate"])
     exe = option("--exe", "build/feticontact")
     mono = option("--monolithic", "")
     c = int(option("--cells-per-subdomain", "8"))
@@ -437,9 +439,14 @@ def main():
         return
     for a in a_list:
         if "--linear-only" not in sys.argv:
-            for row in run_contact_interleaved(exe, "weak" + suffix, a, c, a * c,
-                                               (3 * a, a, a), ranks, repeats, variant):
-                add(row)
+            if "--alternate" in sys.argv:
+                for row in run_contact_interleaved(exe, "weak" + suffix, a, c, a * c,
+                                                   (3 * a, a, a), ranks, repeats, variant):
+                    add(row)
+            else:
+                for p in ranks:
+                    add(run_contact(exe, "weak" + suffix, a, c, a * c, (3 * a, a, a), p,
+                                    repeats, variant))
         if mono:
             add(run_monolithic(mono, a, c, a * c))
     if "--linear-only" in sys.argv:

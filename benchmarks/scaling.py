@@ -111,9 +111,10 @@ def run_contact(exe, series, a, c, k, blocks, ranks, repeats, variant=("fixed", 
 
 
 def run_contact_interleaved(exe, series, a, c, k, blocks, rank_counts, repeats, variant):
-    """The runs of every rank count in turn (1, 2, 1, 2, …), so that a drift of this virtual
-    machine's speed over the study falls on all rank counts alike: the speed-ups are ratios of
-    medians measured side by side. One row per rank count."""
+    """The runs of every rank count in turn (1, 2, 1, 2, …; --alternate), so that a drift of the
+    machine's speed over the study falls on all rank counts alike. On the machine of
+    doc/performance.md a one-rank run right after a two-rank run is 10–20 % slower, so there
+    this order overstates the speed-up. One row per rank count."""
     runs = {p: [] for p in rank_counts}
     for _ in range(repeats):
         for p in rank_counts:

@@ -9,7 +9,7 @@ linear solve beside the contact solve.
         [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
-        [--expansion "projected cg"] [--hessian-norm-bound max]
+        [--expansion "projected cg"|"projected search"] [--hessian-norm-bound max]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -27,7 +27,7 @@ assembles the stiffness of the undecomposed brick and solves the linear elastic 
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
 --expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
-series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
+series are named "weak_pcg" ("projected cg"), "weak_psearch" ("projected search") etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
 (default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max"). --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
@@ -61,7 +61,7 @@ FIELDS = ["series", "a", "c", "k", "np", "n_subdomains", "n", "m", "coarse", "it
           "bookkeeping", "one_F", "total", "floor_ratio", "peak_mib", "converged", "runs",
           "local_slowest", "local_fastest"]
 MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve", "linear_total",
-               "peak_mib", "residual"]
+               "peak_mib", "residual", "factor_entries"]
 
 
 def settings(k, blocks, variant=("fixed", "sum")):
@@ -189,7 +189,8 @@ def run_monolithic(exe, a, c, k):
             "assembly": result["assembly"], "factorization": result["factorization"],
             "solve": result["solve"],
             "linear_total": result["assembly"] + result["factorization"] + result["solve"],
-            "peak_mib": result["peak_rss_mib"], "residual": result["relative_residual"]}
+            "peak_mib": result["peak_rss_mib"], "residual": result["relative_residual"],
+            "factor_entries": result["factor_entries"]}
 
 
 def key(row):
@@ -250,7 +251,10 @@ def report(rows, md_path, command):
     for base, title in titles.items():
         for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg"),
                              ("_max", ", Hessian norm bound = max"),
-                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max")]:
+                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max"),
+                             ("_psearch", ", Expansion step = projected search"),
+                             ("_psearch_max",
+                              ", Expansion step = projected search, Hessian norm bound = max")]:
             table(f"{title}{note}, one rank", base + suffix, 1)
 
     weak = [r for r in contact if r["series"] == "weak"]
@@ -325,16 +329,22 @@ def report(rows, md_path, command):
     if linear:
         out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
                     "contact solve (one rank)", "",
-                    "| k | n | linear: assembly | factorization | solve | total | peak MiB | "
-                    "relative residual | contact total (np=1) | contact / linear |",
-                    "|---|---|---|---|---|---|---|---|---|---|"])
+                    "| k | n | linear: assembly | factorization | solve | total | entries of L | "
+                    "peak MiB | relative residual | contact total (np=1) | contact / linear | "
+                    "contact total, projected cg + max (np=1) | contact / linear |",
+                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|"])
         for a, r in sorted(linear.items()):
-            c = [x for x in weak if int(x["a"]) == a and int(x["np"]) == 1]
-            ct = float(c[0]["total"]) if c else None
-            ratio = f"{ct / float(r['linear_total']):.2f}" if ct else ""
+            cells = []
+            for series in ("weak", "weak_pcg_max"):
+                c = [x for x in contact if x["series"] == series and int(x["a"]) == a and
+                     int(x["c"]) == int(r["c"]) and int(x["np"]) == 1]
+                ct = float(c[0]["total"]) if c else None
+                cells += [g(ct) if ct else "", f"{ct / float(r['linear_total']):.2f}" if ct else ""]
+            entries = f"{float(r['factor_entries']):.3g}" if r.get("factor_entries") else ""
             out.append(f"| {r['k']} | {r['n']} | {g(r['assembly'])} | {g(r['factorization'])} | "
-                       f"{g(r['solve'])} | {g(r['linear_total'])} | {float(r['peak_mib']):.0f} | "
-                       f"{float(r['residual']):.1e} | {g(ct) if ct else ''} | {ratio} |")
+                       f"{g(r['solve'])} | {g(r['linear_total'])} | {entries} | "
+                       f"{float(r['peak_mib']):.0f} | {float(r['residual']):.1e} | " +
+                       " | ".join(cells) + " |")
         out.append("")
     with open(md_path, "w") as f:
         f.write("\n".join(out))
@@ -411,7 +421,10 @@ def main():
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
     variant = (expansion, bound)
-    suffix = ("" if expansion == "fixed" else "_" + expansion.replace("projected cg", "pcg")) + \
+    short = {"fixed": "", "projected cg": "_pcg", "projected search": "_psearch"}
+    if expansion not in short:
+        raise SystemExit(f"--expansion: unknown '{expansion}' (fixed, projected cg, projected search)")
+    suffix = short[expansion] + \
         ("" if bound == "sum" else "_" + bound)
 
     def add(row):

@@ -298,9 +298,7 @@ namespace FetiContact
     options.max_iterations = parameters.max_inner_iterations;
     options.step           = 1.9 / hessian_norm;
     options.disc_rotations = parameters.disc_rotations;
-    options.expansion      = parameters.projected_cg_expansion ?
-                               QP::MpgpOptions::Expansion::projected_cg :
-                               QP::MpgpOptions::Expansion::fixed_step;
+    options.expansion      = parameters.expansion;
     return options;
   }
 

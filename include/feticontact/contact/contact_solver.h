@@ -57,9 +57,11 @@ namespace FetiContact
       unsigned int           smalbe_iterations = 0;
       unsigned int           n_bound = 0, n_disc = 0;
       /** MPGP's steps summed over all its calls (QP::MpgpReport): conjugate gradient,
-       *  expansion and proportioning steps. */
-      unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
-      bool         converged = false;
+       *  expansion and proportioning steps, and of the expansions the fallbacks to the fixed
+       *  step and the halvings of the projected search. */
+      unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
+                   expansion_fallbacks = 0, expansion_halvings = 0;
+      bool converged = false;
 
       void
       count_steps(const QP::MpgpReport &r)
@@ -67,6 +69,8 @@ namespace FetiContact
         cg_steps += r.cg_steps;
         expansion_steps += r.expansion_steps;
         proportioning_steps += r.proportioning_steps;
+        expansion_fallbacks += r.expansion_fallbacks;
+        expansion_halvings += r.expansion_halvings;
       }
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/qp/mpgp.h>
+
 #include <string>
 
 namespace FetiContact::Parameters
@@ -67,8 +69,8 @@ namespace FetiContact::Parameters
     EqualityConstraint equality_constraint = EqualityConstraint::projector;
     /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
     bool disc_rotations = true;
-    /** MPGP's expansion step: true the projected conjugate gradient step, false the fixed step. */
-    bool projected_cg_expansion = false;
+    /** MPGP's expansion step ("Expansion step": fixed, projected cg, projected search). */
+    QP::MpgpOptions::Expansion expansion = QP::MpgpOptions::Expansion::fixed_step;
     /**
      * The bound of ‖A‖ for MPGP's fixed step: false ‖F‖ + ρ; true max(‖F‖, ρ), exact for the
      * projector variant (PFP and ρQ act on complementary orthogonal subspaces).

@@ -23,11 +23,10 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
-
-#include <cholmod.h>
 
 #include <algorithm>
 #include <chrono>
@@ -74,34 +73,9 @@ namespace
         }
     };
     const std::size_t n = K.m();
-    // The upper triangle in compressed-column form (column j = row j of the lower triangle).
-    std::size_t nnz = 0;
-    for (std::size_t j = 0; j < n; ++j)
-      for (auto it = K.begin(j); it != K.end(j); ++it)
-        nnz += it->column() <= j;
-    cholmod_sparse *S = cholmod_l_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &common);
+    common.supernodal   = CHOLMOD_SUPERNODAL;
+    cholmod_sparse *S   = upper_triangle<Int>(K, common);
     check_status("allocating K");
-    auto                               *p = static_cast<Int *>(S->p);
-    auto                               *i = static_cast<Int *>(S->i);
-    auto                               *x = static_cast<double *>(S->x);
-    std::vector<std::pair<Int, double>> column;
-    std::size_t                         k = 0;
-    for (std::size_t j = 0; j < n; ++j)
-      {
-        p[j] = k;
-        column.clear();
-        for (auto it = K.begin(j); it != K.end(j); ++it)
-          if (it->column() <= j)
-            column.emplace_back(it->column(), it->value());
-        std::sort(column.begin(), column.end());
-        for (const auto &[row, value] : column)
-          {
-            i[k] = row;
-            x[k] = value;
-            ++k;
-          }
-      }
-    p[n] = k;
 
     LongCholmodTimes times;
     const auto       t0     = clock::now();

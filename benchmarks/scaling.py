@@ -9,7 +9,7 @@ linear solve beside the contact solve.
         [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
-        [--expansion "projected cg"|"projected search"] [--hessian-norm-bound max]
+        [--expansion "projected cg"] [--hessian-norm-bound max]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -27,7 +27,7 @@ assembles the stiffness of the undecomposed brick and solves the linear elastic 
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
 --expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
-series are named "weak_pcg" ("projected cg"), "weak_psearch" ("projected search") etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
+series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
 (default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max"). --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
@@ -251,10 +251,7 @@ def report(rows, md_path, command):
     for base, title in titles.items():
         for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg"),
                              ("_max", ", Hessian norm bound = max"),
-                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max"),
-                             ("_psearch", ", Expansion step = projected search"),
-                             ("_psearch_max",
-                              ", Expansion step = projected search, Hessian norm bound = max")]:
+                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max")]:
             table(f"{title}{note}, one rank", base + suffix, 1)
 
     weak = [r for r in contact if r["series"] == "weak"]
@@ -263,8 +260,9 @@ def report(rows, md_path, command):
         out.extend(["### MPI: wall time without output (total) on 1 and more ranks", "",
                     "'speed-up' is the ratio of the medians. On the virtual machine of these "
                     "runs a one-rank run right after a two-rank run was 10–20 % slower than "
-                    "after a one-rank run (doc/performance.md, ninth session), so with the runs "
-                    "alternating the ratios overstate the speed-up.", "",
+                    "after a one-rank run (doc/performance.md, ninth session): measure in "
+                    "blocks (the default; not --alternate), whose ratios do not overstate the "
+                    "speed-up.", "",
                     "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
                     " | " + " | ".join(f"speed-up np={p} | efficiency np={p}"
                                        for p in ranks[1:]) +
@@ -421,9 +419,9 @@ def main():
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
     variant = (expansion, bound)
-    short = {"fixed": "", "projected cg": "_pcg", "projected search": "_psearch"}
+    short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
-        raise SystemExit(f"--expansion: unknown '{expansion}' (fixed, projected cg, projected search)")
+        raise SystemExit(f"--expansion: unknown '{expansion}' (fixed, projected cg)")
     suffix = short[expansion] + \
         ("" if bound == "sum" else "_" + bound)
 

@@ -121,15 +121,13 @@ namespace FetiContact::Parameters
     prm.declare_entry(
       "Expansion step",
       "fixed",
-      Patterns::Selection("fixed|projected cg|projected search"),
+      Patterns::Selection("fixed|projected cg"),
       "How MPGP/MPRGP activates constraints when a conjugate gradient step "
       "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
       "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
-      "contact node per expansion), 'projected cg' (the whole conjugate "
+      "contact node per expansion) or 'projected cg' (the whole conjugate "
       "gradient step projected onto the feasible set, kept if the energy "
-      "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg) or 'projected "
-      "search' (as 'projected cg', but a step that did not decrease the energy is halved "
-      "along the projected path up to 4 times before the fixed step). Measured in "
+      "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg). Measured in "
       "doc/performance.md.");
     prm.declare_entry(
       "Hessian norm bound",
@@ -213,9 +211,8 @@ namespace FetiContact::Parameters
                                EqualityConstraint::penalty;
     disc_rotations         = prm.get_bool("Disc rotations");
     const std::string step = prm.get("Expansion step");
-    expansion              = step == "projected cg"     ? QP::MpgpOptions::Expansion::projected_cg :
-                             step == "projected search" ? QP::MpgpOptions::Expansion::projected_search :
-                                                          QP::MpgpOptions::Expansion::fixed_step;
+    expansion              = step == "projected cg" ? QP::MpgpOptions::Expansion::projected_cg :
+                                                      QP::MpgpOptions::Expansion::fixed_step;
     hessian_norm_max       = prm.get("Hessian norm bound") == "max";
     require(!hessian_norm_max || equality_constraint == EqualityConstraint::projector,
             "Contact solver/Hessian norm bound = max holds only with Equality constraint = "

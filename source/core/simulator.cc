@@ -261,8 +261,7 @@ namespace FetiContact
                   .set("cg", result.cg_steps)
                   .set("expansion", result.expansion_steps)
                   .set("proportioning", result.proportioning_steps)
-                  .set("expansion_fallbacks", result.expansion_fallbacks)
-                  .set("expansion_halvings", result.expansion_halvings));
+                  .set("expansion_fallbacks", result.expansion_fallbacks));
   }
 
   void

@@ -3,11 +3,58 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace FetiContact
 {
   using namespace dealii;
+
+  template <typename Int>
+  cholmod_sparse *
+  upper_triangle(const SparseMatrix<double> &A, cholmod_common &common)
+  {
+    static_assert(std::is_same_v<Int, int> || std::is_same_v<Int, SuiteSparse_long>);
+    const std::size_t n = A.m();
+    // Column j of the upper triangle is row j of the lower triangle, and A is symmetric.
+    std::size_t nnz = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      for (auto it = A.begin(j); it != A.end(j); ++it)
+        nnz += it->column() <= j;
+    cholmod_sparse *S = std::is_same_v<Int, int> ?
+                          cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &common) :
+                          cholmod_l_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &common);
+    require(S != nullptr,
+            "CHOLMOD: no memory for a matrix of " + std::to_string(nnz) + " entries.");
+    auto                               *p = static_cast<Int *>(S->p);
+    auto                               *i = static_cast<Int *>(S->i);
+    auto                               *x = static_cast<double *>(S->x);
+    std::vector<std::pair<Int, double>> column;
+    std::size_t                         k = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        p[j] = k;
+        column.clear();
+        for (auto it = A.begin(j); it != A.end(j); ++it)
+          if (it->column() <= j)
+            column.emplace_back(it->column(), it->value());
+        std::sort(column.begin(), column.end());
+        for (const auto &[row, value] : column)
+          {
+            i[k] = row;
+            x[k] = value;
+            ++k;
+          }
+      }
+    p[n] = k;
+    return S;
+  }
+
+  template cholmod_sparse *
+  upper_triangle<int>(const SparseMatrix<double> &, cholmod_common &);
+  template cholmod_sparse *
+  upper_triangle<SuiteSparse_long>(const SparseMatrix<double> &, cholmod_common &);
 
   CholmodSolver::CholmodSolver()
   {
@@ -29,37 +76,8 @@ namespace FetiContact
   void
   CholmodSolver::factorize(const SparseMatrix<double> &A)
   {
-    n = A.m();
-    // The upper triangle in compressed-column form, rows sorted: column j of the upper triangle
-    // is row j of the lower triangle, and A is symmetric.
-    std::vector<std::pair<unsigned int, double>> column;
-    std::size_t                                  nnz = 0;
-    for (std::size_t j = 0; j < n; ++j)
-      for (auto it = A.begin(j); it != A.end(j); ++it)
-        if (it->column() <= j)
-          ++nnz;
-    cholmod_sparse *S = cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_REAL, &common);
-    auto           *p = static_cast<int *>(S->p);
-    auto           *i = static_cast<int *>(S->i);
-    auto           *x = static_cast<double *>(S->x);
-    std::size_t     k = 0;
-    for (std::size_t j = 0; j < n; ++j)
-      {
-        p[j] = k;
-        column.clear();
-        for (auto it = A.begin(j); it != A.end(j); ++it)
-          if (it->column() <= j)
-            column.emplace_back(it->column(), it->value());
-        std::sort(column.begin(), column.end());
-        for (const auto &[row, value] : column)
-          {
-            i[k] = row;
-            x[k] = value;
-            ++k;
-          }
-      }
-    p[n] = k;
-
+    n                 = A.m();
+    cholmod_sparse *S = upper_triangle<int>(A, common);
     if (factor != nullptr)
       cholmod_free_factor(&factor, &common);
     factor = cholmod_analyze(S, &common);

@@ -220,31 +220,16 @@ namespace FetiContact::QP
             else
               {
                 bool expanded = false;
-                if (options.expansion != MpgpOptions::Expansion::fixed_step)
+                if (options.expansion == MpgpOptions::Expansion::projected_cg)
                   {
                     // The whole conjugate gradient step, projected: every constraint that it
-                    // crosses becomes active at once. Kept only if f decreased; the projected
-                    // search halves a step that did not, as long as it stays beyond the
-                    // feasible half step α_f.
+                    // crosses becomes active at once. Kept only if f decreased.
                     x_old = x;
                     g_old = g;
-                    const unsigned int halvings =
-                      options.expansion == MpgpOptions::Expansion::projected_search ?
-                        options.expansion_halvings :
-                        0;
-                    double alpha = alpha_cg;
-                    for (unsigned int trial = 0;; ++trial)
-                      {
-                        x = x_old;
-                        x.add(-alpha, p);
-                        set.project(x);
-                        gradient();
-                        expanded = !increased();
-                        if (expanded || trial == halvings || !(alpha / 2 > alpha_f))
-                          break;
-                        alpha /= 2;
-                        ++report.expansion_halvings;
-                      }
+                    x.add(-alpha_cg, p);
+                    set.project(x);
+                    gradient();
+                    expanded = !increased();
                     if (!expanded)
                       {
                         x = x_old;

@@ -227,9 +227,7 @@ namespace
     /** Fixed active discs with the fixed step ᾱ in projected proportioning steps. */
     fixed_step,
     /** Rotations, and expansion by the projected conjugate gradient step. */
-    projected_cg,
-    /** Rotations, and expansion by the projected search from the conjugate gradient step. */
-    projected_search
+    projected_cg
   };
 
   std::string
@@ -243,8 +241,6 @@ namespace
           return ", fixed discs";
         case Variant::projected_cg:
           return ", projected CG expansion";
-        case Variant::projected_search:
-          return ", projected search expansion";
         default:
           return ", fixed discs, fixed-step proportioning";
       }
@@ -271,12 +267,10 @@ namespace
     b *= s;
     QP::MpgpOptions options;
     options.tolerance      = tolerance * b.l2_norm();
-    options.disc_rotations = variant == Variant::rotations || variant == Variant::projected_cg ||
-                             variant == Variant::projected_search;
-    options.expansion =
-      variant == Variant::projected_cg     ? QP::MpgpOptions::Expansion::projected_cg :
-      variant == Variant::projected_search ? QP::MpgpOptions::Expansion::projected_search :
-                                             QP::MpgpOptions::Expansion::fixed_step;
+    options.disc_rotations = variant == Variant::rotations || variant == Variant::projected_cg;
+    options.expansion      = variant == Variant::projected_cg ?
+                               QP::MpgpOptions::Expansion::projected_cg :
+                               QP::MpgpOptions::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     Result result;
     result.x      = x0;
@@ -432,7 +426,6 @@ main()
     solve_and_check(name, p, x0, 1, Variant::fixed_discs);
     solve_and_check(name, p, x0, 1, Variant::fixed_step);
     solve_and_check(name, p, x0, 1, Variant::projected_cg);
-    solve_and_check(name, p, x0, 1, Variant::projected_search);
     return r;
   };
   // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
@@ -479,7 +472,6 @@ main()
   scaled("generic mix", mix, Variant::fixed_discs);
   scaled("generic mix", mix, Variant::fixed_step);
   scaled("generic mix", mix, Variant::projected_cg);
-  scaled("generic mix", mix, Variant::projected_search);
   {
     Vector<double> x0(mix.n);
     for (auto &v : x0)
@@ -570,7 +562,6 @@ main()
     check(r.report.proportioning_fallbacks == 0, "no projected proportioning without discs");
     scaled("bounds only (MPRGP)", p, Variant::rotations);
     scaled("bounds only (MPRGP)", p, Variant::projected_cg);
-    scaled("bounds only (MPRGP)", p, Variant::projected_search);
   }
   {
     // Many constraints that become active from a start where all are free: the fixed-step
@@ -585,17 +576,6 @@ main()
             " expansions, " + std::to_string(pcg.report.hessian_multiplications) +
             " multiplications against " + std::to_string(fixed.report.expansion_steps) + ", " +
             std::to_string(fixed.report.hessian_multiplications) + " with the fixed step");
-    // The projected search: as few expansions, and at most 4 halvings per expansion.
-    const Result search =
-      solve_and_check("many active bounds", p, Vector<double>(p.n), 1, Variant::projected_search);
-    check(2 * search.report.expansion_steps < fixed.report.expansion_steps &&
-            search.report.expansion_halvings <= 4 * search.report.expansion_steps,
-          "projected search expansion: " + std::to_string(search.report.expansion_steps) +
-            " expansions (" + std::to_string(search.report.expansion_fallbacks) + " fallbacks, " +
-            std::to_string(search.report.expansion_halvings) + " halvings), " +
-            std::to_string(search.report.hessian_multiplications) +
-            " multiplications; projected CG: " + std::to_string(pcg.report.expansion_fallbacks) +
-            " fallbacks");
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

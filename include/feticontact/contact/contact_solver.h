@@ -57,11 +57,11 @@ namespace FetiContact
       unsigned int           smalbe_iterations = 0;
       unsigned int           n_bound = 0, n_disc = 0;
       /** MPGP's steps summed over all its calls (QP::MpgpReport): conjugate gradient,
-       *  expansion and proportioning steps, and of the expansions the fallbacks to the fixed
-       *  step and the halvings of the projected search. */
+       *  expansion and proportioning steps, and of the projected CG expansions those that
+       *  increased the energy and were replaced by the fixed step. */
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
-                   expansion_fallbacks = 0, expansion_halvings = 0;
-      bool converged = false;
+                   expansion_fallbacks = 0;
+      bool converged                   = false;
 
       void
       count_steps(const QP::MpgpReport &r)
@@ -70,7 +70,6 @@ namespace FetiContact
         expansion_steps += r.expansion_steps;
         proportioning_steps += r.proportioning_steps;
         expansion_fallbacks += r.expansion_fallbacks;
-        expansion_halvings += r.expansion_halvings;
       }
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating

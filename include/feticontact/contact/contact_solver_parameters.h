@@ -69,7 +69,7 @@ namespace FetiContact::Parameters
     EqualityConstraint equality_constraint = EqualityConstraint::projector;
     /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
     bool disc_rotations = true;
-    /** MPGP's expansion step ("Expansion step": fixed, projected cg, projected search). */
+    /** MPGP's expansion step ("Expansion step": fixed or projected cg). */
     QP::MpgpOptions::Expansion expansion = QP::MpgpOptions::Expansion::fixed_step;
     /**
      * The bound of ‖A‖ for MPGP's fixed step: false ‖F‖ + ρ; true max(‖F‖, ρ), exact for the

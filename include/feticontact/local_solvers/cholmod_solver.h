@@ -7,6 +7,17 @@
 namespace FetiContact
 {
   /**
+   * The upper triangle of the symmetric matrix @p A in CHOLMOD's compressed-column form (stype 1,
+   * rows sorted), allocated in @p common: with Int = int for the cholmod_* routines (the local
+   * solver), with Int = SuiteSparse_long for the 64-bit cholmod_l_* routines (a factor of more
+   * than 2³¹ entries, as of the undecomposed brick at 10⁶ unknowns in
+   * benchmarks/monolithic_solve.cc). The caller frees it.
+   */
+  template <typename Int>
+  cholmod_sparse *
+  upper_triangle(const dealii::SparseMatrix<double> &A, cholmod_common &common);
+
+  /**
    * SuiteSparse CHOLMOD, supernodal Cholesky LLᵀ with CHOLMOD's choice of fill-reducing ordering
    * (AMD or METIS). The fastest backend measured here (doc/local_solvers.md) and the default.
    */

@@ -81,20 +81,9 @@ namespace FetiContact::QP
        * unconstrained step crosses; accepted only if f decreased, otherwise replaced by the
        * fixed_step expansion (one more multiplication).
        */
-      projected_cg,
-      /**
-       * As projected_cg, but a step that increased f is halved along the projected path,
-       * P_Ω(x − α p) with α = α_cg/2, α_cg/4, … (MpgpOptions::expansion_halvings times at most,
-       * while α > α_f, one multiplication each), before falling back to the fixed_step
-       * expansion: a backtracking projected search (Moré–Toraldo, SIAM J. Optim. 1991) started
-       * at the conjugate gradient step, which keeps more of the constraints that the
-       * unconstrained step crosses than the fallback does.
-       */
-      projected_search
+      projected_cg
     };
     Expansion expansion = Expansion::fixed_step;
-    /** Largest number of halvings of the projected search (Expansion::projected_search). */
-    unsigned int expansion_halvings = 4;
     /** Power iterations for ᾱ when step = 0. */
     unsigned int norm_iterations = 10;
     /** Called after every step with (step number, ‖g^P‖). */
@@ -118,13 +107,8 @@ namespace FetiContact::QP
     unsigned int cg_steps = 0;
     /** Expansion steps (feasible half step, then P_Ω(x − ᾱ φ); or P_Ω(x − α_cg p)). */
     unsigned int expansion_steps = 0;
-    /**
-     * Projected conjugate gradient expansions (and projected searches) that did not decrease f
-     * and were replaced by the fixed-step expansion.
-     */
+    /** Projected conjugate gradient expansions that increased f and were replaced. */
     unsigned int expansion_fallbacks = 0;
-    /** Halvings of the projected search (Expansion::projected_search), one multiplication each. */
-    unsigned int expansion_halvings = 0;
     /** Proportioning steps (along β: exact line search, or projected step with discs). */
     unsigned int proportioning_steps = 0;
     /**

@@ -419,9 +419,9 @@ def main():
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
     variant = (expansion, bound)
-    short = {"fixed": "", "projected cg": "_pcg"}
+    short = {"fixed": "", "projected cg": "_pcg", "optimal length": "_opt"}
     if expansion not in short:
-        raise SystemExit(f"--expansion: unknown '{expansion}' (fixed, projected cg)")
+        raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
     suffix = short[expansion] + \
         ("" if bound == "sum" else "_" + bound)
 

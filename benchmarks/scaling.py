@@ -419,7 +419,7 @@ def main():
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
     variant = (expansion, bound)
-    short = {"fixed": "", "projected cg": "_pcg", "optimal length": "_opt"}
+    short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
     suffix = short[expansion] + \

@@ -118,19 +118,17 @@ namespace FetiContact::Parameters
                       "active discs along their circles (true), or only proportioning steps do, "
                       "as in Dostál–Kozubek and Kučera's KPG (false; much slower when most "
                       "nodes slip).");
-    prm.declare_entry("Expansion step",
-                      "fixed",
-                      Patterns::Selection("fixed|projected cg|optimal length"),
-                      "How MPGP/MPRGP activates constraints when a conjugate gradient step "
-                      "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
-                      "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
-                      "contact node per expansion) or 'projected cg' (the whole conjugate "
-                      "gradient step projected onto the feasible set, kept if the energy "
-                      "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg) or "
-                      "'optimal length' (the half step, then the projected step along the free "
-                      "gradient with the length that minimizes the energy on the line, kept if the "
-                      "energy decreased, else the fixed step; one more Hessian multiplication per "
-                      "expansion). Measured in doc/performance.md.");
+    prm.declare_entry(
+      "Expansion step",
+      "fixed",
+      Patterns::Selection("fixed|projected cg"),
+      "How MPGP/MPRGP activates constraints when a conjugate gradient step "
+      "leaves the feasible set: 'fixed' (Dostál–Schöberl: the feasible half step, "
+      "then the projected step of fixed length ᾱ = 1.9/‖A‖; activates about one "
+      "contact node per expansion) or 'projected cg' (the whole conjugate "
+      "gradient step projected onto the feasible set, kept if the energy "
+      "decreased, else the fixed step; Kružík et al. 2020, PERMON's projcg). Measured in "
+      "doc/performance.md.");
     prm.declare_entry(
       "Hessian norm bound",
       "sum",
@@ -213,9 +211,8 @@ namespace FetiContact::Parameters
                                EqualityConstraint::penalty;
     disc_rotations         = prm.get_bool("Disc rotations");
     const std::string step = prm.get("Expansion step");
-    expansion              = step == "projected cg"   ? QP::MpgpOptions::Expansion::projected_cg :
-                             step == "optimal length" ? QP::MpgpOptions::Expansion::optimal_length :
-                                                        QP::MpgpOptions::Expansion::fixed_step;
+    expansion              = step == "projected cg" ? QP::MpgpOptions::Expansion::projected_cg :
+                                                      QP::MpgpOptions::Expansion::fixed_step;
     hessian_norm_max       = prm.get("Hessian norm bound") == "max";
     require(!hessian_norm_max || equality_constraint == EqualityConstraint::projector,
             "Contact solver/Hessian norm bound = max holds only with Equality constraint = "

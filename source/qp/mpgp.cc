@@ -239,46 +239,17 @@ namespace FetiContact::QP
                   }
                 if (!expanded)
                   {
-                    // Expansion step: feasible half step, then the projected step along the
-                    // free gradient of the fixed-disc mode (its decrease of f is guaranteed for
-                    // ᾱ ≤ 2/‖A‖; a rotation of a strongly pressed disc by ᾱ would not be).
+                    // Expansion step: feasible half step, then the fixed-step projected step
+                    // along the free gradient of the fixed-disc mode (its decrease of f is
+                    // guaranteed for ᾱ ≤ 2/‖A‖; a rotation of a strongly pressed disc by ᾱ
+                    // would not be).
                     x.add(-alpha_f, p);
                     set.project(x);
                     g.add(-alpha_f, Ap);
                     set.free_gradient(x, g, phi, DiscMode::fixed);
-                    bool long_step_kept = false;
-                    if (options.expansion == MpgpOptions::Expansion::optimal_length)
-                      {
-                        // The minimizer of f along the line x − αφ, α = φᵀφ/φᵀAφ ≥ 1/‖A‖,
-                        // projected: kept only if f decreased against the half step.
-                        multiply(phi, Hp);
-                        const double phi_A_phi = phi * Hp;
-                        if (phi_A_phi > 0)
-                          {
-                            const double alpha_opt = phi.norm_sqr() / phi_A_phi;
-                            if (alpha_opt > alpha_bar)
-                              {
-                                x_old = x;
-                                g_old = g;
-                                x.add(-alpha_opt, phi);
-                                set.project(x);
-                                gradient();
-                                long_step_kept = !increased();
-                                if (!long_step_kept)
-                                  {
-                                    x = x_old;
-                                    g = g_old;
-                                    ++report.expansion_fallbacks;
-                                  }
-                              }
-                          }
-                      }
-                    if (!long_step_kept)
-                      {
-                        x.add(-alpha_bar, phi);
-                        set.project(x);
-                        gradient();
-                      }
+                    x.add(-alpha_bar, phi);
+                    set.project(x);
+                    gradient();
                   }
                 update_sets();
                 p        = z;

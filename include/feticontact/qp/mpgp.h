@@ -81,15 +81,7 @@ namespace FetiContact::QP
        * unconstrained step crosses; accepted only if f decreased, otherwise replaced by the
        * fixed_step expansion (one more multiplication).
        */
-      projected_cg,
-      /**
-       * The feasible half step, then the projected step along the free gradient φ with the
-       * length that minimizes f on the line, P_Ω(x − α_opt φ) with α_opt = φᵀφ/φᵀAφ ≥ 1/‖A‖
-       * (the "opt" expansion length of Kružík et al. 2020); accepted only if f decreased against
-       * the half step, otherwise replaced by the fixed step. One more multiplication per
-       * expansion (Aφ), and one per rejected step.
-       */
-      optimal_length
+      projected_cg
     };
     Expansion expansion = Expansion::fixed_step;
     /** Power iterations for ᾱ when step = 0. */

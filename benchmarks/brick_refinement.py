@@ -14,7 +14,7 @@ algorithm overridden (`--set`), default tolerances (QP 1e-8, MSA 1e-6, relative)
 Time is the wall time of the contact solve (summary.json times.solve: the iterations, without
 assembly and factorization, which are listed separately), the median of --repeats runs.
 --limit "ALGORITHM=K;..." skips that algorithm above k = K (it does not scale; the skipped cells
-say so). --only measures only the listed algorithms; --merge keeps the rows of the existing CSV
+say so); "ALGORITHM F0.3=K" does so for one friction coefficient only. --only measures only the listed algorithms; --merge keeps the rows of the existing CSV
 that are not measured again (to add cases to an earlier study); --merge --report-only rewrites
 the tables from the CSV. The measurement part uses the standard library only; --plot needs matplotlib.
 """
@@ -120,7 +120,7 @@ def measure():
                 continue
             if any(r["k"] == k and r["F"] == friction and r["algorithm"] == label for r in rows):
                 continue
-            if k > limits.get(label, 10 ** 9):
+            if k > limits.get(f"{label} F{friction}", limits.get(label, 10 ** 9)):
                 rows.append(dict(k=k, F=friction, algorithm=label, status="skipped"))
                 continue
             s = run_case(exe, k, friction, algorithm, polygon, repeats, timeout)

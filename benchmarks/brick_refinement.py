@@ -14,8 +14,8 @@ algorithm overridden (`--set`), default tolerances (QP 1e-8, MSA 1e-6, relative)
 Time is the wall time of the contact solve (summary.json times.solve: the iterations, without
 assembly and factorization, which are listed separately), the median of --repeats runs.
 --limit "ALGORITHM=K;..." skips that algorithm above k = K (it does not scale; the skipped cells
-say so); "ALGORITHM F0.3=K" does so for one friction coefficient only. --only measures only the listed algorithms; --merge keeps the rows of the existing CSV
-that are not measured again (to add cases to an earlier study); --merge --report-only rewrites
+say so); "ALGORITHM F0.3=K" does so for one friction coefficient only. --only measures only
+the listed algorithms; --merge keeps the rows of the existing CSV that are not measured again (to add cases to an earlier study); --merge --report-only rewrites
 the tables from the CSV. The measurement part uses the standard library only; --plot needs matplotlib.
 """
 import csv

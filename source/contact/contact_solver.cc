@@ -299,6 +299,28 @@ namespace FetiContact
     options.step           = 1.9 / hessian_norm;
     options.disc_rotations = parameters.disc_rotations;
     options.expansion      = parameters.expansion;
+    if (parameters.lumped_preconditioner)
+      // M = P D B K Bᵀ D P + Q/ρ: the lumped preconditioner on ker G̃, where the Hessian is PFP,
+      // and the inverse of ρQ on range G̃ᵀ (Q = G̃ᵀG̃ = I − P). With the penalty variant the same
+      // M is used for F + ρG̃ᵀG̃.
+      options.preconditioner = [this](const Vector<double> &x, Vector<double> &y) {
+        const unsigned int m = x.size();
+        if (dual.coarse.n_modes() == 0)
+          {
+            dual.apply_lumped(x, y);
+            return;
+          }
+        Vector<double> Gx(dual.coarse.n_modes()), Qx(m), Px(x), MPx(m), QMPx(m);
+        dual.coarse.apply_G_orthonormal(x, Gx);
+        dual.coarse.apply_Gt_orthonormal(Gx, Qx);
+        Px -= Qx;
+        dual.apply_lumped(Px, MPx);
+        dual.coarse.apply_G_orthonormal(MPx, Gx);
+        dual.coarse.apply_Gt_orthonormal(Gx, QMPx);
+        y = MPx;
+        y -= QMPx;
+        y.add(1. / rho, Qx);
+      };
     return options;
   }
 

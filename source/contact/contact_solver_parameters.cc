@@ -138,6 +138,14 @@ namespace FetiContact::Parameters
       "max(‖F‖, ρ), valid only for the projector variant, whose Hessian PFP + ρQ acts on "
       "the complementary orthogonal subspaces ker G̃ and range G̃ᵀ (with the penalty "
       "ρ = ‖F‖ of 'mpgp' it doubles ᾱ). Measured in doc/performance.md.");
+    prm.declare_entry(
+      "Preconditioner",
+      "none",
+      Patterns::Selection("none|lumped"),
+      "Preconditioning in face of MPGP's conjugate gradient steps (Algorithm = mpgp or "
+      "polygonal): 'none', or 'lumped': the lumped FETI preconditioner D B K Bᵀ D "
+      "(D = diag(B Bᵀ)⁻¹), projected, P M P + Q/ρ, restricted to the free set. One sparse "
+      "multiplication by every K_i per step, no solve. Measured in doc/performance.md.");
     prm.leave_subsection();
   }
 
@@ -217,6 +225,11 @@ namespace FetiContact::Parameters
     require(!hessian_norm_max || equality_constraint == EqualityConstraint::projector,
             "Contact solver/Hessian norm bound = max holds only with Equality constraint = "
             "projector (the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
+    lumped_preconditioner = prm.get("Preconditioner") == "lumped";
+    require(!lumped_preconditioner ||
+              (algorithm == Algorithm::mpgp || algorithm == Algorithm::polygonal),
+            "Contact solver/Preconditioner = lumped is implemented for Algorithm = mpgp and "
+            "polygonal only (algorithms 1 and 2 solve blocks of λ by Gauss–Seidel).");
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

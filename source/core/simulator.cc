@@ -198,22 +198,24 @@ namespace FetiContact
         return;
       }
     TimerOutput::Scope scope(timer, "solve");
-    lambda = dual->coarse.least_norm_solution(dual->e);
-    const auto report =
-      QP::projected_conjugate_gradient([this](const Vector<double> &x,
-                                              Vector<double>       &y) { dual->apply_F(x, y); },
-                                       [this](Vector<double> &x) { dual->coarse.project(x); },
-                                       dual->h,
-                                       lambda,
-                                       parameters.feti.relative_tolerance,
-                                       parameters.feti.max_iterations,
-                                       [this](unsigned int it, double residual) {
-                                         if (it % 50 == 0)
-                                           pcout << "  PCG iteration " << std::setw(5) << it
-                                                 << "   ‖P(Fλ − h)‖ / ‖Ph‖ = " << std::scientific
-                                                 << std::setprecision(3) << residual
-                                                 << std::defaultfloat << std::endl;
-                                       });
+    lambda            = dual->coarse.least_norm_solution(dual->e);
+    const auto report = QP::projected_conjugate_gradient(
+      [this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
+      [this](Vector<double> &x) { dual->coarse.project(x); },
+      dual->h,
+      lambda,
+      parameters.feti.relative_tolerance,
+      parameters.feti.max_iterations,
+      [this](unsigned int it, double residual) {
+        if (it % 50 == 0)
+          pcout << "  PCG iteration " << std::setw(5) << it
+                << "   ‖P(Fλ − h)‖ / ‖Ph‖ = " << std::scientific << std::setprecision(3) << residual
+                << std::defaultfloat << std::endl;
+      },
+      parameters.feti.lumped_preconditioner ?
+        QP::Operator(
+          [this](const Vector<double> &x, Vector<double> &y) { dual->apply_lumped(x, y); }) :
+        QP::Operator());
     const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
@@ -481,14 +483,21 @@ namespace FetiContact
     t.set("hessian_applications", hessian_time)
       .set("hessian_local_slowest_rank", local_slowest)
       .set("hessian_local_fastest_rank", local_fastest)
-      .set("qp_bookkeeping", time("solve") - hessian_time)
+      .set("preconditioner", Utilities::MPI::max(solve_preconditioner_time, comm))
+      .set("preconditioner_applications", solve_preconditioner_applications)
+      .set("qp_bookkeeping",
+           time("solve") - hessian_time - Utilities::MPI::max(solve_preconditioner_time, comm))
       .set("one_hessian_application", mean_F)
       .set("cost_floor", floor)
       .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
     pcout << "Time: solve " << time("solve") << " s = applications of F " << hessian_time << " s ("
           << solve_F_applications << ", " << mean_F << " s each; local work " << local_slowest
-          << " s on the slowest rank, " << local_fastest << " s on the fastest) + QP bookkeeping "
-          << time("solve") - hessian_time
+          << " s on the slowest rank, " << local_fastest << " s on the fastest)";
+    if (solve_preconditioner_applications > 0)
+      pcout << " + preconditioner " << Utilities::MPI::max(solve_preconditioner_time, comm)
+            << " s (" << solve_preconditioner_applications << ")";
+    pcout << " + QP bookkeeping "
+          << time("solve") - hessian_time - Utilities::MPI::max(solve_preconditioner_time, comm)
           << " s; cost floor (factorization + n_A × one application of F) " << floor
           << " s, run without output / floor "
           << (floor > 0 ? (total - time("output")) / floor : 0.) << std::endl;
@@ -563,9 +572,11 @@ namespace FetiContact
           << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
           << std::endl;
     solve();
-    solve_F_time         = dual->F_time;
-    solve_F_local_time   = dual->F_local_time;
-    solve_F_applications = dual->n_F_applications;
+    solve_F_time                      = dual->F_time;
+    solve_F_local_time                = dual->F_local_time;
+    solve_F_applications              = dual->n_F_applications;
+    solve_preconditioner_time         = dual->lumped_time;
+    solve_preconditioner_applications = dual->n_lumped_applications;
     // Without equilibrium the multipliers are not a solution: no displacement or contact files.
     if (!equilibrium_impossible)
       postprocess();

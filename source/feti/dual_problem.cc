@@ -263,6 +263,38 @@ namespace FetiContact
     F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
+  void
+  DualProblem::apply_lumped(const Vector<double> &x, Vector<double> &y) const
+  {
+    const auto start = std::chrono::steady_clock::now();
+    if (lumped_row_scale.size() != size())
+      {
+        // diag(B Bᵀ): the squares of the entries of B, summed row by row like B u.
+        for (unsigned int i = 0; i < owned.size(); ++i)
+          {
+            const auto &b = B[i];
+            for (unsigned int k = 0; k < b.row.size(); ++k)
+              slots[b.slot[k]] = b.value[k] * b.value[k];
+          }
+        sum_slots(lumped_row_scale);
+        for (auto &d : lumped_row_scale)
+          d = d > 0 ? 1 / d : 0.;
+      }
+    Vector<double> Dx(x);
+    Dx.scale(lumped_row_scale);
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      {
+        set_Bt(i, Dx, work[i]);
+        Vector<double> Ku(work[i].size());
+        owned[i]->K.vmult(Ku, work[i]);
+        set_B_slots(i, Ku);
+      }
+    sum_slots(y);
+    y.scale(lumped_row_scale);
+    ++n_lumped_applications;
+    lumped_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
   std::vector<Vector<double>>
   DualProblem::recover_primal(const Vector<double> &lambda) const
   {

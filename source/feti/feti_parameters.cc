@@ -36,6 +36,14 @@ namespace FetiContact::Parameters
                       "5000",
                       Patterns::Integer(1),
                       "Largest number of projected CG iterations.");
+    prm.declare_entry("Preconditioner",
+                      "none",
+                      Patterns::Selection("none|lumped"),
+                      "Preconditioner of the projected CG of problems without contact: 'none', "
+                      "or 'lumped': the lumped FETI preconditioner P D B K Bᵀ D P with "
+                      "D = diag(B Bᵀ)⁻¹ (one sparse multiplication by every K_i per iteration, "
+                      "no solve). For contact see Contact solver/Preconditioner. Measured in "
+                      "doc/performance.md.");
     prm.leave_subsection();
   }
 
@@ -49,7 +57,8 @@ namespace FetiContact::Parameters
     relative_tolerance  = prm.get_double("Relative tolerance");
     require(relative_tolerance > 0,
             "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
-    max_iterations = prm.get_integer("Maximum iterations");
+    max_iterations        = prm.get_integer("Maximum iterations");
+    lumped_preconditioner = prm.get("Preconditioner") == "lumped";
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

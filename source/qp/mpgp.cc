@@ -79,15 +79,26 @@ namespace FetiContact::QP
     // z = M⁻¹φ, the search direction before conjugation: φ itself, or with rotations φ
     // divided on the tangents of pressed discs by 1 + (σ_k/r_k)/‖A‖ (the curvature of a small,
     // strongly pressed circle dominates the Hessian along it; SeparableSet::precondition_arcs).
-    const bool     precondition = mode == DiscMode::rotations && options.precondition_rotations;
-    Vector<double> z(n);
+    const bool precondition = mode == DiscMode::rotations && options.precondition_rotations;
+    // With a preconditioner in face: z = D^(−½) R_F M R_F D^(−½) φ (D the arc factor, R_F the
+    // restriction to the face, which φ already satisfies).
+    const bool     in_face = static_cast<bool>(options.preconditioner);
+    Vector<double> z(n), Mz(in_face ? n : 0);
     const auto     update_sets = [&]() {
       set.free_gradient(x, g, phi, mode);
       set.chopped_gradient(x, g, beta, mode);
       norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // φ·β = 0
       z       = phi;
       if (precondition)
-        set.precondition_arcs(x, g, 1.9 / alpha_bar, z);
+        set.precondition_arcs(x, g, 1.9 / alpha_bar, z, in_face ? 0.5 : 1.);
+      if (in_face)
+        {
+          options.preconditioner(z, Mz);
+          ++report.preconditioner_applications;
+          set.free_gradient(x, Mz, z, mode);
+          if (precondition)
+            set.precondition_arcs(x, g, 1.9 / alpha_bar, z, 0.5);
+        }
     };
     const auto gradient = [&]() {
       multiply(x, g);

@@ -16,10 +16,21 @@ namespace FetiContact::QP
     Vector<double>                                                      &x,
     const double                                                         tolerance,
     const unsigned int                                                   max_iterations,
-    const std::function<void(unsigned int, double)>                     &monitor)
+    const std::function<void(unsigned int, double)>                     &monitor,
+    const std::function<void(const Vector<double> &, Vector<double> &)> &M)
   {
     SolverReport   report;
-    Vector<double> g(b.size()), w(b.size()), p(b.size()), Ap(b.size());
+    Vector<double> g(b.size()), w(b.size()), p(b.size()), Ap(b.size()), z(b.size());
+    // z = P M w (w itself without a preconditioner).
+    const auto precondition = [&]() {
+      if (M)
+        {
+          M(w, z);
+          P(z);
+        }
+      else
+        z = w;
+    };
 
     // g = Ax − b, w = Pg.
     A(x, g);
@@ -42,9 +53,12 @@ namespace FetiContact::QP
         return report;
       }
 
-    double ww                = w * w;
-    report.relative_residual = std::sqrt(ww) / reference;
-    p                        = w;
+    precondition();
+    double wz = w * z;
+    // ‖w‖ (without a preconditioner w·z = ‖w‖², evaluated as before).
+    const auto w_norm        = [&]() { return M ? w.l2_norm() : std::sqrt(wz); };
+    report.relative_residual = w_norm() / reference;
+    p                        = z;
     while (report.relative_residual > tolerance)
       {
         if (report.iterations >= max_iterations)
@@ -54,16 +68,17 @@ namespace FetiContact::QP
         const double pAp = p * Ap;
         if (!(pAp > 0))
           return report; // breakdown: A not positive definite on range(P)
-        const double alpha = ww / pAp;
+        const double alpha = wz / pAp;
         x.add(-alpha, p);
         g.add(-alpha, Ap);
         w = g;
         P(w);
-        const double ww_new = w * w;
-        p.sadd(ww_new / ww, 1.0, w);
-        ww = ww_new;
+        precondition();
+        const double wz_new = w * z;
+        p.sadd(wz_new / wz, 1.0, z);
+        wz = wz_new;
         ++report.iterations;
-        report.relative_residual = std::sqrt(ww) / reference;
+        report.relative_residual = w_norm() / reference;
         if (monitor)
           monitor(report.iterations, report.relative_residual);
       }

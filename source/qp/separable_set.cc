@@ -367,15 +367,17 @@ namespace FetiContact::QP
   SeparableSet::precondition_arcs(const Vector<double> &x,
                                   const Vector<double> &g,
                                   const double          a,
-                                  Vector<double>       &v) const
+                                  Vector<double>       &v,
+                                  const double          exponent) const
   {
     for (const Disc &disc : discs)
       {
         if (disc.radius == 0 || (v[disc.i] == 0 && v[disc.j] == 0) || !disc_active(disc, x))
           continue;
-        const auto   nu    = outward_normal(disc, x);
-        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
-        const double scale = 1 / (1 + sigma / (disc.radius * a));
+        const auto   nu     = outward_normal(disc, x);
+        const double sigma  = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
+        const double factor = 1 + sigma / (disc.radius * a);
+        const double scale  = exponent == 1 ? 1 / factor : std::pow(factor, -exponent);
         v[disc.i] *= scale;
         v[disc.j] *= scale;
       }

@@ -8,7 +8,8 @@
 // A is counted. Cases: generic mix; solution at disc centres; on a disc boundary with zero
 // gradient; all constraints active; none active (= the unconstrained solution); zero-radius
 // discs; bounds only (MPRGP); data scaled by 2^∓37 (bit for bit the same x, same counts) and by
-// 1e-11 and 1e11 (same x); a start outside Ω.
+// 1e-11 and 1e11 (same x); a start outside Ω; preconditioning in face (every case, and a badly
+// scaled problem where it must save multiplications).
 
 #include <deal.II/lac/full_matrix.h>
 
@@ -227,7 +228,9 @@ namespace
     /** Fixed active discs with the fixed step ᾱ in projected proportioning steps. */
     fixed_step,
     /** Rotations, and expansion by the projected conjugate gradient step. */
-    projected_cg
+    projected_cg,
+    /** Rotations, conjugate gradient steps preconditioned in face by diag(A)⁻¹. */
+    preconditioned
   };
 
   std::string
@@ -241,6 +244,8 @@ namespace
           return ", fixed discs";
         case Variant::projected_cg:
           return ", projected CG expansion";
+        case Variant::preconditioned:
+          return ", preconditioned in face";
         default:
           return ", fixed discs, fixed-step proportioning";
       }
@@ -267,10 +272,16 @@ namespace
     b *= s;
     QP::MpgpOptions options;
     options.tolerance      = tolerance * b.l2_norm();
-    options.disc_rotations = variant == Variant::rotations || variant == Variant::projected_cg;
-    options.expansion      = variant == Variant::projected_cg ?
-                               QP::MpgpOptions::Expansion::projected_cg :
-                               QP::MpgpOptions::Expansion::fixed_step;
+    options.disc_rotations = variant != Variant::fixed_discs && variant != Variant::fixed_step;
+    if (variant == Variant::preconditioned)
+      options.preconditioner = [&](const Vector<double> &v, Vector<double> &w) {
+        w.reinit(v.size());
+        for (unsigned int i = 0; i < v.size(); ++i)
+          w[i] = v[i] / (s * problem.A(i, i));
+      };
+    options.expansion                 = variant == Variant::projected_cg ?
+                                          QP::MpgpOptions::Expansion::projected_cg :
+                                          QP::MpgpOptions::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     Result result;
     result.x      = x0;
@@ -426,6 +437,7 @@ main()
     solve_and_check(name, p, x0, 1, Variant::fixed_discs);
     solve_and_check(name, p, x0, 1, Variant::fixed_step);
     solve_and_check(name, p, x0, 1, Variant::projected_cg);
+    solve_and_check(name, p, x0, 1, Variant::preconditioned);
     return r;
   };
   // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
@@ -576,6 +588,31 @@ main()
             " expansions, " + std::to_string(pcg.report.hessian_multiplications) +
             " multiplications against " + std::to_string(fixed.report.expansion_steps) + ", " +
             std::to_string(fixed.report.hessian_multiplications) + " with the fixed step");
+  }
+  {
+    // Preconditioning in face: A = S A₀ S with S = diag(10^(2i/n)) (condition number about 1e7)
+    // and the same KKT point; M = diag(A)⁻¹ removes the scaling, so MPGP needs fewer
+    // multiplications with it than without.
+    Problem            p = make_problem({{R::free, 20},
+                                         {R::lower_inside, 10},
+                                         {R::lower_active, 10},
+                                         {R::disc_inside, 4},
+                                         {R::disc_active, 6}});
+    const unsigned int n = p.n;
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        p.A(i, j) *= std::pow(10., 2. * i / n) * std::pow(10., 2. * j / n);
+    p.A.vmult(p.b, p.x_star);
+    p.b -= p.g_star;
+    p.A_norm *= 1e4; // ‖S A₀ S‖ ≤ ‖S‖² ‖A₀‖
+    const Result plain = solve_and_check("badly scaled", p, Vector<double>(n));
+    const Result pre =
+      solve_and_check("badly scaled", p, Vector<double>(n), 1, Variant::preconditioned);
+    check(2 * pre.report.hessian_multiplications < plain.report.hessian_multiplications &&
+            pre.report.preconditioner_applications > 0,
+          "preconditioned in face: " + std::to_string(pre.report.hessian_multiplications) +
+            " multiplications against " + std::to_string(plain.report.hessian_multiplications) +
+            " (" + std::to_string(pre.report.preconditioner_applications) + " applications of M)");
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

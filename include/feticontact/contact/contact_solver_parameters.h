@@ -76,6 +76,12 @@ namespace FetiContact::Parameters
      * projector variant (PFP and ρQ act on complementary orthogonal subspaces).
      */
     bool hessian_norm_max = false;
+    /**
+     * Preconditioning of MPGP's conjugate gradient steps in face ("Preconditioner"): none, or
+     * the lumped FETI preconditioner P D B K Bᵀ D P + Q/ρ (DualProblem::apply_lumped,
+     * QP::MpgpOptions::preconditioner).
+     */
+    bool lumped_preconditioner = false;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

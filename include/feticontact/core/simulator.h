@@ -149,5 +149,8 @@ namespace FetiContact
     double       solve_F_time         = 0;
     double       solve_F_local_time   = 0;
     unsigned int solve_F_applications = 0;
+    /** Time in and number of applications of the lumped preconditioner (part of the solve). */
+    double       solve_preconditioner_time         = 0;
+    unsigned int solve_preconditioner_applications = 0;
   };
 } // namespace FetiContact

@@ -27,6 +27,9 @@ namespace FetiContact::Parameters
     /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
     double       relative_tolerance = 1e-10;
     unsigned int max_iterations     = 5000;
+    /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).
+     */
+    bool lumped_preconditioner = false;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -64,6 +64,18 @@ namespace FetiContact::QP
      * normal force, at the edge of a contact zone) otherwise dominates the Hessian along them.
      */
     bool precondition_rotations = true;
+    /**
+     * Preconditioning in face: a symmetric positive definite M ≈ A⁻¹ on the whole space
+     * (empty: none). The conjugate gradient steps then use z = R_F M R_F φ, where R_F restricts
+     * a vector to the current face (zero on active intervals and fixed discs, the tangent on
+     * active discs with rotations: SeparableSet::free_gradient applied to M φ); with
+     * precondition_rotations the arc factor D is applied as D^(−½) on both sides. Expansion and
+     * proportioning steps, and the proportionality test, keep the unpreconditioned φ and β
+     * (Dostál's MPRGP with preconditioning in face; Kružík, Horák, arXiv:2507.00617, 2025). The
+     * conjugacy of the steps holds only within one face: every change of the active set
+     * restarts from z.
+     */
+    Operator preconditioner;
     /** How an expansion step (the conjugate gradient step leaves Ω) adds constraints. */
     enum class Expansion
     {
@@ -116,6 +128,8 @@ namespace FetiContact::QP
      * disc) and were replaced by the projected gradient step P_Ω(x − ᾱ g).
      */
     unsigned int proportioning_fallbacks = 0;
+    /** Applications of MpgpOptions::preconditioner (one per step). */
+    unsigned int preconditioner_applications = 0;
     /** Multiplications by A spent on the power method (part of hessian_multiplications). */
     unsigned int norm_estimate_multiplications = 0;
     /** ‖g^P(x)‖ at the end. */

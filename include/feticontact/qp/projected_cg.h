@@ -26,6 +26,8 @@ namespace FetiContact::QP
    *
    * @param x  in: x₀ (feasible); out: the solution.
    * @param monitor called after every iteration with (iteration, relative residual).
+   * @param M a symmetric positive (semi)definite preconditioner, applied as P M P (Farhat–Mandel–
+   *          Roux); empty: none. The stopping test stays on the unpreconditioned ‖P(Ax − b)‖.
    */
   SolverReport
   projected_conjugate_gradient(
@@ -35,5 +37,6 @@ namespace FetiContact::QP
     dealii::Vector<double>                                                              &x,
     const double                                                                         tolerance,
     const unsigned int                               max_iterations,
-    const std::function<void(unsigned int, double)> &monitor = {});
+    const std::function<void(unsigned int, double)> &monitor                               = {},
+    const std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)> &M = {});
 } // namespace FetiContact::QP

@@ -20,13 +20,13 @@ The executable is copied to a temporary file first, so that a rebuild during the
 change it. OPENBLAS_NUM_THREADS=1.
 """
 import csv
-import json
 import os
 import shutil
 import subprocess
 import tempfile
 
 from cli import arguments, option
+from scaling import env, read_summary
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PRM = os.path.join(HERE, "..", "prm")
@@ -40,14 +40,8 @@ def run(exe, prm, sets):
         command = [exe, *sum((["--set", s] for s in sets), []),
                    "--set", f"Output/Directory={out}", "--set", "Output/Write vtu=false",
                    "--set", "Output/Write displacement csv=false", prm]
-        env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-        p = subprocess.run(command, capture_output=True, text=True, env=env)
-        path = os.path.join(out, "summary.json")
-        if p.returncode != 0 or not os.path.exists(path):
-            raise SystemExit(f"run failed (exit {p.returncode}): {' '.join(command)}\n"
-                             f"{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-        with open(path) as f:
-            return json.load(f)
+        p = subprocess.run(command, capture_output=True, text=True, env=env())
+        return read_summary(p, command, out)
 
 
 def geometry(a):

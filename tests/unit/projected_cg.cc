@@ -39,24 +39,28 @@ main()
   for (auto &v : e)
     v = uniform(random);
 
-  // KKT solve.
-  FullMatrix<double> KKT(n + k, n + k);
-  for (unsigned int i = 0; i < n; ++i)
-    for (unsigned int j = 0; j < n; ++j)
-      KKT(i, j) = A(i, j);
-  for (unsigned int i = 0; i < k; ++i)
-    for (unsigned int j = 0; j < n; ++j)
-      KKT(n + i, j) = KKT(j, n + i) = G(i, j);
-  KKT.gauss_jordan();
-  Vector<double> rhs(n + k), sol(n + k);
-  for (unsigned int i = 0; i < n; ++i)
-    rhs[i] = b[i];
-  for (unsigned int i = 0; i < k; ++i)
-    rhs[n + i] = e[i];
-  KKT.vmult(sol, rhs);
-  Vector<double> x_exact(n);
-  for (unsigned int i = 0; i < n; ++i)
-    x_exact[i] = sol[i];
+  // The exact solution of min ½xᵀHx − bᵀx s.t. Gx = e from the KKT system.
+  const auto kkt_solution = [&](const FullMatrix<double> &H) {
+    FullMatrix<double> KKT(n + k, n + k);
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        KKT(i, j) = H(i, j);
+    for (unsigned int i = 0; i < k; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        KKT(n + i, j) = KKT(j, n + i) = G(i, j);
+    KKT.gauss_jordan();
+    Vector<double> rhs(n + k), sol(n + k);
+    for (unsigned int i = 0; i < n; ++i)
+      rhs[i] = b[i];
+    for (unsigned int i = 0; i < k; ++i)
+      rhs[n + i] = e[i];
+    KKT.vmult(sol, rhs);
+    Vector<double> x(n);
+    for (unsigned int i = 0; i < n; ++i)
+      x[i] = sol[i];
+    return x;
+  };
+  const Vector<double> x_exact = kkt_solution(A);
 
   FullMatrix<double> GGt(k, k), GGt_inv(k, k);
   G.mTmult(GGt, G);
@@ -93,18 +97,7 @@ main()
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int j = 0; j < n; ++j)
         AS(i, j) *= std::pow(10., 2. * i / n) * std::pow(10., 2. * j / n);
-    FullMatrix<double> KKT_S(n + k, n + k);
-    for (unsigned int i = 0; i < n; ++i)
-      for (unsigned int j = 0; j < n; ++j)
-        KKT_S(i, j) = AS(i, j);
-    for (unsigned int i = 0; i < k; ++i)
-      for (unsigned int j = 0; j < n; ++j)
-        KKT_S(n + i, j) = KKT_S(j, n + i) = G(i, j);
-    KKT_S.gauss_jordan();
-    KKT_S.vmult(sol, rhs);
-    Vector<double> xs_exact(n);
-    for (unsigned int i = 0; i < n; ++i)
-      xs_exact[i] = sol[i];
+    const Vector<double> xs_exact = kkt_solution(AS);
     const auto apply_AS = [&](const Vector<double> &v, Vector<double> &w) { AS.vmult(w, v); };
     const auto jacobi   = [&](const Vector<double> &v, Vector<double> &w) {
       w.reinit(n);

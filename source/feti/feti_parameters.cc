@@ -37,13 +37,14 @@ namespace FetiContact::Parameters
                       Patterns::Integer(1),
                       "Largest number of projected CG iterations.");
     prm.declare_entry("Preconditioner",
-                      "none",
+                      "lumped",
                       Patterns::Selection("none|lumped"),
-                      "Preconditioner of the projected CG of problems without contact: 'none', "
-                      "or 'lumped': the lumped FETI preconditioner P D B K Bᵀ D P with "
-                      "D = diag(B Bᵀ)⁻¹ (one sparse multiplication by every K_i per iteration, "
-                      "no solve). For contact see Contact solver/Preconditioner. Measured in "
-                      "doc/performance.md.");
+                      "Preconditioner of the projected CG of problems without contact: 'lumped' "
+                      "(the default): the lumped FETI preconditioner P D B K Bᵀ D P with "
+                      "D = diag(B Bᵀ)⁻¹, one sparse multiplication by every K_i per iteration, "
+                      "no solve; about 3 times fewer iterations, nearly independent of the "
+                      "number of subdomains. 'none': plain projected CG. For contact see "
+                      "Contact solver/Preconditioner. Measured in doc/feti.md.");
     prm.leave_subsection();
   }
 

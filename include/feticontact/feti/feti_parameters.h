@@ -29,7 +29,7 @@ namespace FetiContact::Parameters
     unsigned int max_iterations     = 5000;
     /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).
      */
-    bool lumped_preconditioner = false;
+    bool lumped_preconditioner = true;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -310,13 +310,17 @@ namespace FetiContact
             dual.apply_lumped(x, y);
             return;
           }
-        Vector<double> Gx(dual.coarse.n_modes()), Qx(m), Px(x), MPx(m), QMPx(m);
-        dual.coarse.apply_G_orthonormal(x, Gx);
-        dual.coarse.apply_Gt_orthonormal(Gx, Qx);
+        // Q v = G̃ᵀG̃ v, the same operator as in the Hessian's ρQ.
+        Vector<double> Gv(dual.coarse.n_modes());
+        const auto     apply_Q = [&](const Vector<double> &v, Vector<double> &Qv) {
+          dual.coarse.apply_G_orthonormal(v, Gv);
+          dual.coarse.apply_Gt_orthonormal(Gv, Qv);
+        };
+        Vector<double> Qx(m), Px(x), MPx(m), QMPx(m);
+        apply_Q(x, Qx);
         Px -= Qx;
         dual.apply_lumped(Px, MPx);
-        dual.coarse.apply_G_orthonormal(MPx, Gx);
-        dual.coarse.apply_Gt_orthonormal(Gx, QMPx);
+        apply_Q(MPx, QMPx);
         y = MPx;
         y -= QMPx;
         y.add(1. / rho, Qx);

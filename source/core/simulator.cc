@@ -480,13 +480,14 @@ namespace FetiContact
     // rank; the rest of hessian_applications is the exchange of B u among the ranks and waiting.
     const double local_slowest = Utilities::MPI::max(solve_F_local_time, comm);
     const double local_fastest = Utilities::MPI::min(solve_F_local_time, comm);
+    // The lumped preconditioner (zero when off), the slowest rank.
+    const double preconditioner_time = Utilities::MPI::max(solve_preconditioner_time, comm);
     t.set("hessian_applications", hessian_time)
       .set("hessian_local_slowest_rank", local_slowest)
       .set("hessian_local_fastest_rank", local_fastest)
-      .set("preconditioner", Utilities::MPI::max(solve_preconditioner_time, comm))
+      .set("preconditioner", preconditioner_time)
       .set("preconditioner_applications", solve_preconditioner_applications)
-      .set("qp_bookkeeping",
-           time("solve") - hessian_time - Utilities::MPI::max(solve_preconditioner_time, comm))
+      .set("qp_bookkeeping", time("solve") - hessian_time - preconditioner_time)
       .set("one_hessian_application", mean_F)
       .set("cost_floor", floor)
       .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
@@ -494,10 +495,9 @@ namespace FetiContact
           << solve_F_applications << ", " << mean_F << " s each; local work " << local_slowest
           << " s on the slowest rank, " << local_fastest << " s on the fastest)";
     if (solve_preconditioner_applications > 0)
-      pcout << " + preconditioner " << Utilities::MPI::max(solve_preconditioner_time, comm)
-            << " s (" << solve_preconditioner_applications << ")";
-    pcout << " + QP bookkeeping "
-          << time("solve") - hessian_time - Utilities::MPI::max(solve_preconditioner_time, comm)
+      pcout << " + preconditioner " << preconditioner_time << " s ("
+            << solve_preconditioner_applications << ")";
+    pcout << " + QP bookkeeping " << time("solve") - hessian_time - preconditioner_time
           << " s; cost floor (factorization + n_A × one application of F) " << floor
           << " s, run without output / floor "
           << (floor > 0 ? (total - time("output")) / floor : 0.) << std::endl;

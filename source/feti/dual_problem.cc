@@ -280,14 +280,15 @@ namespace FetiContact
         for (auto &d : lumped_row_scale)
           d = d > 0 ? 1 / d : 0.;
       }
-    Vector<double> Dx(x);
-    Dx.scale(lumped_row_scale);
+    lumped_Dx = x;
+    lumped_Dx.scale(lumped_row_scale);
+    lumped_Ku.resize(owned.size());
     for (unsigned int i = 0; i < owned.size(); ++i)
       {
-        set_Bt(i, Dx, work[i]);
-        Vector<double> Ku(work[i].size());
-        owned[i]->K.vmult(Ku, work[i]);
-        set_B_slots(i, Ku);
+        set_Bt(i, lumped_Dx, work[i]);
+        lumped_Ku[i].reinit(work[i].size(), true);
+        owned[i]->K.vmult(lumped_Ku[i], work[i]);
+        set_B_slots(i, lumped_Ku[i]);
       }
     sum_slots(y);
     y.scale(lumped_row_scale);

@@ -122,6 +122,9 @@ namespace FetiContact
 
     /** D = diag(B Bᵀ)⁻¹ of apply_lumped (computed at its first call). */
     mutable dealii::Vector<double> lumped_row_scale;
+    /** Work vectors of apply_lumped: D x, and K_i Bᵀ D x per owned subdomain. */
+    mutable dealii::Vector<double>              lumped_Dx;
+    mutable std::vector<dealii::Vector<double>> lumped_Ku;
 
     MPI_Comm                                    comm;
     std::vector<Subdomain *>                    owned;

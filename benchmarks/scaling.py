@@ -64,10 +64,14 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual", "factor_entries"]
 
 
-def settings(k, blocks, variant=("fixed", "sum")):
-    expansion, bound = variant
+DEFAULT_VARIANT = ("fixed", "sum", "")
+
+
+def settings(k, blocks, variant=DEFAULT_VARIANT):
+    expansion, bound, msa_factor = variant
     return ["--set", f"Contact solver/Expansion step={expansion}",
             "--set", f"Contact solver/Hessian norm bound={bound}",
+            *(["--set", f"Contact solver/Inexact MSA factor={msa_factor}"] if msa_factor else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
@@ -82,7 +86,7 @@ def env():
                 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
-def contact_command(exe, k, blocks, out, variant=("fixed", "sum")):
+def contact_command(exe, k, blocks, out, variant=DEFAULT_VARIANT):
     return [exe, *settings(k, blocks, variant), "--set", f"Output/Directory={out}", PRM]
 
 
@@ -95,7 +99,7 @@ def read_summary(p, command, out):
         return json.load(f)
 
 
-def run_contact_once(exe, k, blocks, ranks, variant=("fixed", "sum")):
+def run_contact_once(exe, k, blocks, ranks, variant=DEFAULT_VARIANT):
     """summary.json of one run on `ranks` ranks."""
     with tempfile.TemporaryDirectory() as out:
         command = contact_command(exe, k, blocks, out, variant)
@@ -105,7 +109,7 @@ def run_contact_once(exe, k, blocks, ranks, variant=("fixed", "sum")):
         return read_summary(p, command, out)
 
 
-def run_contact(exe, series, a, c, k, blocks, ranks, repeats, variant=("fixed", "sum")):
+def run_contact(exe, series, a, c, k, blocks, ranks, repeats, variant=DEFAULT_VARIANT):
     runs = [run_contact_once(exe, k, blocks, ranks, variant) for _ in range(repeats)]
     return row_from_summaries(runs, series, a, c, k, ranks)
 
@@ -214,6 +218,105 @@ def g(value, digits=3):
     return f"{float(value):.{digits}g}"
 
 
+VARIANT_NOTES = [("_pcg", "Expansion step = projected cg"), ("_max", "Hessian norm bound = max")]
+
+
+def variant_suffixes(contact, base):
+    """The suffixes of the series of `base` in the rows ("", "_pcg_max", "_pcg_max_c0.001", …),
+    the default first."""
+    found = {r["series"][len(base):] for r in contact if r["series"].startswith(base) and
+             (r["series"] == base or r["series"][len(base)] == "_")}
+    order = ["", "_pcg", "_max", "_pcg_max"]
+    return sorted(found, key=lambda x: (order.index(x) if x in order else len(order), x))
+
+
+def variant_note(suffix):
+    """', Expansion step = projected cg, …' for a series suffix."""
+    notes = [note for tag, note in VARIANT_NOTES if tag in suffix]
+    if "_c" in suffix:
+        notes.append("Inexact MSA factor = " + suffix.split("_c", 1)[1])
+    return "".join(", " + n for n in notes)
+
+
+def mpi_tables(out, contact, series, note):
+    """The tables of one series measured on one and more ranks: wall time and speed-up, and
+    where the time of the multi-rank runs goes."""
+    weak = [r for r in contact if r["series"] == series]
+    ranks = sorted({int(r["np"]) for r in weak})
+    if len(ranks) < 2:
+        return
+    out.extend([f"### MPI{note}: wall time without output (total) on 1 and more ranks", "",
+                "'speed-up' is the ratio of the medians. On the virtual machine of these "
+                "runs a one-rank run right after a two-rank run was 10–20 % slower than "
+                "after a one-rank run (doc/performance.md, ninth session): measure in "
+                "blocks (the default; not --alternate), whose ratios do not overstate the "
+                "speed-up.", "",
+                "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
+                " | " + " | ".join(f"speed-up np={p} | efficiency np={p}"
+                                   for p in ranks[1:]) +
+                " | " + " | ".join(f"peak MiB/rank np={p}" for p in ranks) + " |",
+                "|" + "---|" * (3 + len(ranks) + 2 * (len(ranks) - 1) + len(ranks))])
+    for k in sorted({int(r["k"]) for r in weak}):
+        by = {int(r["np"]): r for r in weak if int(r["k"]) == k}
+        if 1 not in by:
+            continue
+        t1 = float(by[1]["total"])
+        cells = [g(by[p]["total"]) if p in by else "" for p in ranks]
+        for p in ranks[1:]:
+            cells += ([f"{t1 / float(by[p]['total']):.2f}",
+                       f"{t1 / float(by[p]['total']) / p:.2f}"] if p in by else ["", ""])
+        cells += [f"{float(by[p]['peak_mib']):.0f}" if p in by else "" for p in ranks]
+        out.append(f"| {k} | {by[1]['n']} | {by[1]['n_subdomains']} | " +
+                   " | ".join(cells) + " |")
+    out.append("")
+    # Where the time of the multi-rank runs goes beside the local work.
+    split = [r for r in weak if r.get("local_slowest") and int(r["np"]) > 1]
+    if split:
+        out.extend([f"### MPI{note}: the applications of F and the bookkeeping on more ranks", "",
+                    "'F' = the applications of F on the slowest rank; 'local' = its work in "
+                    "its own subdomains (the slowest and the fastest rank); 'exchange and "
+                    "waiting' = F − local (slowest rank; of the medians), the exchange of B u among "
+                    "the ranks and the waits for the other rank; 'bookkeeping' = the rest of the solve "
+                    "(replicated QP work and the split products with G). Medians [s].", "",
+                    "| k | np | F | local, slowest rank | local, fastest rank | "
+                    "exchange and waiting | bookkeeping | runs |",
+                    "|---|---|---|---|---|---|---|---|"])
+        for r in sorted(split, key=lambda r: (int(r["k"]), int(r["np"]))):
+            out.append(f"| {r['k']} | {r['np']} | {g(r['hessian'])} | "
+                       f"{g(r['local_slowest'])} | {g(r['local_fastest'])} | "
+                       f"{g(float(r['hessian']) - float(r['local_slowest']))} | "
+                       f"{g(r['bookkeeping'])} | {r['runs']} |")
+        out.append("")
+
+
+def pair_table(out, contact):
+    """What two cores allow: one run alone against two copies at once (--pair-a)."""
+    weak = [r for r in contact if r["series"] == "weak"]
+    pairs = {int(r["k"]): r for r in contact if r["series"] == "pair"}
+    if pairs:
+        out.extend(["### What two cores allow: one run alone against two copies at once", "",
+                    "Two independent one-rank runs on cores 0 and 1 (`--pair-a`); 'bound' = "
+                    "2 × alone / in the pair, the speed-up that two ranks cannot exceed on this "
+                    "machine; 'np=2 measured' from the MPI table above.", "",
+                    "| k | n | one F alone [s] | one F in the pair [s] | bound for F | "
+                    "total alone [s] | total in the pair [s] | bound for the run | "
+                    "np=2 measured | runs |",
+                    "|---|---|---|---|---|---|---|---|---|---|"])
+        for k, r in sorted(pairs.items()):
+            alone = [x for x in contact if x["series"] == "pair_alone" and int(x["k"]) == k]
+            if not alone:
+                continue
+            al = alone[0]
+            by = {int(x["np"]): x for x in weak if int(x["k"]) == k}
+            measured = (f"{float(by[1]['total']) / float(by[2]['total']):.2f}"
+                        if 1 in by and 2 in by else "")
+            out.append(f"| {k} | {r['n']} | {g(al['one_F'])} | {g(r['one_F'])} | "
+                       f"{2 * float(al['one_F']) / float(r['one_F']):.2f} | {g(al['total'])} | "
+                       f"{g(r['total'])} | {2 * float(al['total']) / float(r['total']):.2f} | "
+                       f"{measured} | {al['runs']} |")
+        out.append("")
+
+
 def report(rows, md_path, command):
     contact = [r for r in rows if r["series"] != "linear"]
     linear = {int(r["a"]): r for r in rows if r["series"] == "linear"}
@@ -249,80 +352,12 @@ def report(rows, md_path, command):
               "seed": "Seed setting: three subdomains, h → 0",
               "coarse": "Coarse problem against the number of subdomains (c = 2)"}
     for base, title in titles.items():
-        for suffix, note in [("", ""), ("_pcg", ", Expansion step = projected cg"),
-                             ("_max", ", Hessian norm bound = max"),
-                             ("_pcg_max", ", Expansion step = projected cg, Hessian norm bound = max")]:
-            table(f"{title}{note}, one rank", base + suffix, 1)
+        for suffix in variant_suffixes(contact, base):
+            table(f"{title}{variant_note(suffix)}, one rank", base + suffix, 1)
 
-    weak = [r for r in contact if r["series"] == "weak"]
-    ranks = sorted({int(r["np"]) for r in weak})
-    if len(ranks) > 1:
-        out.extend(["### MPI: wall time without output (total) on 1 and more ranks", "",
-                    "'speed-up' is the ratio of the medians. On the virtual machine of these "
-                    "runs a one-rank run right after a two-rank run was 10–20 % slower than "
-                    "after a one-rank run (doc/performance.md, ninth session): measure in "
-                    "blocks (the default; not --alternate), whose ratios do not overstate the "
-                    "speed-up.", "",
-                    "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
-                    " | " + " | ".join(f"speed-up np={p} | efficiency np={p}"
-                                       for p in ranks[1:]) +
-                    " | " + " | ".join(f"peak MiB/rank np={p}" for p in ranks) + " |",
-                    "|" + "---|" * (3 + len(ranks) + 2 * (len(ranks) - 1) + len(ranks))])
-        for k in sorted({int(r["k"]) for r in weak}):
-            by = {int(r["np"]): r for r in weak if int(r["k"]) == k}
-            if 1 not in by:
-                continue
-            t1 = float(by[1]["total"])
-            cells = [g(by[p]["total"]) if p in by else "" for p in ranks]
-            for p in ranks[1:]:
-                cells += ([f"{t1 / float(by[p]['total']):.2f}",
-                           f"{t1 / float(by[p]['total']) / p:.2f}"] if p in by else ["", ""])
-            cells += [f"{float(by[p]['peak_mib']):.0f}" if p in by else "" for p in ranks]
-            out.append(f"| {k} | {by[1]['n']} | {by[1]['n_subdomains']} | " +
-                       " | ".join(cells) + " |")
-        out.append("")
-        # Where the time of the multi-rank runs goes beside the local work.
-        split = [r for r in weak if r.get("local_slowest") and int(r["np"]) > 1]
-        if split:
-            out.extend(["### MPI: the applications of F and the bookkeeping on more ranks", "",
-                        "'F' = the applications of F on the slowest rank; 'local' = its work in "
-                        "its own subdomains (the slowest and the fastest rank); 'exchange and "
-                        "waiting' = F − local (slowest rank; of the medians), the exchange of B u among "
-                        "the ranks and the waits for the other rank; 'bookkeeping' = the rest of the solve "
-                        "(replicated QP work and the split products with G). Medians [s].", "",
-                        "| k | np | F | local, slowest rank | local, fastest rank | "
-                        "exchange and waiting | bookkeeping | runs |",
-                        "|---|---|---|---|---|---|---|---|"])
-            for r in sorted(split, key=lambda r: (int(r["k"]), int(r["np"]))):
-                out.append(f"| {r['k']} | {r['np']} | {g(r['hessian'])} | "
-                           f"{g(r['local_slowest'])} | {g(r['local_fastest'])} | "
-                           f"{g(float(r['hessian']) - float(r['local_slowest']))} | "
-                           f"{g(r['bookkeeping'])} | {r['runs']} |")
-            out.append("")
-
-    pairs = {int(r["k"]): r for r in contact if r["series"] == "pair"}
-    if pairs:
-        out.extend(["### What two cores allow: one run alone against two copies at once", "",
-                    "Two independent one-rank runs on cores 0 and 1 (`--pair-a`); 'bound' = "
-                    "2 × alone / in the pair, the speed-up that two ranks cannot exceed on this "
-                    "machine; 'np=2 measured' from the MPI table above.", "",
-                    "| k | n | one F alone [s] | one F in the pair [s] | bound for F | "
-                    "total alone [s] | total in the pair [s] | bound for the run | "
-                    "np=2 measured | runs |",
-                    "|---|---|---|---|---|---|---|---|---|---|"])
-        for k, r in sorted(pairs.items()):
-            alone = [x for x in contact if x["series"] == "pair_alone" and int(x["k"]) == k]
-            if not alone:
-                continue
-            al = alone[0]
-            by = {int(x["np"]): x for x in weak if int(x["k"]) == k}
-            measured = (f"{float(by[1]['total']) / float(by[2]['total']):.2f}"
-                        if 1 in by and 2 in by else "")
-            out.append(f"| {k} | {r['n']} | {g(al['one_F'])} | {g(r['one_F'])} | "
-                       f"{2 * float(al['one_F']) / float(r['one_F']):.2f} | {g(al['total'])} | "
-                       f"{g(r['total'])} | {2 * float(al['total']) / float(r['total']):.2f} | "
-                       f"{measured} | {al['runs']} |")
-        out.append("")
+    for suffix in variant_suffixes(contact, "weak"):
+        mpi_tables(out, contact, "weak" + suffix, variant_note(suffix))
+    pair_table(out, contact)
 
     if linear:
         out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
@@ -395,7 +430,8 @@ def main():
         return
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
-                        "--markdown", "--expansion", "--hessian-norm-bound", "--add-summary",
+                        "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
+                        "--add-summary",
                         "--pair-a"],
               ["--merge", "--report-only", "--linear-only", "--alternate"])
     exe = option("--exe", "build/feticontact")
@@ -418,12 +454,13 @@ def main():
         return
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
-    variant = (expansion, bound)
+    msa_factor = option("--inexact-msa-factor", "")
+    variant = (expansion, bound, msa_factor)
     short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
-    suffix = short[expansion] + \
-        ("" if bound == "sum" else "_" + bound)
+    suffix = short[expansion] + ("" if bound == "sum" else "_" + bound) + \
+        (f"_c{msa_factor}" if msa_factor else "")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \

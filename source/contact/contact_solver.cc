@@ -295,10 +295,11 @@ namespace FetiContact
   ContactSolver::mpgp_options() const
   {
     QP::MpgpOptions options;
-    options.max_iterations = parameters.max_inner_iterations;
-    options.step           = 1.9 / hessian_norm;
-    options.disc_rotations = parameters.disc_rotations;
-    options.expansion      = parameters.expansion;
+    options.max_iterations               = parameters.max_inner_iterations;
+    options.step                         = 1.9 / hessian_norm;
+    options.disc_rotations               = parameters.disc_rotations;
+    options.expansion                    = parameters.expansion;
+    options.recursive_gradient_tolerance = parameters.recursive_gradient_tolerance;
     if (parameters.lumped_preconditioner)
       // M = P D B K Bᵀ D P + Q/ρ: the lumped preconditioner on ker G̃, where the Hessian is PFP,
       // and the inverse of ρQ on range G̃ᵀ (Q = G̃ᵀG̃ = I − P). With the penalty variant the same

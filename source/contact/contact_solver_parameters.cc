@@ -139,6 +139,17 @@ namespace FetiContact::Parameters
       "the complementary orthogonal subspaces ker G̃ and range G̃ᵀ (with the penalty "
       "ρ = ‖F‖ of 'mpgp' it doubles ᾱ). Measured in doc/performance.md.");
     prm.declare_entry(
+      "Recursive gradient tolerance",
+      "0",
+      Patterns::Double(0),
+      "MPGP: η of the recursive gradient update after a step that the projection onto the "
+      "feasible set moved off its line (conjugate gradient steps along the circles of "
+      "slipping nodes, projected CG expansions). 0: the gradient is recomputed after every "
+      "such step (two multiplications per step). η > 0: it is updated as g − αAp, leaving "
+      "out A times the return onto the feasible set, as long as the bound of the error, "
+      "(2/ᾱ) × the summed returns, stays below η‖g^P‖; every stopping decision is made on a "
+      "recomputed gradient. Measured in doc/performance.md.");
+    prm.declare_entry(
       "Preconditioner",
       "none",
       Patterns::Selection("none|lumped"),
@@ -225,7 +236,8 @@ namespace FetiContact::Parameters
     require(!hessian_norm_max || equality_constraint == EqualityConstraint::projector,
             "Contact solver/Hessian norm bound = max holds only with Equality constraint = "
             "projector (the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
-    lumped_preconditioner = prm.get("Preconditioner") == "lumped";
+    recursive_gradient_tolerance = prm.get_double("Recursive gradient tolerance");
+    lumped_preconditioner        = prm.get("Preconditioner") == "lumped";
     require(!lumped_preconditioner ||
               (algorithm == Algorithm::mpgp || algorithm == Algorithm::polygonal),
             "Contact solver/Preconditioner = lumped is implemented for Algorithm = mpgp and "

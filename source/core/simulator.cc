@@ -263,7 +263,8 @@ namespace FetiContact
                   .set("cg", result.cg_steps)
                   .set("expansion", result.expansion_steps)
                   .set("proportioning", result.proportioning_steps)
-                  .set("expansion_fallbacks", result.expansion_fallbacks));
+                  .set("expansion_fallbacks", result.expansion_fallbacks)
+                  .set("recursive_gradient_updates", result.recursive_gradient_updates));
   }
 
   void

@@ -100,9 +100,13 @@ namespace FetiContact::QP
             set.precondition_arcs(x, g, 1.9 / alpha_bar, z, 0.5);
         }
     };
-    const auto gradient = [&]() {
+    // A bound of ‖g − (Ax − b)‖ left by recursive gradient updates (MpgpOptions::
+    // recursive_gradient_tolerance); zero whenever g was recomputed.
+    double     gradient_error = 0;
+    const auto gradient       = [&]() {
       multiply(x, g);
       g -= b;
+      gradient_error = 0;
     };
     // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old) (exact for a quadratic), and whether it is an
     // increase beyond the rounding level (the projection onto a disc is exact only to ε r, times
@@ -132,8 +136,18 @@ namespace FetiContact::QP
     bool p_is_phi  = true;
     bool breakdown = false;
 
-    const auto done = [&]() {
+    const auto stop = [&]() {
       return norm_gP <= options.tolerance || (options.stop_when && options.stop_when(x, norm_gP));
+    };
+    // Every stopping decision is made on the exact gradient.
+    const auto done = [&]() {
+      if (!stop())
+        return false;
+      if (gradient_error == 0)
+        return true;
+      gradient();
+      update_sets();
+      return stop();
     };
     bool converged = done();
     while (!converged && std::isfinite(norm_gP) && !breakdown &&
@@ -194,10 +208,32 @@ namespace FetiContact::QP
                 bool fallback = false;
                 if (arc)
                   {
-                    gradient();
-                    fallback = increased();
-                    if (fallback)
-                      projected_gradient_step();
+                    bool recursive = false;
+                    if (options.recursive_gradient_tolerance > 0)
+                      {
+                        // d = P_Ω(x_old − α_cg p) − (x_old − α_cg p): the radial return onto
+                        // the circles, whose product with A the recursive update leaves out.
+                        y = x;
+                        y -= x_old;
+                        y.add(alpha_cg, p);
+                        const double drift = 2. / alpha_bar * y.l2_norm();
+                        if (gradient_error + drift <=
+                            options.recursive_gradient_tolerance * norm_gP)
+                          {
+                            g.add(-alpha_cg, Ap);
+                            gradient_error += drift;
+                            recursive = !increased();
+                          }
+                      }
+                    if (recursive)
+                      ++report.recursive_gradient_updates;
+                    else
+                      {
+                        gradient();
+                        fallback = increased();
+                        if (fallback)
+                          projected_gradient_step();
+                      }
                   }
                 else
                   g.add(-alpha_cg, Ap);
@@ -235,16 +271,36 @@ namespace FetiContact::QP
                   {
                     // The whole conjugate gradient step, projected: every constraint that it
                     // crosses becomes active at once. Kept only if f decreased.
-                    x_old = x;
-                    g_old = g;
+                    x_old                     = x;
+                    g_old                     = g;
+                    const double error_before = gradient_error;
                     x.add(-alpha_cg, p);
                     set.project(x);
-                    gradient();
-                    expanded = !increased();
+                    bool recursive = false;
+                    if (options.recursive_gradient_tolerance > 0)
+                      {
+                        y = x;
+                        y -= x_old;
+                        y.add(alpha_cg, p);
+                        const double drift = 2. / alpha_bar * y.l2_norm();
+                        if (gradient_error + drift <=
+                            options.recursive_gradient_tolerance * norm_gP)
+                          {
+                            g.add(-alpha_cg, Ap);
+                            gradient_error += drift;
+                            recursive = !increased();
+                          }
+                      }
+                    if (recursive)
+                      ++report.recursive_gradient_updates;
+                    else
+                      gradient();
+                    expanded = recursive || !increased();
                     if (!expanded)
                       {
-                        x = x_old;
-                        g = g_old;
+                        x              = x_old;
+                        g              = g_old;
+                        gradient_error = error_before;
                         ++report.expansion_fallbacks;
                       }
                   }
@@ -321,6 +377,12 @@ namespace FetiContact::QP
         converged = done();
       }
 
+    if (gradient_error > 0)
+      {
+        // Stopped without convergence (steps exhausted, breakdown): report the exact ‖g^P‖.
+        gradient();
+        update_sets();
+      }
     report.projected_gradient_norm = norm_gP;
     report.relative_residual       = b_norm > 0 ? norm_gP / b_norm : norm_gP;
     report.converged               = converged;

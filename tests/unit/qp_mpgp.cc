@@ -230,7 +230,9 @@ namespace
     /** Rotations, and expansion by the projected conjugate gradient step. */
     projected_cg,
     /** Rotations, conjugate gradient steps preconditioned in face by diag(A)⁻¹. */
-    preconditioned
+    preconditioned,
+    /** Rotations, the gradient after steps along the circles updated recursively (η = 0.1). */
+    recursive_arcs
   };
 
   std::string
@@ -246,6 +248,8 @@ namespace
           return ", projected CG expansion";
         case Variant::preconditioned:
           return ", preconditioned in face";
+        case Variant::recursive_arcs:
+          return ", recursive gradient along the circles";
         default:
           return ", fixed discs, fixed-step proportioning";
       }
@@ -283,6 +287,8 @@ namespace
                                           QP::MpgpOptions::Expansion::projected_cg :
                                           QP::MpgpOptions::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
+    if (variant == Variant::recursive_arcs)
+      options.recursive_gradient_tolerance = 0.1;
     Result result;
     result.x      = x0;
     result.report = QP::mpgp(A, b, problem.set, result.x, options);
@@ -438,6 +444,7 @@ main()
     solve_and_check(name, p, x0, 1, Variant::fixed_step);
     solve_and_check(name, p, x0, 1, Variant::projected_cg);
     solve_and_check(name, p, x0, 1, Variant::preconditioned);
+    solve_and_check(name, p, x0, 1, Variant::recursive_arcs);
     return r;
   };
   // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
@@ -484,6 +491,7 @@ main()
   scaled("generic mix", mix, Variant::fixed_discs);
   scaled("generic mix", mix, Variant::fixed_step);
   scaled("generic mix", mix, Variant::projected_cg);
+  scaled("generic mix", mix, Variant::recursive_arcs);
   {
     Vector<double> x0(mix.n);
     for (auto &v : x0)
@@ -613,6 +621,21 @@ main()
           "preconditioned in face: " + std::to_string(pre.report.hessian_multiplications) +
             " multiplications against " + std::to_string(plain.report.hessian_multiplications) +
             " (" + std::to_string(pre.report.preconditioner_applications) + " applications of M)");
+  }
+  {
+    // Most blocks on their circles, as the slipping nodes of a contact zone with friction: the
+    // recursive update saves the second multiplication of most steps along the circles.
+    const Problem p = make_problem(
+      {{R::free, 10}, {R::disc_active, 30}, {R::disc_inside, 4}, {R::lower_active, 4}});
+    const Result exact = solve_and_check("mostly active discs", p, Vector<double>(p.n));
+    const Result recursive =
+      solve_and_check("mostly active discs", p, Vector<double>(p.n), 1, Variant::recursive_arcs);
+    check(recursive.report.recursive_gradient_updates > 0 &&
+            recursive.report.hessian_multiplications < exact.report.hessian_multiplications,
+          "recursive gradient along the circles: " +
+            std::to_string(recursive.report.hessian_multiplications) + " multiplications (" +
+            std::to_string(recursive.report.recursive_gradient_updates) +
+            " recursive updates) against " + std::to_string(exact.report.hessian_multiplications));
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

@@ -58,10 +58,11 @@ namespace FetiContact
       unsigned int           n_bound = 0, n_disc = 0;
       /** MPGP's steps summed over all its calls (QP::MpgpReport): conjugate gradient,
        *  expansion and proportioning steps, and of the projected CG expansions those that
-       *  increased the energy and were replaced by the fixed step. */
+       *  increased the energy and were replaced by the fixed step, and the steps whose
+       *  gradient was updated recursively (QP::MpgpOptions::recursive_gradient_tolerance). */
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
-                   expansion_fallbacks = 0;
-      bool converged                   = false;
+                   expansion_fallbacks = 0, recursive_gradient_updates = 0;
+      bool converged = false;
 
       void
       count_steps(const QP::MpgpReport &r)
@@ -70,6 +71,7 @@ namespace FetiContact
         expansion_steps += r.expansion_steps;
         proportioning_steps += r.proportioning_steps;
         expansion_fallbacks += r.expansion_fallbacks;
+        recursive_gradient_updates += r.recursive_gradient_updates;
       }
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating

@@ -76,6 +76,9 @@ namespace FetiContact::Parameters
      * projector variant (PFP and ρQ act on complementary orthogonal subspaces).
      */
     bool hessian_norm_max = false;
+    /** QP::MpgpOptions::recursive_gradient_tolerance ("Recursive gradient tolerance"; 0:
+     * recompute). */
+    double recursive_gradient_tolerance = 0;
     /**
      * Preconditioning of MPGP's conjugate gradient steps in face ("Preconditioner"): none, or
      * the lumped FETI preconditioner P D B K Bᵀ D P + Q/ρ (DualProblem::apply_lumped,

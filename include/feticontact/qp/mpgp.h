@@ -76,6 +76,19 @@ namespace FetiContact::QP
      * restarts from z.
      */
     Operator preconditioner;
+    /**
+     * η ≥ 0 of the recursive gradient update after steps whose projection onto Ω moves the
+     * iterate off its line: conjugate gradient steps along the circles of active discs (with
+     * rotations) and projected conjugate gradient expansions. 0 (default): after such a step
+     * x ← P_Ω(x − α_cg p) the gradient is recomputed, g ← Ax − b (the second multiplication of
+     * the step). η > 0: instead g ← g − α_cg Ap, which leaves out A d for the return
+     * d = P_Ω(x − α_cg p) − (x − α_cg p) onto Ω (on circles of second order in the rotation
+     * angles); the error of g is bounded by the sum of (2/ᾱ)‖d‖ over the steps since the last
+     * recomputation (2/ᾱ ≥ ‖A‖), and g is recomputed when that bound would exceed η‖g^P‖,
+     * when the energy test on the updated gradient sees an increase of f, and before MPGP
+     * stops, so that every stopping decision is made on the exact gradient.
+     */
+    double recursive_gradient_tolerance = 0;
     /** How an expansion step (the conjugate gradient step leaves Ω) adds constraints. */
     enum class Expansion
     {
@@ -128,6 +141,11 @@ namespace FetiContact::QP
      * disc) and were replaced by the projected gradient step P_Ω(x − ᾱ g).
      */
     unsigned int proportioning_fallbacks = 0;
+    /**
+     * Steps (along circles, or projected CG expansions) whose gradient was updated recursively
+     * (MpgpOptions::recursive_gradient_tolerance), each one multiplication by A fewer.
+     */
+    unsigned int recursive_gradient_updates = 0;
     /** Applications of MpgpOptions::preconditioner (one per step). */
     unsigned int preconditioner_applications = 0;
     /** Multiplications by A spent on the power method (part of hessian_multiplications). */

@@ -10,6 +10,7 @@ linear solve beside the contact solve.
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
+        [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -28,7 +29,10 @@ CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go 
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
 --expansion sets MPGP's `Contact solver/Expansion step` (default fixed); other than fixed, the
 series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessian norm bound`
-(default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max"). --add-summary adds the row of a run made with the same settings
+(default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max").
+--inexact-msa-factor and --recursive-gradient-tolerance set `Contact solver/Inexact MSA factor`
+and `Contact solver/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"); every series has
+its own tables, and its own MPI tables when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
 the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
@@ -64,14 +68,16 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual", "factor_entries"]
 
 
-DEFAULT_VARIANT = ("fixed", "sum", "")
+DEFAULT_VARIANT = ("fixed", "sum", "", "")
 
 
 def settings(k, blocks, variant=DEFAULT_VARIANT):
-    expansion, bound, msa_factor = variant
+    expansion, bound, msa_factor, recursive = variant
     return ["--set", f"Contact solver/Expansion step={expansion}",
             "--set", f"Contact solver/Hessian norm bound={bound}",
             *(["--set", f"Contact solver/Inexact MSA factor={msa_factor}"] if msa_factor else []),
+            *(["--set", f"Contact solver/Recursive gradient tolerance={recursive}"]
+              if recursive else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
@@ -218,9 +224,6 @@ def g(value, digits=3):
     return f"{float(value):.{digits}g}"
 
 
-VARIANT_NOTES = [("_pcg", "Expansion step = projected cg"), ("_max", "Hessian norm bound = max")]
-
-
 def variant_suffixes(contact, base):
     """The suffixes of the series of `base` in the rows ("", "_pcg_max", "_pcg_max_c0.001", …),
     the default first."""
@@ -231,10 +234,15 @@ def variant_suffixes(contact, base):
 
 
 def variant_note(suffix):
-    """', Expansion step = projected cg, …' for a series suffix."""
-    notes = [note for tag, note in VARIANT_NOTES if tag in suffix]
-    if "_c" in suffix:
-        notes.append("Inexact MSA factor = " + suffix.split("_c", 1)[1])
+    """', Expansion step = projected cg, …' for a series suffix ("_pcg_max_c0.001_r0.1")."""
+    names = {"pcg": "Expansion step = projected cg", "max": "Hessian norm bound = max",
+             "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = "}
+    notes = []
+    for token in suffix.split("_")[1:]:
+        if token in names:
+            notes.append(names[token])
+        elif token[0] in "cr":
+            notes.append(names[token[0]] + token[1:])
     return "".join(", " + n for n in notes)
 
 
@@ -392,7 +400,10 @@ def plot(csv_path, png_path):
     for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s"),
                                   ("weak_pcg", "fixed H/h, projected CG expansion", "^"),
                                   ("weak_max", "fixed H/h, Hessian norm bound max", "v"),
-                                  ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D")]:
+                                  ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D"),
+                                  ("weak_pcg_max_c0.001_r0.1",
+                                   "fixed H/h, the four options (MSA factor 0.001, "
+                                   "recursive gradient 0.1)", "P")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -431,7 +442,7 @@ def main():
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
-                        "--add-summary",
+                        "--recursive-gradient-tolerance", "--add-summary",
                         "--pair-a"],
               ["--merge", "--report-only", "--linear-only", "--alternate"])
     exe = option("--exe", "build/feticontact")
@@ -455,12 +466,13 @@ def main():
     expansion = option("--expansion", "fixed")
     bound = option("--hessian-norm-bound", "sum")
     msa_factor = option("--inexact-msa-factor", "")
-    variant = (expansion, bound, msa_factor)
+    recursive = option("--recursive-gradient-tolerance", "")
+    variant = (expansion, bound, msa_factor, recursive)
     short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
     suffix = short[expansion] + ("" if bound == "sum" else "_" + bound) + \
-        (f"_c{msa_factor}" if msa_factor else "")
+        (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \

@@ -120,6 +120,32 @@ namespace FetiContact::QP
         }
       return df > 32 * std::numeric_limits<double>::epsilon() * noise;
     };
+    // The gradient at x = P_Ω(x_old − α p), with g = g_old and Ap on entry. With
+    // MpgpOptions::recursive_gradient_tolerance > 0: g ← g − αAp, leaving out A d for the return
+    // d = x − (x_old − α p) onto Ω, if the error bound (2/ᾱ ≥ ‖A‖) summed since the last
+    // recomputation stays below η‖g^P‖ and the energy test on the updated g sees no increase
+    // (returns true); otherwise g ← Ax − b (returns false).
+    const auto gradient_after_projection = [&](const double alpha) {
+      if (options.recursive_gradient_tolerance > 0)
+        {
+          y = x;
+          y -= x_old;
+          y.add(alpha, p);
+          const double drift = 2. / alpha_bar * y.l2_norm();
+          if (gradient_error + drift <= options.recursive_gradient_tolerance * norm_gP)
+            {
+              g.add(-alpha, Ap);
+              gradient_error += drift;
+              if (!increased())
+                {
+                  ++report.recursive_gradient_updates;
+                  return true;
+                }
+            }
+        }
+      gradient();
+      return false;
+    };
     // The projected gradient step x ← P_Ω(x_old − ᾱ g_old), which decreases f for ᾱ ≤ 2/‖A‖.
     const auto projected_gradient_step = [&]() {
       x = x_old;
@@ -206,37 +232,14 @@ namespace FetiContact::QP
                 // With rotations the projection back onto the circles moved x off the line:
                 // recompute g, and fall back to the projected gradient step if f increased.
                 bool fallback = false;
-                if (arc)
-                  {
-                    bool recursive = false;
-                    if (options.recursive_gradient_tolerance > 0)
-                      {
-                        // d = P_Ω(x_old − α_cg p) − (x_old − α_cg p): the radial return onto
-                        // the circles, whose product with A the recursive update leaves out.
-                        y = x;
-                        y -= x_old;
-                        y.add(alpha_cg, p);
-                        const double drift = 2. / alpha_bar * y.l2_norm();
-                        if (gradient_error + drift <=
-                            options.recursive_gradient_tolerance * norm_gP)
-                          {
-                            g.add(-alpha_cg, Ap);
-                            gradient_error += drift;
-                            recursive = !increased();
-                          }
-                      }
-                    if (recursive)
-                      ++report.recursive_gradient_updates;
-                    else
-                      {
-                        gradient();
-                        fallback = increased();
-                        if (fallback)
-                          projected_gradient_step();
-                      }
-                  }
-                else
+                if (!arc)
                   g.add(-alpha_cg, Ap);
+                else if (!gradient_after_projection(alpha_cg))
+                  {
+                    fallback = increased();
+                    if (fallback)
+                      projected_gradient_step();
+                  }
                 update_sets();
                 if (fallback)
                   {
@@ -276,26 +279,7 @@ namespace FetiContact::QP
                     const double error_before = gradient_error;
                     x.add(-alpha_cg, p);
                     set.project(x);
-                    bool recursive = false;
-                    if (options.recursive_gradient_tolerance > 0)
-                      {
-                        y = x;
-                        y -= x_old;
-                        y.add(alpha_cg, p);
-                        const double drift = 2. / alpha_bar * y.l2_norm();
-                        if (gradient_error + drift <=
-                            options.recursive_gradient_tolerance * norm_gP)
-                          {
-                            g.add(-alpha_cg, Ap);
-                            gradient_error += drift;
-                            recursive = !increased();
-                          }
-                      }
-                    if (recursive)
-                      ++report.recursive_gradient_updates;
-                    else
-                      gradient();
-                    expanded = recursive || !increased();
+                    expanded = gradient_after_projection(alpha_cg) || !increased();
                     if (!expanded)
                       {
                         x              = x_old;

@@ -4,7 +4,7 @@
   run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
-      [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts]
+      [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts] [--fewer-multiplications]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
       [--no-equilibrium]
 
@@ -14,7 +14,9 @@ every run is checked, and with --same-displacements the nodal displacements of a
 agree to TOL relative (max norm). --alt-set adds one more run with further overrides, compared
 the same way (e.g. F = 0 against Tresca with slip bound 0); --alt-scale S divides the
 displacements of that run by S first (the same scene in other units or with scaled loads).
---same-counts requires every run to take the same MSA iterations and Hessian multiplications.
+--same-counts requires every run to take the same MSA iterations and Hessian multiplications;
+--fewer-multiplications requires the first run to take fewer Hessian multiplications than the
+--alt-set run (an option that must save work against the setting it replaces).
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
 PVD, CSV) in OUTDIR. With --no-equilibrium the input is valid but the solver proves that no
@@ -151,6 +153,7 @@ def scene(args):
     exe, prm, outdir = args[:3]
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
     check_vtu, areas, alt_scale, same_counts, counts = False, [], 1.0, False, []
+    fewer = False
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -169,6 +172,9 @@ def scene(args):
             alt_scale = float(args[i + 1])
         elif args[i] == "--same-counts":
             same_counts = True
+            i -= 1
+        elif args[i] == "--fewer-multiplications":
+            fewer = True
             i -= 1
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
@@ -223,6 +229,11 @@ def scene(args):
         good = all(c == counts[0] for c in counts)
         print(f"  (MSA iterations, Hessian multiplications) of the runs: {counts}"
               f" -> {'ok' if good else 'FAILED'}")
+        ok &= good
+    if fewer:
+        good = bool(alt_sets) and counts[0][1] < counts[-1][1]
+        print(f"  Hessian multiplications: {counts[0][1]} against {counts[-1][1]} with"
+              f" {' '.join(alt_sets[1::2])} -> {'ok' if good else 'FAILED'}")
         ok &= good
     return 0 if ok else 1
 

@@ -109,6 +109,29 @@ namespace FetiContact
     hessian_norm = parameters.hessian_norm_max && projector ?
                      std::max(F_norm, rho * G_norm * G_norm) :
                      F_norm + rho * G_norm * G_norm;
+    if (parameters.arc_scale_mean_diagonal)
+      {
+        // tr(A)/m for A = PFP + ρQ (projector) or F + ρG̃ᵀG̃ (penalty): Hutchinson's estimate of
+        // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the
+        // number of rigid modes (G̃ has orthonormal rows).
+        const unsigned int m = layout.size();
+        Vector<double>     Gv, Qv, Pv;
+        const auto         PFP = [&](const Vector<double> &v, Vector<double> &y) {
+          Pv = v;
+          if (projector)
+            {
+              dual.coarse.apply_G_orthonormal(v, Gv);
+              dual.coarse.apply_Gt_orthonormal(Gv, Qv);
+              Pv -= Qv;
+            }
+          dual.apply_F(Pv, y);
+        };
+        arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
+                    rho * G_norm * G_norm * dual.coarse.n_modes() / m;
+        out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
+            << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
+            << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
+      }
   }
 
   Vector<double>
@@ -301,6 +324,7 @@ namespace FetiContact
     options.disc_rotations               = parameters.disc_rotations;
     options.expansion                    = parameters.expansion;
     options.recursive_gradient_tolerance = parameters.recursive_gradient_tolerance;
+    options.arc_scale                    = arc_scale;
     if (parameters.lumped_preconditioner)
       // M = P D B K Bᵀ D P + Q/ρ: the lumped preconditioner on ker G̃, where the Hessian is PFP,
       // and the inverse of ρQ on range G̃ᵀ (Q = G̃ᵀG̃ = I − P). With the penalty variant the same

@@ -34,6 +34,24 @@ namespace FetiContact::QP
     return estimate;
   }
 
+  double
+  estimate_mean_diagonal(const Operator &A, const unsigned int n, const unsigned int probes)
+  {
+    if (n == 0)
+      return 0;
+    std::minstd_rand random(20260101);
+    Vector<double>   v(n), Av(n);
+    double           sum = 0;
+    for (unsigned int k = 0; k < std::max(probes, 1u); ++k)
+      {
+        for (auto &vi : v)
+          vi = random() % 2 == 0 ? 1. : -1.;
+        A(v, Av);
+        sum += v * Av;
+      }
+    return sum / (double(std::max(probes, 1u)) * n);
+  }
+
   MpgpReport
   mpgp(const Operator       &A,
        const Vector<double> &b,
@@ -77,9 +95,11 @@ namespace FetiContact::QP
     const double   b_norm  = b.l2_norm();
     double         norm_gP = 0;
     // z = M⁻¹φ, the search direction before conjugation: φ itself, or with rotations φ
-    // divided on the tangents of pressed discs by 1 + (σ_k/r_k)/‖A‖ (the curvature of a small,
-    // strongly pressed circle dominates the Hessian along it; SeparableSet::precondition_arcs).
-    const bool precondition = mode == DiscMode::rotations && options.precondition_rotations;
+    // divided on the tangents of pressed discs by 1 + (σ_k/r_k)/a with a = MpgpOptions::
+    // arc_scale or ‖A‖ (the curvature of a small, strongly pressed circle dominates the Hessian
+    // along it; SeparableSet::precondition_arcs).
+    const bool   precondition = mode == DiscMode::rotations && options.precondition_rotations;
+    const double arc_scale    = options.arc_scale > 0 ? options.arc_scale : 1.9 / alpha_bar;
     // With a preconditioner in face: z = D^(−½) R_F M R_F D^(−½) φ (D the arc factor, R_F the
     // restriction to the face, which φ already satisfies).
     const bool     in_face = static_cast<bool>(options.preconditioner);
@@ -90,14 +110,14 @@ namespace FetiContact::QP
       norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // φ·β = 0
       z       = phi;
       if (precondition)
-        set.precondition_arcs(x, g, 1.9 / alpha_bar, z, in_face ? 0.5 : 1.);
+        set.precondition_arcs(x, g, arc_scale, z, in_face ? 0.5 : 1.);
       if (in_face)
         {
           options.preconditioner(z, Mz);
           ++report.preconditioner_applications;
           set.free_gradient(x, Mz, z, mode);
           if (precondition)
-            set.precondition_arcs(x, g, 1.9 / alpha_bar, z, 0.5);
+            set.precondition_arcs(x, g, arc_scale, z, 0.5);
         }
     };
     // A bound of ‖g − (Ax − b)‖ left by recursive gradient updates (MpgpOptions::

@@ -232,7 +232,9 @@ namespace
     /** Rotations, conjugate gradient steps preconditioned in face by diag(A)⁻¹. */
     preconditioned,
     /** Rotations, the gradient after steps along the circles updated recursively (η = 0.1). */
-    recursive_arcs
+    recursive_arcs,
+    /** Rotations, the arc preconditioner scaled by the mean diagonal tr(A)/n, not by ‖A‖. */
+    mean_diagonal_arcs
   };
 
   std::string
@@ -250,6 +252,8 @@ namespace
           return ", preconditioned in face";
         case Variant::recursive_arcs:
           return ", recursive gradient along the circles";
+        case Variant::mean_diagonal_arcs:
+          return ", arc preconditioner scaled by the mean diagonal";
         default:
           return ", fixed discs, fixed-step proportioning";
       }
@@ -289,6 +293,13 @@ namespace
     options.proportioning_line_search = variant != Variant::fixed_step;
     if (variant == Variant::recursive_arcs)
       options.recursive_gradient_tolerance = 0.1;
+    if (variant == Variant::mean_diagonal_arcs)
+      {
+        double trace = 0;
+        for (unsigned int i = 0; i < problem.n; ++i)
+          trace += problem.A(i, i);
+        options.arc_scale = s * trace / problem.n;
+      }
     Result result;
     result.x      = x0;
     result.report = QP::mpgp(A, b, problem.set, result.x, options);
@@ -445,6 +456,7 @@ main()
     solve_and_check(name, p, x0, 1, Variant::projected_cg);
     solve_and_check(name, p, x0, 1, Variant::preconditioned);
     solve_and_check(name, p, x0, 1, Variant::recursive_arcs);
+    solve_and_check(name, p, x0, 1, Variant::mean_diagonal_arcs);
     return r;
   };
   // The problem with A and b scaled against the unscaled one, all solved to ‖g^P‖ ≤ 1e-10‖b‖.
@@ -492,6 +504,7 @@ main()
   scaled("generic mix", mix, Variant::fixed_step);
   scaled("generic mix", mix, Variant::projected_cg);
   scaled("generic mix", mix, Variant::recursive_arcs);
+  scaled("generic mix", mix, Variant::mean_diagonal_arcs);
   {
     Vector<double> x0(mix.n);
     for (auto &v : x0)
@@ -636,6 +649,30 @@ main()
             std::to_string(recursive.report.hessian_multiplications) + " multiplications (" +
             std::to_string(recursive.report.recursive_gradient_updates) +
             " recursive updates) against " + std::to_string(exact.report.hessian_multiplications));
+  }
+  {
+    // Hutchinson's estimate of tr(A)/n: exact for a diagonal matrix (vᵢ² = 1), and within a few
+    // percent of it for a dense one with many probes (its spread falls like 1/√probes).
+    const unsigned int n = 40;
+    Vector<double>     d(n);
+    for (auto &di : d)
+      di = random_in(0.1, 10);
+    const double exact_d    = d.mean_value();
+    const double estimate_d = QP::estimate_mean_diagonal(
+      [&](const Vector<double> &v, Vector<double> &w) { w = v, w.scale(d); }, n, 3);
+    check(std::abs(estimate_d - exact_d) <= 1e-14 * exact_d,
+          "mean diagonal of a diagonal matrix: " + sci(estimate_d) + " against " + sci(exact_d));
+    const FullMatrix<double> A     = random_spd(n, 1e3);
+    double                   trace = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      trace += A(i, i);
+    const double estimate =
+      QP::estimate_mean_diagonal([&](const Vector<double> &v, Vector<double> &w) { A.vmult(w, v); },
+                                 n,
+                                 4000);
+    check(std::abs(estimate - trace / n) <= 0.05 * trace / n,
+          "mean diagonal of a dense matrix, 4000 probes: " + sci(estimate) + " against " +
+            sci(trace / n));
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

@@ -170,6 +170,13 @@ namespace FetiContact
      * ‖F‖ + ρ‖G̃‖², or max(‖F‖, ρ) for the projector variant (Hessian norm bound = max).
      */
     double hessian_norm = 0;
+    /**
+     * QP::MpgpOptions::arc_scale: 0 (the norm bound), or with Arc preconditioner scale = mean
+     * diagonal the estimate of tr(A)/m of the Hessian, from arc_scale_probes multiplications
+     * by F (in F_applications, not in n_A).
+     */
+    double                        arc_scale        = 0;
+    static constexpr unsigned int arc_scale_probes = 10;
     /** λ after the last inner solve (for the status counts of the history). */
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;

@@ -80,6 +80,12 @@ namespace FetiContact::Parameters
      * recompute). */
     double recursive_gradient_tolerance = 0;
     /**
+     * The scale of the Hessian in the preconditioner of MPGP's steps along the circles
+     * ("Arc preconditioner scale"): false its norm bound, true its mean diagonal
+     * (QP::MpgpOptions::arc_scale).
+     */
+    bool arc_scale_mean_diagonal = false;
+    /**
      * Preconditioning of MPGP's conjugate gradient steps in face ("Preconditioner"): none, or
      * the lumped FETI preconditioner P D B K Bᵀ D P + Q/ρ (DualProblem::apply_lumped,
      * QP::MpgpOptions::preconditioner).

@@ -21,6 +21,16 @@ namespace FetiContact::QP
   double
   estimate_norm(const Operator &A, const unsigned int n, const unsigned int iterations = 10);
 
+  /**
+   * An estimate of the mean diagonal entry tr(A)/n of a symmetric positive semidefinite A by
+   * Hutchinson's method: the mean of vᵀAv/n over `probes` vectors v with independent entries
+   * ±1 (at least one), drawn from a fixed pseudo-random sequence (the same for every call with
+   * the same n, so that the estimate is the same on every MPI rank and in every run). Unbiased;
+   * its spread shrinks like 1/√probes. Returns 0 for n = 0.
+   */
+  double
+  estimate_mean_diagonal(const Operator &A, const unsigned int n, const unsigned int probes = 10);
+
   /** Parameters of MPGP. */
   struct MpgpOptions
   {
@@ -59,11 +69,23 @@ namespace FetiContact::QP
     bool disc_rotations = true;
     /**
      * With rotations: precondition the conjugate gradient steps by M = diag(1 on free
-     * components, 1 + (σ_k/r_k)/‖A‖ on the tangent of an active disc k pressed outwards with
-     * σ_k): the curvature σ_k/r_k of small, strongly pressed circles (slipping nodes with a small
-     * normal force, at the edge of a contact zone) otherwise dominates the Hessian along them.
+     * components, 1 + (σ_k/r_k)/a on the tangent of an active disc k pressed outwards with
+     * σ_k; a = arc_scale): the curvature σ_k/r_k of small, strongly pressed circles (slipping
+     * nodes with a small normal force, at the edge of a contact zone) otherwise dominates the
+     * Hessian along them.
      */
     bool precondition_rotations = true;
+    /**
+     * The scale a of the rest of the Hessian in the preconditioner of the rotations,
+     * diag(1 + (σ_k/r_k)/a) (SeparableSet::precondition_arcs). 0 (default): the bound of ‖A‖
+     * behind the fixed step, 1.9/ᾱ. The entries of M on free components are 1, so M is the
+     * Jacobi preconditioner of the Hessian along the circles when a is the typical diagonal entry
+     * of A; ‖A‖ can exceed it by orders of magnitude (the FETI Hessian PFP + ρQ on the brick:
+     * 70–80 times, doc/performance.md), and then the curvature σ_k/r_k of small, strongly pressed
+     * circles is underweighted by as much. The mean diagonal (estimate_mean_diagonal) is the
+     * measured alternative.
+     */
+    double arc_scale = 0;
     /**
      * Preconditioning in face: a symmetric positive definite M ≈ A⁻¹ on the whole space
      * (empty: none). The conjugate gradient steps then use z = R_F M R_F φ, where R_F restricts

@@ -11,6 +11,7 @@ linear solve beside the contact solve.
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
+        [--arc-scale "mean diagonal"]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -32,7 +33,8 @@ series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessi
 (default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max").
 --inexact-msa-factor and --recursive-gradient-tolerance set `Contact solver/Inexact MSA factor`
 and `Contact solver/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"); every series has
-its own tables, and its own MPI tables when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
+its own tables, and its own MPI tables; --arc-scale sets `Contact solver/Arc preconditioner scale`
+(default norm; "mean diagonal": suffix "_md") when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
 the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
@@ -68,16 +70,18 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual", "factor_entries"]
 
 
-DEFAULT_VARIANT = ("fixed", "sum", "", "")
+DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm")
 
 
 def settings(k, blocks, variant=DEFAULT_VARIANT):
-    expansion, bound, msa_factor, recursive = variant
+    expansion, bound, msa_factor, recursive, arc_scale = variant
     return ["--set", f"Contact solver/Expansion step={expansion}",
             "--set", f"Contact solver/Hessian norm bound={bound}",
             *(["--set", f"Contact solver/Inexact MSA factor={msa_factor}"] if msa_factor else []),
             *(["--set", f"Contact solver/Recursive gradient tolerance={recursive}"]
               if recursive else []),
+            *(["--set", f"Contact solver/Arc preconditioner scale={arc_scale}"]
+              if arc_scale != "norm" else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
@@ -236,7 +240,8 @@ def variant_suffixes(contact, base):
 def variant_note(suffix):
     """', Expansion step = projected cg, …' for a series suffix ("_pcg_max_c0.001_r0.1")."""
     names = {"pcg": "Expansion step = projected cg", "max": "Hessian norm bound = max",
-             "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = "}
+             "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = ",
+             "md": "Arc preconditioner scale = mean diagonal"}
     notes = []
     for token in suffix.split("_")[1:]:
         if token in names:
@@ -403,7 +408,10 @@ def plot(csv_path, png_path):
                                   ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D"),
                                   ("weak_pcg_max_c0.001_r0.1",
                                    "fixed H/h, the four options (MSA factor 0.001, "
-                                   "recursive gradient 0.1)", "P")]:
+                                   "recursive gradient 0.1)", "P"),
+                                  ("weak_pcg_max_c0.001_r0.1_md",
+                                   "fixed H/h, the four options and the arc preconditioner "
+                                   "scaled by the mean diagonal", "X")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -442,7 +450,7 @@ def main():
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
-                        "--recursive-gradient-tolerance", "--add-summary",
+                        "--recursive-gradient-tolerance", "--arc-scale", "--add-summary",
                         "--pair-a"],
               ["--merge", "--report-only", "--linear-only", "--alternate"])
     exe = option("--exe", "build/feticontact")
@@ -467,12 +475,16 @@ def main():
     bound = option("--hessian-norm-bound", "sum")
     msa_factor = option("--inexact-msa-factor", "")
     recursive = option("--recursive-gradient-tolerance", "")
-    variant = (expansion, bound, msa_factor, recursive)
+    arc_scale = option("--arc-scale", "norm")
+    if arc_scale not in ("norm", "mean diagonal"):
+        raise SystemExit(f"--arc-scale: unknown '{arc_scale}' (norm, mean diagonal)")
+    variant = (expansion, bound, msa_factor, recursive, arc_scale)
     short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
     suffix = short[expansion] + ("" if bound == "sum" else "_" + bound) + \
-        (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "")
+        (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "") + \
+        ("_md" if arc_scale == "mean diagonal" else "")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \

@@ -407,11 +407,10 @@ def plot(csv_path, png_path):
                                   ("weak_max", "fixed H/h, Hessian norm bound max", "v"),
                                   ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D"),
                                   ("weak_pcg_max_c0.001_r0.1",
-                                   "fixed H/h, the four options (MSA factor 0.001, "
+                                   "fixed H/h, four options (+ MSA factor 0.001, "
                                    "recursive gradient 0.1)", "P"),
                                   ("weak_pcg_max_c0.001_r0.1_md",
-                                   "fixed H/h, the four options and the arc preconditioner "
-                                   "scaled by the mean diagonal", "X")]:
+                                   "fixed H/h, five options (+ arc scale mean diagonal)", "X")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -420,7 +419,7 @@ def plot(csv_path, png_path):
     axes[0].set_xlabel("primal unknowns n")
     axes[0].set_ylabel("n_A (multiplications by F)")
     axes[0].set_ylim(bottom=0)
-    axes[0].legend()
+    axes[0].legend(fontsize="small")
     axes[0].set_title("Numerical scalability (F = 0.3, MPGP)")
     for series, label, marker in [("coarse", "2 × 2 × 2 cubes per subdomain", "o"),
                                   ("weak", "8 × 8 × 8 cubes per subdomain", "s")]:

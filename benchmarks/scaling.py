@@ -11,7 +11,7 @@ linear solve beside the contact solve.
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
-        [--arc-scale "mean diagonal"]
+        [--arc-scale "mean diagonal"] [--penalty-norm "projected F"]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -34,7 +34,8 @@ series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Hessi
 --inexact-msa-factor and --recursive-gradient-tolerance set `Contact solver/Inexact MSA factor`
 and `Contact solver/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"); every series has
 its own tables, and its own MPI tables; --arc-scale sets `Contact solver/Arc preconditioner scale`
-(default norm; "mean diagonal": suffix "_md") when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
+(default norm; "mean diagonal": suffix "_md") and --penalty-norm `Contact solver/Penalty norm`
+(default F; "projected F": suffix "_pfp") when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
 the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
@@ -70,11 +71,11 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual", "factor_entries"]
 
 
-DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm")
+DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm", "F")
 
 
 def settings(k, blocks, variant=DEFAULT_VARIANT):
-    expansion, bound, msa_factor, recursive, arc_scale = variant
+    expansion, bound, msa_factor, recursive, arc_scale, penalty_norm = variant
     return ["--set", f"Contact solver/Expansion step={expansion}",
             "--set", f"Contact solver/Hessian norm bound={bound}",
             *(["--set", f"Contact solver/Inexact MSA factor={msa_factor}"] if msa_factor else []),
@@ -82,6 +83,8 @@ def settings(k, blocks, variant=DEFAULT_VARIANT):
               if recursive else []),
             *(["--set", f"Contact solver/Arc preconditioner scale={arc_scale}"]
               if arc_scale != "norm" else []),
+            *(["--set", f"Contact solver/Penalty norm={penalty_norm}"]
+              if penalty_norm != "F" else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
@@ -241,7 +244,8 @@ def variant_note(suffix):
     """', Expansion step = projected cg, …' for a series suffix ("_pcg_max_c0.001_r0.1")."""
     names = {"pcg": "Expansion step = projected cg", "max": "Hessian norm bound = max",
              "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = ",
-             "md": "Arc preconditioner scale = mean diagonal"}
+             "md": "Arc preconditioner scale = mean diagonal",
+             "pfp": "Penalty norm = projected F"}
     notes = []
     for token in suffix.split("_")[1:]:
         if token in names:
@@ -410,7 +414,9 @@ def plot(csv_path, png_path):
                                    "fixed H/h, four options (+ MSA factor 0.001, "
                                    "recursive gradient 0.1)", "P"),
                                   ("weak_pcg_max_c0.001_r0.1_md",
-                                   "fixed H/h, five options (+ arc scale mean diagonal)", "X")]:
+                                   "fixed H/h, five options (+ arc scale mean diagonal)", "X"),
+                                  ("weak_pcg_max_c0.001_r0.1_md_pfp",
+                                   "fixed H/h, six options (+ penalty norm projected F)", "*")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -449,7 +455,8 @@ def main():
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
-                        "--recursive-gradient-tolerance", "--arc-scale", "--add-summary",
+                        "--recursive-gradient-tolerance", "--arc-scale", "--penalty-norm",
+                        "--add-summary",
                         "--pair-a"],
               ["--merge", "--report-only", "--linear-only", "--alternate"])
     exe = option("--exe", "build/feticontact")
@@ -477,13 +484,17 @@ def main():
     arc_scale = option("--arc-scale", "norm")
     if arc_scale not in ("norm", "mean diagonal"):
         raise SystemExit(f"--arc-scale: unknown '{arc_scale}' (norm, mean diagonal)")
-    variant = (expansion, bound, msa_factor, recursive, arc_scale)
+    penalty_norm = option("--penalty-norm", "F")
+    if penalty_norm not in ("F", "projected F"):
+        raise SystemExit(f"--penalty-norm: unknown '{penalty_norm}' (F, projected F)")
+    variant = (expansion, bound, msa_factor, recursive, arc_scale, penalty_norm)
     short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
     suffix = short[expansion] + ("" if bound == "sum" else "_" + bound) + \
         (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "") + \
-        ("_md" if arc_scale == "mean diagonal" else "")
+        ("_md" if arc_scale == "mean diagonal" else "") + \
+        ("_pfp" if penalty_norm == "projected F" else "")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \

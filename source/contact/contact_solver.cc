@@ -103,12 +103,38 @@ namespace FetiContact
                                       10);
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
     G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
-    rho    = G_norm > 0 ? parameters.penalty_factor * F_norm / (G_norm * G_norm) : F_norm;
+    // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
+    // with floating subdomains it also measures the local pseudo-inverses on the rigid body
+    // modes, which P removes (Penalty norm = projected F estimates ‖PFP‖ itself).
+    feti_norm = F_norm;
+    if (parameters.penalty_projected_norm && projector)
+      {
+        Vector<double> Gv, Qv, Pv, FPv;
+        const auto     project = [&](Vector<double> &v) {
+          dual.coarse.apply_G_orthonormal(v, Gv);
+          dual.coarse.apply_Gt_orthonormal(Gv, Qv);
+          v -= Qv;
+        };
+        feti_norm = 1.05 * QP::estimate_norm(
+                             [&](const Vector<double> &x, Vector<double> &y) {
+                               Pv = x;
+                               project(Pv);
+                               dual.apply_F(Pv, y);
+                               project(y);
+                             },
+                             layout.size(),
+                             projected_norm_iterations);
+      }
+    rho = G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm;
     // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
     // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
     hessian_norm = parameters.hessian_norm_max && projector ?
-                     std::max(F_norm, rho * G_norm * G_norm) :
-                     F_norm + rho * G_norm * G_norm;
+                     std::max(feti_norm, rho * G_norm * G_norm) :
+                     feti_norm + rho * G_norm * G_norm;
+    if (parameters.penalty_projected_norm && projector)
+      out << "  Penalty: ρ = " << std::scientific << std::setprecision(3) << rho << " ("
+          << parameters.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ", ‖F‖ ≈ " << F_norm
+          << ")" << std::defaultfloat << std::endl;
     if (parameters.arc_scale_mean_diagonal)
       {
         // tr(A)/m for A = PFP + ρQ (projector) or F + ρG̃ᵀG̃ (penalty): Hutchinson's estimate of

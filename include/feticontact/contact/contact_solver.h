@@ -157,6 +157,13 @@ namespace FetiContact
     std::vector<unsigned int>        disc_of_node;
     std::vector<double>              slip_bound;
     double                           F_norm = 0, G_norm = 0, rho = 0;
+    /**
+     * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
+     * taken from: ‖F‖, or with Penalty norm = projected F (projector variant) the estimate of
+     * ‖PFP‖ from projected_norm_iterations multiplications by F (in F_applications, not in n_A).
+     */
+    double                        feti_norm                 = 0;
+    static constexpr unsigned int projected_norm_iterations = 10;
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0, e_smalbe = 0). */
     bool projector = false;
     /** λ₀ (zero without the projector), h − Fλ₀, and the right side of G̃λ̃ = ẽ − G̃λ₀. */
@@ -167,7 +174,8 @@ namespace FetiContact
     double qp_tolerance = 0;
     /**
      * The bound of the Hessian's norm behind the fixed step ᾱ = 1.9/‖A‖ of the block solves:
-     * ‖F‖ + ρ‖G̃‖², or max(‖F‖, ρ) for the projector variant (Hessian norm bound = max).
+     * ‖F‖ + ρ‖G̃‖², or max(‖F‖, ρ) for the projector variant (Hessian norm bound = max); ‖PFP‖
+     * in place of ‖F‖ with Penalty norm = projected F.
      */
     double hessian_norm = 0;
     /**

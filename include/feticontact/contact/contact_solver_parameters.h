@@ -57,8 +57,13 @@ namespace FetiContact::Parameters
     double relaxation = 1;
     /** Continuation in F: stages F/n, 2F/n, …, F (1: none). */
     unsigned int continuation_steps = 1;
-    /** SMALBE penalty ρ as a multiple of ‖F‖ (estimated). */
+    /** SMALBE penalty ρ as a multiple of ‖F‖, or of ‖PFP‖ with penalty_projected_norm. */
     double penalty_factor = 1;
+    /**
+     * "Penalty norm": false ‖F‖, true ‖PFP‖ (the projector variant) as the norm that
+     * penalty_factor multiplies and that bounds the FETI part of the Hessian in MPGP's step.
+     */
+    bool penalty_projected_norm = false;
 
     /** How SMALBE treats Gλ = e (QP::SmalbeOptions::projector). */
     enum class EqualityConstraint

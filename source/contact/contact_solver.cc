@@ -422,8 +422,9 @@ namespace FetiContact
     options.inner_solver = [&](const QP::Operator   &op,
                                const Vector<double> &b,
                                Vector<double>       &x,
-                               const double          tolerance) {
-      QP::SolverReport r;
+                               const double          tolerance,
+                               const Vector<double> &gradient) {
+      QP::InnerReport r;
       if (split && layout.n_tangential > 0)
         r = gauss_seidel(op, b, x, tolerance, combined, result);
       else
@@ -433,11 +434,15 @@ namespace FetiContact
             op(v, y);
             ++calls;
           };
-          QP::MpgpOptions o      = options.inner;
-          o.tolerance            = tolerance;
-          const auto mpgp_report = QP::mpgp(counted, b, set, x, o);
+          QP::MpgpOptions o = options.inner;
+          o.tolerance       = tolerance;
+          // MPGP starts from SMALBE's gradient and returns its own (no multiplication for
+          // either).
+          Vector<double> g(gradient);
+          const auto     mpgp_report = QP::mpgp(counted, b, set, x, o, &g);
           result.count_steps(mpgp_report);
           r = mpgp_report;
+          r.gradient.swap(g);
           result.n_bound += calls;
         }
       last_lambda = x;

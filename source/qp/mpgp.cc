@@ -57,7 +57,8 @@ namespace FetiContact::QP
        const Vector<double> &b,
        const SeparableSet   &set,
        Vector<double>       &x,
-       const MpgpOptions    &options)
+       const MpgpOptions    &options,
+       Vector<double>       *gradient_in_out)
   {
     const unsigned int n = b.size();
     AssertThrow(set.size() == n && x.size() == n,
@@ -83,6 +84,8 @@ namespace FetiContact::QP
           {
             // A vanishes on the start vector (or n = 0): nothing sensible to iterate with.
             report.converged = (n == 0);
+            if (gradient_in_out)
+              gradient_in_out->reinit(0);
             return report;
           }
         alpha_bar = 1.9 / (1.05 * norm);
@@ -175,8 +178,24 @@ namespace FetiContact::QP
       ++report.proportioning_fallbacks;
     };
 
+    // The caller's gradient Ax₀ − b stands for the first multiplication if x₀ ∈ Ω already: if
+    // the projection moves x₀ by no more than the rounding of a projection onto a circle
+    // (x₀ returned by an earlier solve), the known gradient is off by at most ‖A‖ times that.
+    const bool known_gradient = gradient_in_out && gradient_in_out->size() == n;
+    if (known_gradient)
+      x_old = x;
     set.project(x);
-    gradient();
+    bool moved = true;
+    if (known_gradient)
+      {
+        y = x;
+        y -= x_old;
+        moved = y.linfty_norm() > 4 * std::numeric_limits<double>::epsilon() * x.linfty_norm();
+      }
+    if (!moved)
+      g = *gradient_in_out;
+    else
+      gradient();
     update_sets();
     p              = z;
     bool p_is_phi  = true;
@@ -387,6 +406,8 @@ namespace FetiContact::QP
         gradient();
         update_sets();
       }
+    if (gradient_in_out)
+      *gradient_in_out = g;
     report.projected_gradient_norm = norm_gP;
     report.relative_residual       = b_norm > 0 ? norm_gP / b_norm : norm_gP;
     report.converged               = converged;

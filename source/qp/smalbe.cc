@@ -154,7 +154,8 @@ namespace FetiContact::QP
       inner = [&](const Operator       &A_inner,
                   const Vector<double> &b_inner,
                   Vector<double>       &x,
-                  const double /*tolerance: replaced by the rule itself*/) -> SolverReport {
+                  const double /*tolerance: replaced by the rule itself*/,
+                  const Vector<double> &gradient) -> InnerReport {
         MpgpOptions inner_options = options.inner;
         inner_options.tolerance   = 0;
         inner_options.stop_when   = [&](const Vector<double> &y, const double norm_gP) {
@@ -162,7 +163,10 @@ namespace FetiContact::QP
         };
         if (!(inner_options.step > 0))
           inner_options.step = 1.9 / A_norm;
-        return mpgp(A_inner, b_inner, set, x, inner_options);
+        Vector<double> g(gradient);
+        InnerReport    report(mpgp(A_inner, b_inner, set, x, inner_options, &g));
+        report.gradient.swap(g);
+        return report;
       };
 
     Vector<double> r(k), b_inner(m), Gtv(m), g(m), gP(m);
@@ -174,8 +178,13 @@ namespace FetiContact::QP
       r -= e;
       return r.l2_norm();
     };
-    // b_inner = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe) (Ph − Gᵀμ in the projector variant).
+    // g_known = Aλ − b_inner at the current λ when known (from the inner solver), else empty.
+    Vector<double> g_known;
+    // b_inner = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe) (Ph − Gᵀμ in the projector variant); a known
+    // gradient follows the change of b_inner.
     const auto linear_term = [&]() {
+      if (g_known.size() == m)
+        g_known += b_inner;
       b_inner = h_objective;
       if (k > 0)
         {
@@ -184,6 +193,8 @@ namespace FetiContact::QP
           apply_Gt(v, Gtv);
           b_inner -= Gtv;
         }
+      if (g_known.size() == m)
+        g_known -= b_inner;
     };
 
     double feasibility = residual();
@@ -218,12 +229,18 @@ namespace FetiContact::QP
             const double tolerance =
               relaxed_start ? std::max(eta, options.tolerance * gradient_reference(lambda)) :
                               inner_target(lambda);
-            const SolverReport inner_report = inner(A, b_inner, lambda, tolerance);
+            InnerReport inner_report = inner(A, b_inner, lambda, tolerance, g_known);
             step.inner_iterations += inner_report.iterations;
             ++step.inner_calls;
             feasibility = residual();
-            A(lambda, g);
-            g -= b_inner;
+            if (inner_report.gradient.size() == m)
+              g.swap(inner_report.gradient);
+            else
+              {
+                A(lambda, g);
+                g -= b_inner;
+              }
+            g_known = g;
             set.projected_gradient(lambda, g, gP);
             norm_gP = gP.l2_norm();
             const bool stuck_at_eta =

@@ -495,7 +495,8 @@ main()
     const QP::InnerSolver inner       = [&](const QP::Operator   &A,
                                       const Vector<double> &b,
                                       Vector<double>       &x,
-                                      const double          tolerance) -> QP::SolverReport {
+                                      const double          tolerance,
+                                      const Vector<double>       &/*gradient*/) -> QP::SolverReport {
       ++inner_calls;
       QP::MpgpOptions options;
       options.tolerance = tolerance;
@@ -506,6 +507,35 @@ main()
     const Result r     = solve_and_check("user-supplied inner solver", mix, 1, inner, &calls);
     check(inner_calls == r.report.inner_calls && inner_calls >= r.report.iterations,
           "the user's solver did the inner solves (" + std::to_string(inner_calls) + " calls)");
+  }
+  {
+    // The gradient passed between the inner solves: an inner solver that starts from SMALBE's
+    // gradient and returns its own saves the multiplication at its start and SMALBE's after it.
+    const auto plug = [&](const bool pass_gradient) -> QP::InnerSolver {
+      return [&, pass_gradient](const QP::Operator   &A,
+                                const Vector<double> &b,
+                                Vector<double>       &x,
+                                const double          tolerance,
+                                const Vector<double> &gradient) -> QP::InnerReport {
+        QP::MpgpOptions options;
+        options.tolerance = tolerance;
+        if (!pass_gradient)
+          return QP::mpgp(A, b, mix.set, x, options);
+        Vector<double>  g(gradient);
+        QP::InnerReport report(QP::mpgp(A, b, mix.set, x, options, &g));
+        report.gradient.swap(g);
+        return report;
+      };
+    };
+    unsigned int calls_without = 0, calls_with = 0;
+    const Result without =
+      solve_and_check("inner solver without the gradient", mix, 1, plug(false), &calls_without);
+    const Result with =
+      solve_and_check("inner solver with the gradient", mix, 1, plug(true), &calls_with);
+    check(calls_with + with.report.inner_calls <= calls_without,
+          "passing the gradient saves at least one multiplication per inner solve (" +
+            std::to_string(calls_with) + " against " + std::to_string(calls_without) +
+            " multiplications, " + std::to_string(with.report.inner_calls) + " inner solves)");
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

@@ -214,11 +214,16 @@ namespace FetiContact::QP
    * unconverged.
    *
    * @param x in: x₀ (any point, projected first); out: the last iterate.
+   * @param gradient optional, in and out. In: Ax₀ − b if it has the size of b (else ignored);
+   *   MPGP then starts without a multiplication, unless the projection of x₀ onto Ω moved it.
+   *   Out: Ax − b at the last iterate, the gradient of the last stopping decision (SMALBE passes
+   *   it from one inner solve to the next, corrected for the change of b).
    */
   MpgpReport
   mpgp(const Operator               &A,
        const dealii::Vector<double> &b,
        const SeparableSet           &set,
        dealii::Vector<double>       &x,
-       const MpgpOptions            &options);
+       const MpgpOptions            &options,
+       dealii::Vector<double>       *gradient = nullptr);
 } // namespace FetiContact::QP

@@ -11,15 +11,34 @@
 namespace FetiContact::QP
 {
   /**
+   * What an inner solver of SMALBE reports: a SolverReport, and optionally the gradient
+   * Aλ − b at the λ it returns (empty: not known, SMALBE multiplies by A itself).
+   */
+  struct InnerReport : SolverReport
+  {
+    InnerReport(const SolverReport &report = SolverReport())
+      : SolverReport(report)
+    {}
+    /** Aλ − b at the returned λ, or empty. */
+    dealii::Vector<double> gradient;
+  };
+
+  /**
    * An inner QP solver of SMALBE: approximately solves min ½λᵀAλ − bᵀλ over λ ∈ Ω, starting from
    * λ and overwriting it, until ‖g^P(λ)‖ ≤ tolerance (absolute). A is the Hessian F + ρGᵀG of
    * the augmented Lagrangian; the solver must call it for every multiplication (SMALBE counts
-   * the calls) and knows the set Ω by itself (it captures it).
+   * the calls) and knows the set Ω by itself (it captures it). @p gradient is Aλ − b at the λ
+   * passed, or empty when SMALBE does not know it; a solver may use it instead of its first
+   * multiplication (MPGP does), and may return the gradient at its result in
+   * InnerReport::gradient, which saves SMALBE the multiplication that evaluates its stopping
+   * test and the Lagrangian after the inner solve. A SolverReport converts to an InnerReport
+   * without a gradient.
    */
-  using InnerSolver = std::function<SolverReport(const Operator               &A,
-                                                 const dealii::Vector<double> &b,
-                                                 dealii::Vector<double>       &lambda,
-                                                 const double                  tolerance)>;
+  using InnerSolver = std::function<InnerReport(const Operator               &A,
+                                                const dealii::Vector<double> &b,
+                                                dealii::Vector<double>       &lambda,
+                                                const double                  tolerance,
+                                                const dealii::Vector<double> &gradient)>;
 
   /** State of SMALBE after one outer iteration, for the monitor. */
   struct SmalbeStep
@@ -165,7 +184,10 @@ namespace FetiContact::QP
    *     multiplier that goes with λ_k, and the one returned.)
    *  4. If k > 0 and L(λ_k, μ_k, ρ) < L(λ_{k−1}, μ_{k−1}, ρ) + ρ/2 ‖Gλ_k − e‖²:
    *     M_{k+1} = M_k/β_M, else M_{k+1} = M_k.
-   * After each inner solve one multiplication by A gives the gradient and L (counted). Then the
+   * After each inner solve the gradient gives the stopping test and L: the inner solver's own
+   * (InnerReport::gradient; the default MPGP returns it), else one multiplication by A (counted).
+   * It is passed to the next inner solve, corrected for the change of the linear term by the
+   * multiplier update (g ← g + b_k − b_{k+1}, no multiplication). Then the
    * residual proposes a certificate of infeasibility, α = (e − Gλ_k)/‖e − Gλ_k‖ (for the
    * residual of least norm over Ω it is one whenever that norm is positive, and SMALBE's iterates
    * approach it when Gλ = e is infeasible): if αᵀe − σ_Ω(Gᵀα) > 1e-6 (|αᵀe| + |σ_Ω(Gᵀα)|),

@@ -109,7 +109,7 @@ namespace FetiContact
     feti_norm = F_norm;
     if (parameters.penalty_projected_norm && projector)
       {
-        Vector<double> Gv, Qv, Pv, FPv;
+        Vector<double> Gv, Qv, Pv;
         const auto     project = [&](Vector<double> &v) {
           dual.coarse.apply_G_orthonormal(v, Gv);
           dual.coarse.apply_Gt_orthonormal(Gv, Qv);

@@ -109,18 +109,13 @@ namespace FetiContact
     feti_norm = F_norm;
     if (parameters.penalty_projected_norm && projector)
       {
-        Vector<double> Gv, Qv, Pv;
-        const auto     project = [&](Vector<double> &v) {
-          dual.coarse.apply_G_orthonormal(v, Gv);
-          dual.coarse.apply_Gt_orthonormal(Gv, Qv);
-          v -= Qv;
-        };
+        Vector<double> Pv;
         feti_norm = 1.05 * QP::estimate_norm(
                              [&](const Vector<double> &x, Vector<double> &y) {
                                Pv = x;
-                               project(Pv);
+                               apply_P(Pv);
                                dual.apply_F(Pv, y);
-                               project(y);
+                               apply_P(y);
                              },
                              layout.size(),
                              projected_norm_iterations);
@@ -141,15 +136,11 @@ namespace FetiContact
         // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the
         // number of rigid modes (G̃ has orthonormal rows).
         const unsigned int m = layout.size();
-        Vector<double>     Gv, Qv, Pv;
+        Vector<double>     Pv;
         const auto         PFP = [&](const Vector<double> &v, Vector<double> &y) {
           Pv = v;
           if (projector)
-            {
-              dual.coarse.apply_G_orthonormal(v, Gv);
-              dual.coarse.apply_Gt_orthonormal(Gv, Qv);
-              Pv -= Qv;
-            }
+            apply_P(Pv);
           dual.apply_F(Pv, y);
         };
         arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
@@ -158,6 +149,15 @@ namespace FetiContact
             << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
             << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
       }
+  }
+
+  void
+  ContactSolver::apply_P(Vector<double> &v) const
+  {
+    Vector<double> Gv, Qv;
+    dual.coarse.apply_G_orthonormal(v, Gv);
+    dual.coarse.apply_Gt_orthonormal(Gv, Qv);
+    v -= Qv;
   }
 
   Vector<double>

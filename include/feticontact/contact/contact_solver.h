@@ -162,6 +162,13 @@ namespace FetiContact
      * taken from: ‖F‖, or with Penalty norm = projected F (projector variant) the estimate of
      * ‖PFP‖ from projected_norm_iterations multiplications by F (in F_applications, not in n_A).
      */
+    /**
+     * v ← P v = v − G̃ᵀG̃ v with the coarse-problem calls of the Hessian PFP + ρQ that SMALBE
+     * applies (the setup's estimates of ‖PFP‖ and tr(PFP) use it, so that they measure that
+     * Hessian).
+     */
+    void
+                                  apply_P(dealii::Vector<double> &v) const;
     double                        feti_norm                 = 0;
     static constexpr unsigned int projected_norm_iterations = 10;
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0, e_smalbe = 0). */

@@ -59,6 +59,9 @@ namespace FetiContact
                 }
 
     partition = partition_cells(mesh, parameters.decomposition, parameters.name);
+    cells_of_part.assign(partition.n_parts, {});
+    for (const auto &cell : mesh.active_cell_iterators())
+      cells_of_part[partition.part_of_cell[cell->active_cell_index()]].push_back(cell);
   }
 
   void

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 
 namespace FetiContact
 {
@@ -23,37 +24,38 @@ namespace FetiContact
   {
     // The sub-mesh: cells of this part, vertices renumbered, boundary ids carried over; faces
     // shared with other parts become interface faces.
-    std::vector<unsigned int> local_vertex(body.mesh.n_vertices(), numbers::invalid_unsigned_int);
-    std::vector<CellData<3>>  cells;
-    std::vector<Point<3>>     vertices;
+    // (A map, not a vector over all vertices of the body: that would be quadratic in the number
+    // of subdomains.)
+    std::unordered_map<unsigned int, unsigned int>            local_vertex;
+    std::vector<CellData<3>>                                  cells;
+    std::vector<Point<3>>                                     vertices;
     std::map<std::array<unsigned int, 3>, types::boundary_id> boundary_faces;
-    for (const auto &cell : body.mesh.active_cell_iterators())
-      if (body.partition.part_of_cell[cell->active_cell_index()] == part)
-        {
-          CellData<3> data(4);
-          for (const unsigned int v : cell->vertex_indices())
-            {
-              const unsigned int gv = cell->vertex_index(v);
-              if (local_vertex[gv] == numbers::invalid_unsigned_int)
-                {
-                  local_vertex[gv] = vertices.size();
-                  vertices.push_back(cell->vertex(v));
-                  body_vertex.push_back(gv);
-                }
-              data.vertices[v] = local_vertex[gv];
-            }
-          data.material_id = body.index;
-          cells.push_back(data);
-          for (const auto &face : cell->face_iterators())
-            if (face->at_boundary())
+    for (const auto &cell : body.cells_of_part[part])
+      {
+        CellData<3> data(4);
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const unsigned int gv          = cell->vertex_index(v);
+            const auto [entry, first_seen] = local_vertex.emplace(gv, vertices.size());
+            if (first_seen)
               {
-                std::array<unsigned int, 3> key;
-                for (unsigned int v = 0; v < 3; ++v)
-                  key[v] = face->vertex_index(v);
-                std::sort(key.begin(), key.end());
-                boundary_faces[key] = face->boundary_id();
+                vertices.push_back(cell->vertex(v));
+                body_vertex.push_back(gv);
               }
-        }
+            data.vertices[v] = entry->second;
+          }
+        data.material_id = body.index;
+        cells.push_back(data);
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              std::array<unsigned int, 3> key;
+              for (unsigned int v = 0; v < 3; ++v)
+                key[v] = face->vertex_index(v);
+              std::sort(key.begin(), key.end());
+              boundary_faces[key] = face->boundary_id();
+            }
+      }
     mesh.create_triangulation(vertices, cells, SubCellData());
     for (const auto &cell : mesh.active_cell_iterators())
       for (const auto &face : cell->face_iterators())

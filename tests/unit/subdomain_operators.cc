@@ -2,7 +2,9 @@
 // and METIS decompositions, and every local solver backend:
 //   ‖K_i R_i‖ ≤ 1e-12 ‖K_i‖ ‖R_i‖ (Frobenius norms), R_iᵀR_i = I,
 //   ‖K_i K_i⁺ K_i v − K_i v‖ ≤ 1e-10 ‖K_i v‖ for random v,
-//   and the kernel dimension: 0 for a subdomain anchored on the clamped face (primal), 6 else.
+//   and the kernel dimension: 0 for a subdomain anchored on the clamped face (primal), 6 else;
+//   every cell listed once under its part (Body::cells_of_part), and every subdomain mesh made
+//   of exactly the cells of its part.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -38,12 +40,30 @@ main(int argc, char **argv)
         const auto scene = scene_from_text(brick_text(decomposition));
         Body       body(scene.bodies[0], 0);
         body.setup();
+        // Body::cells_of_part lists every active cell once, under its own part (the subdomains
+        // are built from these lists alone).
+        std::size_t listed = 0;
+        for (unsigned int p = 0; p < body.partition.n_parts; ++p)
+          for (const auto &cell : body.cells_of_part[p])
+            {
+              ++listed;
+              check(body.partition.part_of_cell[cell->active_cell_index()] == p,
+                    name + ": a cell listed under part " + std::to_string(p) + " belongs to part " +
+                      std::to_string(body.partition.part_of_cell[cell->active_cell_index()]));
+            }
+        check(listed == body.mesh.n_active_cells(),
+              name + ": " + std::to_string(listed) + " cells listed by part, the mesh has " +
+                std::to_string(body.mesh.n_active_cells()));
         for (const std::string backend : {"cholmod", "amesos2-klu2", "amesos-mumps", "umfpack"})
           for (unsigned int p = 0; p < body.partition.n_parts; ++p)
             {
               if (backend != "cholmod" && p > 1)
                 continue; // other backends: two subdomains suffice
               Subdomain s(body, p, p, primal, fe);
+              check(s.mesh.n_active_cells() == body.cells_of_part[p].size(),
+                    name + ", subdomain " + std::to_string(p) + ": " +
+                      std::to_string(s.mesh.n_active_cells()) + " cells, its part has " +
+                      std::to_string(body.cells_of_part[p].size()));
               s.assemble(mapping);
               s.factorize(backend);
               const std::string label = name + (primal ? ", primal" : ", TFETI") + ", subdomain " +

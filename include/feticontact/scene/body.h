@@ -44,5 +44,11 @@ namespace FetiContact
     dealii::Triangulation<3>           mesh;
     std::map<unsigned int, Prescribed> prescribed; ///< by mesh vertex index
     CellPartition                      partition;
+    /**
+     * The active cells of every part of @p partition, in the order of the active cells. Listed
+     * once in setup(), so that building a subdomain visits its own cells only (not every cell
+     * of the body once per subdomain, which is quadratic in the number of subdomains).
+     */
+    std::vector<std::vector<dealii::Triangulation<3>::active_cell_iterator>> cells_of_part;
   };
 } // namespace FetiContact

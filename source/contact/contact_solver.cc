@@ -120,12 +120,7 @@ namespace FetiContact
                              layout.size(),
                              projected_norm_iterations);
       }
-    rho = G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm;
-    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
-    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
-    hessian_norm = parameters.hessian_norm_max && projector ?
-                     std::max(feti_norm, rho * G_norm * G_norm) :
-                     feti_norm + rho * G_norm * G_norm;
+    set_penalty(G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm);
     if (parameters.penalty_projected_norm && projector)
       out << "  Penalty: ρ = " << std::scientific << std::setprecision(3) << rho << " ("
           << parameters.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ", ‖F‖ ≈ " << F_norm
@@ -143,12 +138,26 @@ namespace FetiContact
             apply_P(Pv);
           dual.apply_F(Pv, y);
         };
-        arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
-                    rho * G_norm * G_norm * dual.coarse.n_modes() / m;
+        arc_scale_feti = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes);
+        set_penalty(rho);
         out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
             << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
             << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
       }
+  }
+
+  void
+  ContactSolver::set_penalty(const double penalty)
+  {
+    rho = penalty;
+    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
+    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
+    hessian_norm = parameters.hessian_norm_max && projector ?
+                     std::max(feti_norm, rho * G_norm * G_norm) :
+                     feti_norm + rho * G_norm * G_norm;
+    // tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number of rigid modes (G̃ has orthonormal rows).
+    if (parameters.arc_scale_mean_diagonal)
+      arc_scale = arc_scale_feti + rho * G_norm * G_norm * dual.coarse.n_modes() / layout.size();
   }
 
   void
@@ -400,6 +409,18 @@ namespace FetiContact
     options.feasibility_tolerance = qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
     options.rho                   = rho;
+    if (parameters.penalty_growth > 1)
+      {
+        // The adaptive penalty: ρ, and with it MPGP's step and arc scale, follow SMALBE; the
+        // raised ρ stays for the following MSA steps.
+        options.penalty_growth  = parameters.penalty_growth;
+        options.penalty_trigger = parameters.penalty_trigger;
+        options.penalty_max     = parameters.largest_penalty_factor * feti_norm / (G_norm * G_norm);
+        options.penalty_changed = [&](const double penalty) {
+          set_penalty(penalty);
+          result.penalty_increases += 1;
+        };
+      }
     options.F_norm                = F_norm;
     options.G_norm                = G_norm;
     options.inner                 = mpgp_options();
@@ -436,6 +457,9 @@ namespace FetiContact
           };
           QP::MpgpOptions o = options.inner;
           o.tolerance       = tolerance;
+          // ρ may have grown since mpgp_options() (SmalbeOptions::penalty_changed).
+          o.step      = 1.9 / hessian_norm;
+          o.arc_scale = arc_scale;
           // MPGP starts from SMALBE's gradient and returns its own (no multiplication for
           // either).
           Vector<double> g(gradient);
@@ -470,6 +494,7 @@ namespace FetiContact
       mu,
       options);
     result.smalbe_iterations += report.iterations;
+    result.final_penalty = G_norm > 0 ? rho * G_norm * G_norm / feti_norm : 0.;
     if (report.infeasible)
       {
         // The certificate in the original variables: with the projector SMALBE saw

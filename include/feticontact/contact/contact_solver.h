@@ -63,6 +63,9 @@ namespace FetiContact
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
                    expansion_fallbacks = 0, recursive_gradient_updates = 0;
       bool converged = false;
+      /** How often SMALBE's adaptive penalty raised ρ, and the final ρ (its penalty norm). */
+      unsigned int penalty_increases = 0;
+      double       final_penalty     = 0;
 
       void
       count_steps(const QP::MpgpReport &r)
@@ -158,17 +161,23 @@ namespace FetiContact
     std::vector<double>              slip_bound;
     double                           F_norm = 0, G_norm = 0, rho = 0;
     /**
-     * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
-     * taken from: ‖F‖, or with Penalty norm = projected F (projector variant) the estimate of
-     * ‖PFP‖ from projected_norm_iterations multiplications by F (in F_applications, not in n_A).
+     * ρ ← @p penalty, and what depends on it: hessian_norm and arc_scale (at the start, and
+     * whenever SMALBE's adaptive penalty raises ρ).
      */
+    void
+    set_penalty(const double penalty);
     /**
      * v ← P v = v − G̃ᵀG̃ v with the coarse-problem calls of the Hessian PFP + ρQ that SMALBE
      * applies (the setup's estimates of ‖PFP‖ and tr(PFP) use it, so that they measure that
      * Hessian).
      */
     void
-                                  apply_P(dealii::Vector<double> &v) const;
+    apply_P(dealii::Vector<double> &v) const;
+    /**
+     * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
+     * taken from: ‖F‖, or with Penalty norm = projected F (projector variant) the estimate of
+     * ‖PFP‖ from projected_norm_iterations multiplications by F (in F_applications, not in n_A).
+     */
     double                        feti_norm                 = 0;
     static constexpr unsigned int projected_norm_iterations = 10;
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0, e_smalbe = 0). */
@@ -192,6 +201,8 @@ namespace FetiContact
      */
     double                        arc_scale        = 0;
     static constexpr unsigned int arc_scale_probes = 10;
+    /** The estimate of tr(PFP)/m (or tr(F)/m) in arc_scale, without the part ρ n_modes/m. */
+    double arc_scale_feti = 0;
     /** λ after the last inner solve (for the status counts of the history). */
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;

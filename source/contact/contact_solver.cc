@@ -97,16 +97,13 @@ namespace FetiContact
           }
       }
     set_slip_bounds(slip_bound);
-    F_norm = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
-                                          Vector<double>       &y) { dual.apply_F(x, y); },
-                                      layout.size(),
-                                      10);
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
     G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
     // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
     // with floating subdomains it also measures the local pseudo-inverses on the rigid body
-    // modes, which P removes (Penalty norm = projected F estimates ‖PFP‖ itself).
-    feti_norm = F_norm;
+    // modes, which P removes (Penalty norm = projected F estimates ‖PFP‖ itself, and then ‖F‖
+    // is not needed: SMALBE gets ‖PFP‖, the norm of the FETI part of the Hessian it applies,
+    // and the ten multiplications of the power method for ‖F‖ are saved).
     if (parameters.penalty_projected_norm && projector)
       {
         Vector<double> Pv;
@@ -119,12 +116,26 @@ namespace FetiContact
                              },
                              layout.size(),
                              projected_norm_iterations);
+        F_norm = feti_norm;
       }
-    set_penalty(G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm);
+    else
+      {
+        F_norm    = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
+                                              Vector<double>       &y) { dual.apply_F(x, y); },
+                                          layout.size(),
+                                          10);
+        feti_norm = F_norm;
+      }
+    rho = G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm;
+    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
+    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
+    hessian_norm = parameters.hessian_norm_max && projector ?
+                     std::max(feti_norm, rho * G_norm * G_norm) :
+                     feti_norm + rho * G_norm * G_norm;
     if (parameters.penalty_projected_norm && projector)
       out << "  Penalty: ρ = " << std::scientific << std::setprecision(3) << rho << " ("
-          << parameters.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ", ‖F‖ ≈ " << F_norm
-          << ")" << std::defaultfloat << std::endl;
+          << parameters.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ")"
+          << std::defaultfloat << std::endl;
     if (parameters.arc_scale_mean_diagonal)
       {
         // tr(A)/m for A = PFP + ρQ (projector) or F + ρG̃ᵀG̃ (penalty): Hutchinson's estimate of
@@ -138,26 +149,12 @@ namespace FetiContact
             apply_P(Pv);
           dual.apply_F(Pv, y);
         };
-        arc_scale_feti = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes);
-        set_penalty(rho);
+        arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
+                    rho * G_norm * G_norm * dual.coarse.n_modes() / m;
         out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
             << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
             << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
       }
-  }
-
-  void
-  ContactSolver::set_penalty(const double penalty)
-  {
-    rho = penalty;
-    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
-    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
-    hessian_norm = parameters.hessian_norm_max && projector ?
-                     std::max(feti_norm, rho * G_norm * G_norm) :
-                     feti_norm + rho * G_norm * G_norm;
-    // tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number of rigid modes (G̃ has orthonormal rows).
-    if (parameters.arc_scale_mean_diagonal)
-      arc_scale = arc_scale_feti + rho * G_norm * G_norm * dual.coarse.n_modes() / layout.size();
   }
 
   void
@@ -409,18 +406,6 @@ namespace FetiContact
     options.feasibility_tolerance = qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
     options.rho                   = rho;
-    if (parameters.penalty_growth > 1)
-      {
-        // The adaptive penalty: ρ, and with it MPGP's step and arc scale, follow SMALBE; the
-        // raised ρ stays for the following MSA steps.
-        options.penalty_growth  = parameters.penalty_growth;
-        options.penalty_trigger = parameters.penalty_trigger;
-        options.penalty_max     = parameters.largest_penalty_factor * feti_norm / (G_norm * G_norm);
-        options.penalty_changed = [&](const double penalty) {
-          set_penalty(penalty);
-          result.penalty_increases += 1;
-        };
-      }
     options.F_norm                = F_norm;
     options.G_norm                = G_norm;
     options.inner                 = mpgp_options();
@@ -457,9 +442,6 @@ namespace FetiContact
           };
           QP::MpgpOptions o = options.inner;
           o.tolerance       = tolerance;
-          // ρ may have grown since mpgp_options() (SmalbeOptions::penalty_changed).
-          o.step      = 1.9 / hessian_norm;
-          o.arc_scale = arc_scale;
           // MPGP starts from SMALBE's gradient and returns its own (no multiplication for
           // either).
           Vector<double> g(gradient);
@@ -494,7 +476,6 @@ namespace FetiContact
       mu,
       options);
     result.smalbe_iterations += report.iterations;
-    result.final_penalty = G_norm > 0 ? rho * G_norm * G_norm / feti_norm : 0.;
     if (report.infeasible)
       {
         // The certificate in the original variables: with the projector SMALBE saw

@@ -106,27 +106,6 @@ namespace FetiContact::Parameters
                       "Gauss–Seidel of algorithms 1 and 2 converges slowly when ρG̃ᵀG̃ couples "
                       "λ_c and λ_T strongly (measured on the brick, doc/contact.md).");
     prm.declare_entry(
-      "Penalty growth",
-      "1",
-      Patterns::Double(1),
-      "β_ρ ≥ 1 of SMALBE's adaptive penalty: after an outer iteration that reduced the "
-      "feasibility error ‖G̃λ‖ by less than the factor 'Penalty growth trigger' (the multiplier "
-      "iteration is slow because ρ is small), ρ ← β_ρ ρ, up to 'Largest penalty factor' × the "
-      "penalty norm; the raised ρ stays for the later MSA steps. 1: ρ fixed at 'Penalty "
-      "factor' (the default: every count in doc/ before the eighteenth session). Algorithm = "
-      "mpgp or polygonal. A small ρ keeps the inner problems well conditioned and suits small "
-      "meshes; large meshes need more (doc/performance.md, 'Adaptive penalty').");
-    prm.declare_entry("Penalty growth trigger",
-                      "0.5",
-                      Patterns::Double(0, 1),
-                      "θ ∈ (0, 1) of 'Penalty growth': ρ grows after an outer iteration with "
-                      "‖G̃λ_k‖ > θ ‖G̃λ_{k−1}‖.");
-    prm.declare_entry("Largest penalty factor",
-                      "30",
-                      Patterns::Double(0),
-                      "The bound of the adaptive penalty, as a multiple of the penalty norm "
-                      "(‖F‖ or ‖PFP‖, 'Penalty norm'); at least 'Penalty factor'.");
-    prm.declare_entry(
       "Penalty norm",
       "F",
       Patterns::Selection("F|projected F"),
@@ -294,20 +273,6 @@ namespace FetiContact::Parameters
     recursive_gradient_tolerance = prm.get_double("Recursive gradient tolerance");
     arc_scale_mean_diagonal      = prm.get("Arc preconditioner scale") == "mean diagonal";
     lumped_preconditioner        = prm.get("Preconditioner") == "lumped";
-    penalty_growth               = prm.get_double("Penalty growth");
-    penalty_trigger              = prm.get_double("Penalty growth trigger");
-    largest_penalty_factor       = prm.get_double("Largest penalty factor");
-    require(penalty_growth == 1 ||
-              (algorithm == Algorithm::mpgp || algorithm == Algorithm::polygonal),
-            "Contact solver/Penalty growth > 1 is implemented for Algorithm = mpgp and polygonal "
-            "only (the penalties of algorithms 1 and 2 are tuned for their block Gauss–Seidel).");
-    require(penalty_growth == 1 || (penalty_trigger > 0 && penalty_trigger < 1),
-            "Contact solver/Penalty growth trigger must lie strictly between 0 and 1; got " +
-              prm.get("Penalty growth trigger") + ".");
-    require(penalty_growth == 1 || largest_penalty_factor >= penalty_factor,
-            "Contact solver/Largest penalty factor (" + prm.get("Largest penalty factor") +
-              ") must not be below the penalty factor (" + std::to_string(penalty_factor) +
-              ") when Penalty growth > 1.");
     require(!lumped_preconditioner ||
               (algorithm == Algorithm::mpgp || algorithm == Algorithm::polygonal),
             "Contact solver/Preconditioner = lumped is implemented for Algorithm = mpgp and "

@@ -258,15 +258,6 @@ namespace FetiContact
     message                = result.message;
     equilibrium_impossible = result.no_equilibrium;
     summary.set("smalbe_iterations", result.smalbe_iterations);
-    if (parameters.contact_solver.penalty_growth > 1)
-      {
-        pcout << "Adaptive penalty: raised " << result.penalty_increases << " times, to "
-              << result.final_penalty << " times the penalty norm" << std::endl;
-        summary.set("penalty",
-                    JsonObject()
-                      .set("increases", result.penalty_increases)
-                      .set("final_factor", result.final_penalty));
-      }
     summary.set("mpgp_steps",
                 JsonObject()
                   .set("cg", result.cg_steps)

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <string>
 #include <limits>
 
 namespace FetiContact::QP
@@ -74,27 +72,14 @@ namespace FetiContact::QP
                 ExcMessage("SMALBE: ‖F‖ is zero or not finite."));
     if (!(G_norm > 0) && k > 0)
       G_norm = std::sqrt(1.05 * estimate_norm(GtG, m, options.norm_iterations));
-    const bool constrained = k > 0 && G_norm > 0;
-    // ρ is raised during the solve with SmalbeOptions::penalty_growth; the Hessian A below and
-    // the bound A_norm follow it.
-    double rho =
+    const bool   constrained = k > 0 && G_norm > 0;
+    const double rho =
       options.rho > 0 ? options.rho : (constrained ? F_norm / (G_norm * G_norm) : F_norm);
     double M =
       options.M0 > 0 ? options.M0 : options.M0_factor * (constrained ? rho * G_norm : F_norm);
     const double h_norm = h.l2_norm(), e_norm = e.l2_norm();
     const double eta    = options.eta > 0 ? options.eta : options.eta_factor * h_norm;
-    double       A_norm = F_norm + rho * G_norm * G_norm; // a bound of ‖F + ρGᵀG‖
-    const bool   adaptive_penalty = options.penalty_growth > 1 && constrained;
-    AssertThrow(options.penalty_growth >= 1 && std::isfinite(options.penalty_growth),
-                ExcMessage("SMALBE: the penalty growth β_ρ must be ≥ 1."));
-    AssertThrow(!adaptive_penalty ||
-                  (options.penalty_trigger > 0 && options.penalty_trigger < 1 &&
-                   options.penalty_max >= 0),
-                ExcMessage("SMALBE: the penalty trigger θ must lie in (0, 1) and the largest "
-                           "penalty must not be negative."));
-    AssertThrow(!adaptive_penalty || options.inner_solver || !(options.inner.step > 0),
-                ExcMessage("SMALBE: with a penalty that grows, the default inner solver takes "
-                           "its step from the Hessian's norm bound (MpgpOptions::step = 0)."));
+    const double A_norm = F_norm + rho * G_norm * G_norm; // a bound of ‖F + ρGᵀG‖
     report.rho          = rho;
     report.F_norm       = F_norm;
     report.G_norm       = G_norm;
@@ -214,8 +199,6 @@ namespace FetiContact::QP
 
     double feasibility = residual();
     double L_previous  = 0;
-    // ‖Gλ_{k−1} − e‖ for the adaptive penalty.
-    double feasibility_previous = feasibility;
     // Stall detection: outer iterations since ‖Gλ − e‖ last reached a new minimum.
     double       best_feasibility = std::numeric_limits<double>::infinity();
     unsigned int since_best       = 0;
@@ -314,40 +297,6 @@ namespace FetiContact::QP
           }
         L_previous = L;
 
-        // 5. The adaptive penalty: raise ρ when the multiplier iteration contracts the
-        //    feasibility error by less than θ (SmalbeOptions::penalty_growth).
-        step.rho = rho;
-        static const std::string rule = getenv("PRULE") ? getenv("PRULE") : "ratio";
-        const bool               trigger =
-          rule == "ratio" ? feasibility > options.penalty_trigger * feasibility_previous :
-          rule == "ratio_inner" ?
-                          (feasibility > options.penalty_trigger * feasibility_previous &&
-                           step.inner_iterations > 0) :
-                          step.M_decreased;
-        if (adaptive_penalty && !converged && outer > 0 && trigger &&
-            (options.penalty_max == 0 || rho < options.penalty_max) &&
-            (!options.same_problem || options.same_problem()))
-          {
-            double rho_new = rho * options.penalty_growth;
-            if (options.penalty_max > 0)
-              rho_new = std::min(rho_new, options.penalty_max);
-            // The known gradient Aλ − b at λ_k changes with ρ by (Δρ)Gᵀ(Gλ_k − e); the change of
-            // the linear term (ρGᵀe) follows in linear_term().
-            if (g_known.size() == m)
-              {
-                apply_Gt(r, Gtv);
-                g_known.add(rho_new - rho, Gtv);
-              }
-            M *= rho_new / rho;
-            rho    = rho_new;
-            A_norm = F_norm + rho * G_norm * G_norm;
-            step.rho_increased = true;
-            ++report.penalty_increases;
-            if (options.penalty_changed)
-              options.penalty_changed(rho);
-          }
-        feasibility_previous = feasibility;
-
         step.hessian_multiplications = report.hessian_multiplications;
         step.relative_gradient       = report.relative_gradient;
         step.relative_feasibility    = report.relative_feasibility;
@@ -382,7 +331,6 @@ namespace FetiContact::QP
       }
 
     report.relative_residual = report.relative_gradient;
-    report.rho               = rho;
     report.M                 = M;
     report.mu                = mu;
     return report;

@@ -6,7 +6,7 @@
 // Gx = e, the KKT conditions of x with the returned μ (by a projection written here), and that the
 // report counts every multiplication by the inner Hessian. Cases: generic mix; e = 0; data scaled
 // by 2^∓37 (bit for bit the same x, same counts) and by 1e-11 and 1e11 (same x), μ scaled; a
-// user-supplied inner solver; the adaptive penalty.
+// user-supplied inner solver.
 
 #include <deal.II/lac/full_matrix.h>
 
@@ -536,66 +536,6 @@ main()
           "passing the gradient saves at least one multiplication per inner solve (" +
             std::to_string(calls_with) + " against " + std::to_string(calls_without) +
             " multiplications, " + std::to_string(with.report.inner_calls) + " inner solves)");
-  }
-  {
-    // The adaptive penalty (SmalbeOptions::penalty_growth): started with ρ a hundred times too
-    // small, the multiplier iteration crawls (‖Gλ − e‖ falls by little per outer iteration) and
-    // the fixed-ρ solve needs many outer iterations; with β_ρ = 2 SMALBE raises ρ (each time
-    // reported to penalty_changed, never beyond penalty_max), solves the same problem to the
-    // same checks (solve_and_check: x, μ, KKT) in fewer outer iterations, and passes the
-    // gradient corrected for the new ρ to the inner solves. The projector variant too.
-    for (const bool projector : {false, true})
-      {
-        Problem p = make_problem(roles);
-        add_equalities(p, 6, true, projector);
-        const double rho_small = 1e-2 * p.A.l1_norm();
-        const Result fixed     = solve_and_check(
-          "penalty 1e-2 ‖A‖, fixed", p, 1, {}, nullptr, 1e-12, projector, [&](auto &o) {
-            o.rho = rho_small;
-          });
-        std::vector<double> raised;
-        const double        rho_max  = 1e3 * rho_small;
-        unsigned int        reported = 0;
-        const Result        adaptive = solve_and_check(
-          "penalty 1e-2 ‖A‖, growth 2", p, 1, {}, nullptr, 1e-12, projector, [&](auto &o) {
-            o.rho             = rho_small;
-            o.penalty_growth  = 2;
-            o.penalty_max     = rho_max;
-            o.penalty_changed = [&](const double rho) { raised.push_back(rho); };
-            o.monitor         = [&, print = o.monitor](const QP::SmalbeStep &step) {
-              print(step);
-              reported += step.rho_increased;
-            };
-          });
-        bool doubling = !raised.empty();
-        for (unsigned int i = 0; i < raised.size(); ++i)
-          doubling &= raised[i] <= rho_max &&
-                      raised[i] == std::min(2 * (i == 0 ? rho_small : raised[i - 1]), rho_max);
-        check(doubling && reported == raised.size() &&
-                adaptive.report.penalty_increases == raised.size() &&
-                adaptive.report.rho == raised.back(),
-              "ρ raised " + std::to_string(raised.size()) + " times by 2 to " +
-                sci(adaptive.report.rho) + " ≤ ρ_max, each reported once");
-        check(adaptive.report.iterations < fixed.report.iterations &&
-                fixed.report.penalty_increases == 0 && fixed.report.rho == rho_small,
-              "fewer outer iterations with the adaptive penalty: " +
-                std::to_string(adaptive.report.iterations) + " against " +
-                std::to_string(fixed.report.iterations));
-      }
-    bool refused = false;
-    try
-      {
-        solve_and_check("penalty growth with a fixed inner step", mix, 1, {}, nullptr, 1e-12,
-                        false, [](auto &o) {
-                          o.penalty_growth = 2;
-                          o.inner.step     = 1e-3;
-                        });
-      }
-    catch (const std::exception &)
-      {
-        refused = true;
-      }
-    check(refused, "penalty growth with a fixed step of the default inner solver is refused");
   }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;

@@ -63,9 +63,6 @@ namespace FetiContact
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
                    expansion_fallbacks = 0, recursive_gradient_updates = 0;
       bool converged = false;
-      /** How often SMALBE's adaptive penalty raised ρ, and the final ρ (its penalty norm). */
-      unsigned int penalty_increases = 0;
-      double       final_penalty     = 0;
 
       void
       count_steps(const QP::MpgpReport &r)
@@ -159,13 +156,12 @@ namespace FetiContact
     QP::SeparableSet                 set_t; ///< tangential part λ_T
     std::vector<unsigned int>        disc_of_node;
     std::vector<double>              slip_bound;
-    double                           F_norm = 0, G_norm = 0, rho = 0;
     /**
-     * ρ ← @p penalty, and what depends on it: hessian_norm and arc_scale (at the start, and
-     * whenever SMALBE's adaptive penalty raises ρ).
+     * The norm of the FETI part of the Hessian passed to SMALBE (SmalbeOptions::F_norm): the
+     * estimate of ‖F‖, or with Penalty norm = projected F (projector variant) feti_norm = ‖PFP‖;
+     * ‖G̃‖ (1, or 0 without rigid modes); the penalty ρ.
      */
-    void
-    set_penalty(const double penalty);
+    double F_norm = 0, G_norm = 0, rho = 0;
     /**
      * v ← P v = v − G̃ᵀG̃ v with the coarse-problem calls of the Hessian PFP + ρQ that SMALBE
      * applies (the setup's estimates of ‖PFP‖ and tr(PFP) use it, so that they measure that
@@ -175,8 +171,9 @@ namespace FetiContact
     apply_P(dealii::Vector<double> &v) const;
     /**
      * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
-     * taken from: ‖F‖, or with Penalty norm = projected F (projector variant) the estimate of
-     * ‖PFP‖ from projected_norm_iterations multiplications by F (in F_applications, not in n_A).
+     * taken from: ‖F‖ (10 multiplications by F), or with Penalty norm = projected F (projector
+     * variant) the estimate of ‖PFP‖ from projected_norm_iterations multiplications by F, and
+     * then ‖F‖ is not estimated (both in F_applications, not in n_A).
      */
     double                        feti_norm                 = 0;
     static constexpr unsigned int projected_norm_iterations = 10;
@@ -201,8 +198,6 @@ namespace FetiContact
      */
     double                        arc_scale        = 0;
     static constexpr unsigned int arc_scale_probes = 10;
-    /** The estimate of tr(PFP)/m (or tr(F)/m) in arc_scale, without the part ρ n_modes/m. */
-    double arc_scale_feti = 0;
     /** λ after the last inner solve (for the status counts of the history). */
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;

@@ -64,12 +64,6 @@ namespace FetiContact::Parameters
      * penalty_factor multiplies and that bounds the FETI part of the Hessian in MPGP's step.
      */
     bool penalty_projected_norm = false;
-    /**
-     * The adaptive penalty of SMALBE (QP::SmalbeOptions::penalty_growth, penalty_trigger):
-     * ρ ← β_ρ ρ when an outer iteration reduced ‖G̃λ‖ by less than θ, up to
-     * largest_penalty_factor × the penalty norm. β_ρ = 1: ρ fixed.
-     */
-    double penalty_growth = 1, penalty_trigger = 0.5, largest_penalty_factor = 30;
 
     /** How SMALBE treats Gλ = e (QP::SmalbeOptions::projector). */
     enum class EqualityConstraint

@@ -56,9 +56,6 @@ namespace FetiContact::QP
     /** M_k (the one used in this inner solve); whether it was divided by β_M afterwards. */
     double M           = 0;
     bool   M_decreased = false;
-    /** ρ_k (the penalty of this inner solve); whether it was raised afterwards. */
-    double rho           = 0;
-    bool   rho_increased = false;
   };
 
   /** Parameters of SMALBE-M. Zero for a scale-dependent value means "choose it" (see smalbe()). */
@@ -134,32 +131,6 @@ namespace FetiContact::QP
     MpgpOptions inner;
     /** The inner solver; empty: MPGP with `inner` on the set passed to smalbe(). */
     InnerSolver inner_solver;
-    /**
-     * Adaptive penalty, β_ρ ≥ 1: after an outer iteration k > 0 whose multiplier update reduced
-     * the feasibility error by less than the factor θ = penalty_trigger,
-     * ‖Gλ_k − e‖ > θ ‖Gλ_{k−1} − e‖ (on the same problem: same_problem), the penalty is raised,
-     * ρ ← min(β_ρ ρ, penalty_max), and M with it (M ← M β_ρ, so that M keeps converting a
-     * feasibility error into the gradient ρGᵀ(Gλ − e) it causes, as M_0 = ρ‖G‖ does).
-     * 1 (default): ρ fixed (SMALBE-M). Dostál's SMALBE raised ρ on the test of step 4 (see
-     * smalbe()); the test here asks for what a larger ρ buys, a faster multiplier iteration
-     * (for the exact augmented Lagrangian ‖Gλ_k − e‖ falls like the ratio of the spectrum of
-     * the Schur complement G F⁻¹ Gᵀ to ρ), which a penalty chosen for a small problem can
-     * lose on a large one (doc/performance.md, "Adaptive penalty"). A larger ρ makes the inner
-     * problems harder (the Hessian's norm grows with ρ), hence the bound penalty_max.
-     * The known gradient passes to the next inner solve, corrected by (Δρ)Gᵀ(Gλ_k − e).
-     */
-    double penalty_growth = 1;
-    /** θ ∈ (0, 1) of penalty_growth. */
-    double penalty_trigger = 0.5;
-    /** The largest ρ that penalty_growth may reach; 0: no bound. */
-    double penalty_max = 0;
-    /**
-     * Called with the new ρ whenever penalty_growth raised it, before the next inner solve: a
-     * caller with its own inner solver or step (MpgpOptions::step ≥ 2/‖A‖ is not allowed)
-     * adapts them to the Hessian with the new ρ. The default inner solver takes its step from
-     * ‖F‖ + ρ‖G‖² itself when MpgpOptions::step is 0 (required with penalty_growth > 1).
-     */
-    std::function<void(double)> penalty_changed;
     /** Called after every outer iteration. */
     std::function<void(const SmalbeStep &)> monitor;
   };
@@ -169,16 +140,13 @@ namespace FetiContact::QP
   {
     /** How often the floor of the inner precision was lowered (SmalbeOptions::stall_iterations). */
     unsigned int floor_reductions = 0;
-    /** How often SmalbeOptions::penalty_growth raised ρ. */
-    unsigned int penalty_increases = 0;
     /** Inner solver steps and calls summed over all outer iterations. */
     unsigned int inner_iterations = 0, inner_calls = 0;
     /** Multiplications by F spent on the estimate of ‖F‖ (not in hessian_multiplications). */
     unsigned int norm_estimate_multiplications = 0;
     /** Final ‖g^P(λ, μ_k, ρ)‖/ref_g and ‖Gλ − e‖/ref_e (see smalbe()). */
     double relative_gradient = 0, relative_feasibility = 0;
-    /** The final ρ (raised from the initial one by penalty_growth), the final M, and the norm
-     * estimates used. */
+    /** ρ, the final M, and the norm estimates used. */
     double rho = 0, M = 0, F_norm = 0, G_norm = 0;
     /** μ, the multiplier of Gλ = e (a copy of the output argument). */
     dealii::Vector<double> mu;
@@ -216,8 +184,6 @@ namespace FetiContact::QP
    *     multiplier that goes with λ_k, and the one returned.)
    *  4. If k > 0 and L(λ_k, μ_k, ρ) < L(λ_{k−1}, μ_{k−1}, ρ) + ρ/2 ‖Gλ_k − e‖²:
    *     M_{k+1} = M_k/β_M, else M_{k+1} = M_k.
-   *  5. With SmalbeOptions::penalty_growth β_ρ > 1: if k > 0 and
-   *     ‖Gλ_k − e‖ > θ ‖Gλ_{k−1} − e‖, ρ ← min(β_ρ ρ, ρ_max) and M_{k+1} ← β_ρ M_{k+1}.
    * After each inner solve the gradient gives the stopping test and L: the inner solver's own
    * (InnerReport::gradient; the default MPGP returns it), else one multiplication by A (counted).
    * It is passed to the next inner solve, corrected for the change of the linear term by the

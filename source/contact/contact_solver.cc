@@ -116,17 +116,13 @@ namespace FetiContact
                              },
                              layout.size(),
                              projected_norm_iterations);
-        F_norm = feti_norm;
       }
     else
-      {
-        F_norm    = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
-                                              Vector<double>       &y) { dual.apply_F(x, y); },
-                                          layout.size(),
-                                          10);
-        feti_norm = F_norm;
-      }
-    rho = G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : F_norm;
+      feti_norm = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
+                                               Vector<double>       &y) { dual.apply_F(x, y); },
+                                           layout.size(),
+                                           10);
+    rho = G_norm > 0 ? parameters.penalty_factor * feti_norm / (G_norm * G_norm) : feti_norm;
     // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
     // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
     hessian_norm = parameters.hessian_norm_max && projector ?
@@ -406,7 +402,7 @@ namespace FetiContact
     options.feasibility_tolerance = qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
     options.rho                   = rho;
-    options.F_norm                = F_norm;
+    options.F_norm                = feti_norm;
     options.G_norm                = G_norm;
     options.inner                 = mpgp_options();
     options.projector             = projector;

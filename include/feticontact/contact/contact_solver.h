@@ -156,12 +156,8 @@ namespace FetiContact
     QP::SeparableSet                 set_t; ///< tangential part λ_T
     std::vector<unsigned int>        disc_of_node;
     std::vector<double>              slip_bound;
-    /**
-     * The norm of the FETI part of the Hessian passed to SMALBE (SmalbeOptions::F_norm): the
-     * estimate of ‖F‖, or with Penalty norm = projected F (projector variant) feti_norm = ‖PFP‖;
-     * ‖G̃‖ (1, or 0 without rigid modes); the penalty ρ.
-     */
-    double F_norm = 0, G_norm = 0, rho = 0;
+    /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */
+    double G_norm = 0, rho = 0;
     /**
      * v ← P v = v − G̃ᵀG̃ v with the coarse-problem calls of the Hessian PFP + ρQ that SMALBE
      * applies (the setup's estimates of ‖PFP‖ and tr(PFP) use it, so that they measure that
@@ -171,9 +167,10 @@ namespace FetiContact
     apply_P(dealii::Vector<double> &v) const;
     /**
      * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
-     * taken from: ‖F‖ (10 multiplications by F), or with Penalty norm = projected F (projector
-     * variant) the estimate of ‖PFP‖ from projected_norm_iterations multiplications by F, and
-     * then ‖F‖ is not estimated (both in F_applications, not in n_A).
+     * taken from, and that SMALBE gets as SmalbeOptions::F_norm: ‖F‖ (10 multiplications by F),
+     * or with Penalty norm = projected F (projector variant) the estimate of ‖PFP‖ from
+     * projected_norm_iterations multiplications by F, and then ‖F‖ is not estimated (both in
+     * F_applications, not in n_A).
      */
     double                        feti_norm                 = 0;
     static constexpr unsigned int projected_norm_iterations = 10;

@@ -80,8 +80,20 @@ namespace FetiContact
             for (unsigned int d = 0; d < s.R.m(); ++d)
               e_j += s.R(d, j) * s.f[d];
             e[first + j] = e_j;
+            // Entries of R at the rounding level of its column are left out of G. The rigid
+            // modes are translations and rotations about the centroid, orthonormalized; on a
+            // subdomain symmetric about its centroid (the blocks of a structured mesh) the
+            // rotations come out orthogonal already, and a DoF of component c then carries
+            // one translation and two rotations: the other three entries are zero, or rounding
+            // residues of the Gram–Schmidt passes (about 1e-17). Dropping them halves nnz(G),
+            // and with it the products with G and Gᵀ of every Hessian multiplication, and
+            // changes G by less than the rounding of R itself.
+            double R_max = 0;
+            for (unsigned int d = 0; d < s.R.m(); ++d)
+              R_max = std::max(R_max, std::abs(s.R(d, j)));
             for (unsigned int k = 0; k < B[i].row.size(); ++k)
-              G_entries.push_back({first + j, B[i].row[k], B[i].value[k] * s.R(B[i].dof[k], j)});
+              if (std::abs(s.R(B[i].dof[k], j)) > 1e-13 * R_max)
+                G_entries.push_back({first + j, B[i].row[k], B[i].value[k] * s.R(B[i].dof[k], j)});
           }
         Vector<double> x(s.f);
         s.apply_generalized_inverse(x);

@@ -4,6 +4,8 @@
 //  - F is symmetric and positive semidefinite, P is a projector onto ker G, Gλ₀ = e (to rounding:
 //    1e-12 relative, a few thousand ε for a Cholesky solve with GGᵀ of order 50), also for the
 //    particular solution from a subset of the columns (zero on the others);
+//  - G x = RᵀBᵀx (1e-14 relative) with the rounding-level entries of R left out of G, which on
+//    the structured blocks (TFETI) leaves at most 3 entries of G per entry of B;
 //  - the orthonormalized G̃ = L⁻¹PG has G̃G̃ᵀ = I (to 1e-10: rounding amplified by cond(L)).
 
 #include <deal.II/base/mpi.h>
@@ -148,6 +150,46 @@ main(int argc, char **argv)
         if (Gx.size() > 0)
           check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(),
                 label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
+        // G = RᵀBᵀ as stored (entries of R at its rounding level left out) against the product
+        // with the full R: the same to rounding. On the blocks of the structured brick, each
+        // subdomain symmetric about its centroid, a DoF of component c carries one translation
+        // and two rotations, so G has at most 3 entries per entry of B (6 with every entry of
+        // R stored).
+        {
+          std::map<unsigned int, unsigned int> local_vertex;
+          Vector<double>                       RtBtx(dual.coarse.n_modes());
+          for (unsigned int p = 0; p < n_sub; ++p)
+            {
+              const Subdomain &sd = *subdomains[p];
+              if (sd.R.n() == 0)
+                continue;
+              local_vertex.clear();
+              for (unsigned int v = 0; v < sd.body_vertex.size(); ++v)
+                local_vertex[sd.body_vertex[v]] = v;
+              Vector<double> Btx(sd.dof_handler.n_dofs());
+              for (unsigned int r = 0; r < rows.n_rows(); ++r)
+                for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+                  if (rows.entries[k].subdomain == p)
+                    {
+                      const auto &entry = rows.entries[k];
+                      Btx[sd.vertex_dofs[local_vertex.at(entry.body_vertex)][entry.component]] +=
+                        entry.value * x[r];
+                    }
+              for (unsigned int j = 0; j < sd.R.n(); ++j)
+                for (unsigned int d = 0; d < sd.R.m(); ++d)
+                  RtBtx[mode_offset[p] + j] += sd.R(d, j) * Btx[d];
+            }
+          Vector<double> Gx_stored;
+          dual.coarse.apply_G(x, Gx_stored);
+          Gx_stored -= RtBtx;
+          if (RtBtx.size() > 0)
+            check(Gx_stored.l2_norm() <= 1e-14 * RtBtx.l2_norm(),
+                  label + ": ‖Gx − RᵀBᵀx‖/‖RᵀBᵀx‖ = " + sci(Gx_stored.l2_norm() / RtBtx.l2_norm()));
+          if (decomposition.find("blocks") != std::string::npos && !primal)
+            check(dual.coarse.n_entries() <= 3 * rows.entries.size(),
+                  label + ": nnz(G) = " + std::to_string(dual.coarse.n_entries()) +
+                    ", at most 3 nnz(B) = " + std::to_string(3 * rows.entries.size()));
+        }
         // Orthonormalized G̃ = L⁻¹PG: G̃G̃ᵀ = I and G̃ᵀ is its transpose.
         {
           const unsigned int k         = dual.coarse.n_modes();

@@ -48,6 +48,13 @@ namespace FetiContact
       return n_rows;
     }
 
+    /** The number of stored entries of G (every rank holds all of them). */
+    std::size_t
+    n_entries() const
+    {
+      return value.size();
+    }
+
     /** y = G x. */
     void
     apply_G(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;

@@ -142,18 +142,19 @@ def run_contact_interleaved(exe, series, a, c, k, blocks, rank_counts, repeats, 
     return [row_from_summaries(runs[p], series, a, c, k, p) for p in rank_counts]
 
 
-def run_pair(exe, a, c, k, blocks, repeats):
+def run_pair(exe, a, c, k, blocks, repeats, variant=DEFAULT_VARIANT, suffix=""):
     """What the hardware allows two ranks: the one-rank run alone on core 0, then two copies
     of it at once on cores 0 and 1 (taskset), `repeats` times in turn. The rows "pair_alone"
-    (np 1) and "pair" (np 2: the median over both copies) of the same cases."""
+    (np 1) and "pair" (np 2: the median over both copies) of the same cases, with the series
+    suffix of the solver settings (`variant`)."""
     alone, pair = [], []
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as out:
-            command = ["taskset", "-c", "0"] + contact_command(exe, k, blocks, out)
+            command = ["taskset", "-c", "0"] + contact_command(exe, k, blocks, out, variant)
             p = subprocess.run(command, capture_output=True, text=True, env=env())
             alone.append(read_summary(p, command, out))
         with tempfile.TemporaryDirectory() as out0, tempfile.TemporaryDirectory() as out1:
-            commands = [["taskset", "-c", str(core)] + contact_command(exe, k, blocks, out)
+            commands = [["taskset", "-c", str(core)] + contact_command(exe, k, blocks, out, variant)
                         for core, out in [(0, out0), (1, out1)]]
             procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                       text=True, env=env()) for cmd in commands]
@@ -161,8 +162,8 @@ def run_pair(exe, a, c, k, blocks, repeats):
                 stdout, stderr = proc.communicate()
                 pair.append(read_summary(subprocess.CompletedProcess(cmd, proc.returncode,
                                                                      stdout, stderr), cmd, out))
-    return (row_from_summaries(alone, "pair_alone", a, c, k, 1),
-            row_from_summaries(pair, "pair", a, c, k, 2))
+    return (row_from_summaries(alone, "pair_alone" + suffix, a, c, k, 1),
+            row_from_summaries(pair, "pair" + suffix, a, c, k, 2))
 
 
 def row_from_summaries(runs, series, a, c, k, ranks):
@@ -309,12 +310,14 @@ def mpi_tables(out, contact, series, note):
         out.append("")
 
 
-def pair_table(out, contact):
-    """What two cores allow: one run alone against two copies at once (--pair-a)."""
-    weak = [r for r in contact if r["series"] == "weak"]
-    pairs = {int(r["k"]): r for r in contact if r["series"] == "pair"}
+def pair_table(out, contact, suffix=""):
+    """What two cores allow: one run alone against two copies at once (--pair-a), for the
+    solver settings of the series suffix."""
+    weak = [r for r in contact if r["series"] == "weak" + suffix]
+    pairs = {int(r["k"]): r for r in contact if r["series"] == "pair" + suffix}
     if pairs:
-        out.extend(["### What two cores allow: one run alone against two copies at once", "",
+        out.extend(["### What two cores allow: one run alone against two copies at once"
+                    + variant_note(suffix), "",
                     "Two independent one-rank runs on cores 0 and 1 (`--pair-a`); 'bound' = "
                     "2 × alone / in the pair, the speed-up that two ranks cannot exceed on this "
                     "machine; 'np=2 measured' from the MPI table above.", "",
@@ -323,7 +326,8 @@ def pair_table(out, contact):
                     "np=2 measured | runs |",
                     "|---|---|---|---|---|---|---|---|---|---|"])
         for k, r in sorted(pairs.items()):
-            alone = [x for x in contact if x["series"] == "pair_alone" and int(x["k"]) == k]
+            alone = [x for x in contact
+                     if x["series"] == "pair_alone" + suffix and int(x["k"]) == k]
             if not alone:
                 continue
             al = alone[0]
@@ -377,7 +381,9 @@ def report(rows, md_path, command):
 
     for suffix in variant_suffixes(contact, "weak"):
         mpi_tables(out, contact, "weak" + suffix, variant_note(suffix))
-    pair_table(out, contact)
+    for suffix in variant_suffixes(contact, "pair"):
+        if not suffix.startswith("_alone"):
+            pair_table(out, contact, suffix)
 
     if linear:
         out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
@@ -517,7 +523,7 @@ def main():
 
     if "--pair-a" in sys.argv:
         for a in [int(v) for v in option("--pair-a", "").split(",") if v]:
-            for row in run_pair(exe, a, c, a * c, (3 * a, a, a), repeats):
+            for row in run_pair(exe, a, c, a * c, (3 * a, a, a), repeats, variant, suffix):
                 add(row)
         return
     if "--add-summary" in sys.argv:

@@ -87,8 +87,8 @@ namespace FetiContact
             // one translation and two rotations: the other three entries are zero, or rounding
             // residues of the Gram–Schmidt passes (about 1e-17). Dropping them about halves
             // nnz(G), and with it the cost of the products with G and Gᵀ in every Hessian
-            // multiplication; an entry of G changes by at most 1e-13 of the largest of its row
-            // (times |B|), far below every tolerance of the solvers (1e-12 at the tightest).
+            // multiplication; an entry b R(d, j) of G changes by at most 1e-13 |b| max_d |R(d, j)|,
+            // far below every tolerance of the solvers (1e-12 at the tightest).
             double R_max = 0;
             for (unsigned int d = 0; d < s.R.m(); ++d)
               R_max = std::max(R_max, std::abs(s.R(d, j)));

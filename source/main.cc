@@ -12,6 +12,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/base/huge_pages.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/core/refinement_study.h>
@@ -50,6 +51,7 @@ int
 main(int argc, char **argv)
 {
   using namespace FetiContact;
+  HugePages::enable_on_request(argv);
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                           comm = MPI_COMM_WORLD;
   const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;

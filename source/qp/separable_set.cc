@@ -42,9 +42,15 @@ namespace FetiContact::QP
     AssertThrow(!std::isnan(l) && !std::isnan(u) && l <= u && l < infinity && u > -infinity,
                 ExcMessage("SeparableSet: bad interval [" + std::to_string(l) + ", " +
                            std::to_string(u) + "] for component " + std::to_string(i) + "."));
-    lower[i] = l;
-    upper[i] = u;
-    kind[i]  = (l == -infinity && u == infinity) ? Kind::free : Kind::interval;
+    lower[i]        = l;
+    upper[i]        = u;
+    const Kind now  = (l == -infinity && u == infinity) ? Kind::free : Kind::interval;
+    const auto here = std::lower_bound(intervals.begin(), intervals.end(), i);
+    if (now == Kind::interval && kind[i] != Kind::interval)
+      intervals.insert(here, i);
+    else if (now == Kind::free && kind[i] == Kind::interval)
+      intervals.erase(here);
+    kind[i]  = now;
     scale[i] = std::max(std::isfinite(l) ? std::abs(l) : 0., std::isfinite(u) ? std::abs(u) : 0.);
   }
 
@@ -147,9 +153,8 @@ namespace FetiContact::QP
   SeparableSet::project(Vector<double> &x) const
   {
     AssertDimension(x.size(), size());
-    for (unsigned int i = 0; i < size(); ++i)
-      if (kind[i] == Kind::interval)
-        x[i] = std::min(std::max(x[i], lower[i]), upper[i]);
+    for (const unsigned int i : intervals)
+      x[i] = std::min(std::max(x[i], lower[i]), upper[i]);
     for (const Disc &d : discs)
       {
         const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
@@ -172,19 +177,10 @@ namespace FetiContact::QP
   {
     AssertDimension(x.size(), size());
     AssertDimension(g.size(), size());
-    phi.reinit(size(), true);
-    for (unsigned int i = 0; i < size(); ++i)
-      switch (kind[i])
-        {
-          case Kind::free:
-            phi[i] = g[i];
-            break;
-          case Kind::interval:
-            phi[i] = interval_state(i, x[i]) == 0 ? g[i] : 0.;
-            break;
-          case Kind::disc:
-            break; // below
-        }
+    phi = g; // the free components; intervals and discs below
+    for (const unsigned int i : intervals)
+      if (interval_state(i, x[i]) != 0)
+        phi[i] = 0;
     for (const Disc &d : discs)
       {
         if (!disc_active(d, x))
@@ -212,28 +208,18 @@ namespace FetiContact::QP
   {
     AssertDimension(x.size(), size());
     AssertDimension(g.size(), size());
-    beta.reinit(size(), true);
-    for (unsigned int i = 0; i < size(); ++i)
-      switch (kind[i])
+    beta.reinit(size()); // zero on the free components; intervals and discs below
+    for (const unsigned int i : intervals)
+      switch (interval_state(i, x[i]))
         {
-          case Kind::free:
+          case -1:
+            beta[i] = std::min(g[i], 0.);
+            break;
+          case 1:
+            beta[i] = std::max(g[i], 0.);
+            break;
+          default: // inside or fixed
             beta[i] = 0;
-            break;
-          case Kind::interval:
-            switch (interval_state(i, x[i]))
-              {
-                case -1:
-                  beta[i] = std::min(g[i], 0.);
-                  break;
-                case 1:
-                  beta[i] = std::max(g[i], 0.);
-                  break;
-                default: // inside or fixed
-                  beta[i] = 0;
-              }
-            break;
-          case Kind::disc:
-            break; // below
         }
     for (const Disc &d : discs)
       {
@@ -274,8 +260,8 @@ namespace FetiContact::QP
     AssertDimension(x.size(), size());
     AssertDimension(d.size(), size());
     double alpha = infinity;
-    for (unsigned int i = 0; i < size(); ++i)
-      if (kind[i] == Kind::interval && d[i] != 0)
+    for (const unsigned int i : intervals)
+      if (d[i] != 0)
         {
           // x_i − α d_i stays in [l, u].
           const double a = d[i] > 0 ? (x[i] - lower[i]) / d[i] : (upper[i] - x[i]) / (-d[i]);
@@ -406,9 +392,8 @@ namespace FetiContact::QP
   {
     AssertDimension(x.size(), size());
     double violation = 0;
-    for (unsigned int i = 0; i < size(); ++i)
-      if (kind[i] == Kind::interval)
-        violation = std::max({violation, lower[i] - x[i], x[i] - upper[i]});
+    for (const unsigned int i : intervals)
+      violation = std::max({violation, lower[i] - x[i], x[i] - upper[i]});
     for (const Disc &d : discs)
       violation =
         std::max(violation, std::hypot(x[d.i] - d.centre[0], x[d.j] - d.centre[1]) - d.radius);

@@ -236,23 +236,26 @@ namespace FetiContact::MeshGeneration
       }
 
     require(mesh.n_active_cells() > 0, where + "the mesh has no cells.");
+    // The messages are built only when a check fails: this loop visits every cell of the body
+    // (two million at 10⁶ unknowns), on every MPI rank.
     for (const auto &cell : mesh.active_cell_iterators())
       {
-        require(cell->reference_cell() == ReferenceCells::Tetrahedron,
-                where + "the mesh has a cell that is not a tetrahedron (only linear "
-                        "tetrahedra are supported).");
+        if (cell->reference_cell() != ReferenceCells::Tetrahedron)
+          throw InputError(where + "the mesh has a cell that is not a tetrahedron (only linear "
+                                   "tetrahedra are supported).");
         std::array<Point<3>, 4> p;
         for (unsigned int v = 0; v < 4; ++v)
           p[v] = cell->vertex(v);
         const double h = p[0].distance(p[1]);
-        require(signed_volume(p) > 1e-12 * h * h * h,
-                where + "the mesh has a degenerate or inverted tetrahedron at " +
-                  std::to_string(cell->center()[0]) + ", " + std::to_string(cell->center()[1]) +
-                  ", " + std::to_string(cell->center()[2]) + ".");
+        if (!(signed_volume(p) > 1e-12 * h * h * h))
+          throw InputError(where + "the mesh has a degenerate or inverted tetrahedron at " +
+                           std::to_string(cell->center()[0]) + ", " +
+                           std::to_string(cell->center()[1]) + ", " +
+                           std::to_string(cell->center()[2]) + ".");
         for (const auto &face : cell->face_iterators())
-          require(!face->at_boundary() || face->boundary_id() != interface_boundary_id,
-                  where + "boundary id " + std::to_string(interface_boundary_id) +
-                    " is reserved for subdomain interfaces.");
+          if (face->at_boundary() && face->boundary_id() == interface_boundary_id)
+            throw InputError(where + "boundary id " + std::to_string(interface_boundary_id) +
+                             " is reserved for subdomain interfaces.");
       }
   }
 } // namespace FetiContact::MeshGeneration

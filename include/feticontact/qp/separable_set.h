@@ -245,6 +245,10 @@ namespace FetiContact::QP
 
     std::vector<Kind>   kind;
     std::vector<double> lower, upper, scale;
-    std::vector<Disc>   discs;
+    /** The interval components, increasing. Most components of a FETI dual vector are free
+     * (the gluing multipliers): the loops of the projection and of the gradient splittings run
+     * over these and the discs only. */
+    std::vector<unsigned int> intervals;
+    std::vector<Disc>         discs;
   };
 } // namespace FetiContact::QP

@@ -357,6 +357,25 @@ namespace
             x[4] == 1 && x[5] == 2 && x[6] == 9,
           "projection");
     check(set.is_feasible(x, 1e-15) && set.largest_violation(x) <= 1e-15, "projected is feasible");
+    {
+      // The set keeps its interval components in a list: bounds set out of order, set twice,
+      // and an interval made free again.
+      const double     inf = std::numeric_limits<double>::infinity();
+      QP::SeparableSet changed(4);
+      changed.set_lower_bound(3, 0);
+      changed.set_interval(1, 0, 1);
+      changed.set_interval(1, -1, 2);
+      changed.set_interval(2, 0, 1);
+      changed.set_interval(2, -inf, inf);
+      Vector<double> y = vec({-5., 3., -7., -1.}), g = vec({1., 1., 1., -1.}), phi, beta;
+      changed.project(y);
+      check(y == vec({-5., 2., -7., 0.}), "intervals set out of order, twice, and freed again");
+      changed.free_gradient(y, g, phi);
+      changed.chopped_gradient(y, g, beta);
+      check(phi == vec({1., 0., 1., 0.}) && beta == vec({0., 1., 0., -1.}),
+            "gradient splitting over the changed intervals");
+      check(changed.largest_violation(vec({-5., 2.5, -7., -0.5})) == 0.5, "largest violation");
+    }
 
     // x = (0.25, 1 + 1e-15 (active), (1, 0) on the circle, fixed disc, free)
     x                = vec({0.25, 1 + 1e-15, 1, 0, 1, 2, 0});

@@ -12,7 +12,7 @@ linear solve beside the contact solve.
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
         [--arc-scale "mean diagonal"] [--penalty-norm "projected F"]
-        [--penalty-factor 5]
+        [--penalty-factor 5] [--multiplier-step 1.5]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -37,7 +37,8 @@ and `Contact solver/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1");
 its own tables, and its own MPI tables; --arc-scale sets `Contact solver/Arc preconditioner scale`
 (default norm; "mean diagonal": suffix "_md") and --penalty-norm `Contact solver/Penalty norm`
 (default F; "projected F": suffix "_pfp") and --penalty-factor `Contact solver/Penalty factor`
-(default auto; suffix "_f5" for 5) when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
+(default auto; suffix "_f5" for 5), --multiplier-step `Contact solver/Multiplier step factor`
+(default 1; suffix "_s1.5" for 1.5) when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
 the one-rank run alone, then two copies of it at the same time on the two cores (taskset), in
@@ -73,11 +74,11 @@ MONO_FIELDS = ["series", "a", "c", "k", "n", "assembly", "factorization", "solve
                "peak_mib", "residual", "factor_entries"]
 
 
-DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm", "F", "")
+DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm", "F", "", "")
 
 
 def settings(k, blocks, variant=DEFAULT_VARIANT):
-    expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor = variant
+    expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor, step = variant
     return ["--set", f"Contact solver/Expansion step={expansion}",
             "--set", f"Contact solver/Hessian norm bound={bound}",
             *(["--set", f"Contact solver/Inexact MSA factor={msa_factor}"] if msa_factor else []),
@@ -88,6 +89,7 @@ def settings(k, blocks, variant=DEFAULT_VARIANT):
             *(["--set", f"Contact solver/Penalty norm={penalty_norm}"]
               if penalty_norm != "F" else []),
             *(["--set", f"Contact solver/Penalty factor={factor}"] if factor else []),
+            *(["--set", f"Contact solver/Multiplier step factor={step}"] if step else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
@@ -249,12 +251,13 @@ def variant_note(suffix):
     names = {"pcg": "Expansion step = projected cg", "max": "Hessian norm bound = max",
              "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = ",
              "md": "Arc preconditioner scale = mean diagonal",
-             "pfp": "Penalty norm = projected F", "f": "Penalty factor = "}
+             "pfp": "Penalty norm = projected F", "f": "Penalty factor = ",
+             "s": "Multiplier step factor = "}
     notes = []
     for token in suffix.split("_")[1:]:
         if token in names:
             notes.append(names[token])
-        elif token[0] in "crf":
+        elif token[0] in "crfs":
             notes.append(names[token[0]] + token[1:])
     return "".join(", " + n for n in notes)
 
@@ -465,7 +468,7 @@ def main():
                         "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
                         "--recursive-gradient-tolerance", "--arc-scale", "--penalty-norm",
-                        "--penalty-factor",
+                        "--penalty-factor", "--multiplier-step",
                         "--add-summary",
                         "--pair-a"],
               ["--merge", "--report-only", "--linear-only", "--alternate"])
@@ -498,7 +501,8 @@ def main():
     if penalty_norm not in ("F", "projected F"):
         raise SystemExit(f"--penalty-norm: unknown '{penalty_norm}' (F, projected F)")
     factor = option("--penalty-factor", "")
-    variant = (expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor)
+    step = option("--multiplier-step", "")
+    variant = (expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor, step)
     short = {"fixed": "", "projected cg": "_pcg"}
     if expansion not in short:
         raise SystemExit(f"--expansion: unknown '{expansion}' ({', '.join(short)})")
@@ -506,7 +510,7 @@ def main():
         (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "") + \
         ("_md" if arc_scale == "mean diagonal" else "") + \
         ("_pfp" if penalty_norm == "projected F" else "") + \
-        (f"_f{factor}" if factor else "")
+        (f"_f{factor}" if factor else "") + (f"_s{step}" if step else "")
 
     def add(row):
         table, path, fields = (linear, linear_path, MONO_FIELDS) if row["series"] == "linear" \

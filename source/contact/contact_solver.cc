@@ -407,6 +407,7 @@ namespace FetiContact
     options.inner                 = mpgp_options();
     options.projector             = projector;
     options.inner_floor           = parameters.inner_tolerance_floor;
+    options.multiplier_step       = parameters.multiplier_step;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
     const bool combined           = algorithm == A::algorithm_2;
     if (combined)

@@ -8,7 +8,6 @@
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/core/simulator.h>
-#include <feticontact/feti/load_balance.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/solution_output.h>
@@ -16,7 +15,6 @@
 #include <feticontact/qp/projected_cg.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -27,15 +25,6 @@
 namespace FetiContact
 {
   using namespace dealii;
-
-  namespace
-  {
-    double
-    seconds_since(const std::chrono::steady_clock::time_point start)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-  } // namespace
 
   Simulator::Simulator(const MPI_Comm           comm,
                        const Parameters::Scene &parameters,
@@ -131,20 +120,10 @@ namespace FetiContact
         ++cells_before[first_subdomain[body->index] + p + 1];
     std::partial_sum(cells_before.begin(), cells_before.end(), cells_before.begin());
     const BlockPartition ranges = BlockPartition::balanced(comm, cells_before);
-    weight_start.assign(cells_before.begin(), cells_before.end());
-    first_of_rank = ranges.firsts();
     owner.assign(n, 0);
     for (unsigned int r = 0; r < n_ranks; ++r)
-      for (unsigned int s = first_of_rank[r]; s < first_of_rank[r + 1]; ++s)
+      for (unsigned int s = ranges.firsts()[r]; s < ranges.firsts()[r + 1]; ++s)
         owner[s] = r;
-  }
-
-  std::unique_ptr<Subdomain>
-  Simulator::make_subdomain(const Body &body, const unsigned int part) const
-  {
-    const bool primal =
-      parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
-    return std::make_unique<Subdomain>(body, part, first_subdomain[body.index] + part, primal, fe);
   }
 
   void
@@ -154,18 +133,13 @@ namespace FetiContact
       parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
     {
       TimerOutput::Scope scope(timer, "setup");
-      const auto         start = std::chrono::steady_clock::now();
       for (const auto &body : bodies)
         for (unsigned int p = 0; p < body->partition.n_parts; ++p)
           {
             const unsigned int s = first_subdomain[body->index] + p;
             if (owner[s] == rank)
-              {
-                subdomains.push_back(make_subdomain(*body, p));
-                built_weight += weight_start[s + 1] - weight_start[s];
-              }
+              subdomains.push_back(std::make_unique<Subdomain>(*body, p, s, primal, fe));
           }
-      build_time += seconds_since(start);
       for (const auto &s : subdomains)
         owned.push_back(s.get());
       // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
@@ -189,20 +163,16 @@ namespace FetiContact
               << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
     }
     TimerOutput::Scope scope(timer, "assembly");
-    const auto         start = std::chrono::steady_clock::now();
     for (auto *s : owned)
       s->assemble(mapping);
-    build_time += seconds_since(start);
   }
 
   void
   Simulator::factorize()
   {
     TimerOutput::Scope scope(timer, "factorization");
-    const auto         start = std::chrono::steady_clock::now();
     for (auto *s : owned)
       s->factorize(parameters.feti.local_solver);
-    build_time += seconds_since(start);
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
       n_modes[s->global_index] = s->R.n();
@@ -217,87 +187,6 @@ namespace FetiContact
   {
     TimerOutput::Scope scope(timer, "coarse problem");
     dual = std::make_unique<DualProblem>(comm, owned, mode_offset, rows);
-    if (n_ranks > 1 && parameters.feti.load_balance == Parameters::Feti::LoadBalance::measured)
-      dual->set_periodic_check([this]() { check_load_balance(); }, 10);
-  }
-
-  void
-  Simulator::check_load_balance()
-  {
-    // Speeds from fewer applications would follow the fluctuations of a shared machine.
-    if (dual->n_F_applications < applications_at_move + 50)
-      return;
-    const double              local_time = dual->F_local_time - local_time_at_move;
-    const std::vector<double> times      = Utilities::MPI::all_gather(comm, local_time);
-    const std::vector<double> build_costs =
-      Utilities::MPI::all_gather(comm, built_weight > 0 ? build_time / built_weight : 0.);
-    const LoadBalance::Proposal proposal =
-      LoadBalance::propose(weight_start, first_of_rank, times, build_costs, fixed_move_cost);
-    if (!proposal.move)
-      return;
-    TimerOutput::Scope scope(timer, "load balance");
-    const auto         start = std::chrono::steady_clock::now();
-    std::ostringstream message;
-    message << std::setprecision(3) << "Load balance after " << dual->n_F_applications
-            << " applications of F: local work of the ranks since the last move";
-    for (const double t : times)
-      message << ' ' << t;
-    message << " s, with the new ranges " << proposal.time_balanced << " s; the move costs about "
-            << proposal.cost << " s. First subdomain of every rank:";
-    for (const unsigned int f : proposal.first)
-      message << ' ' << f;
-    pcout << message.str() << std::endl;
-    move_subdomains(proposal.first);
-    // What the move cost beyond the building of the subdomains: the next proposal's fixed cost.
-    fixed_move_cost =
-      std::max(0.,
-               Utilities::MPI::max(seconds_since(start), comm) - proposal.cost + fixed_move_cost);
-    local_time_at_move   = dual->F_local_time;
-    applications_at_move = dual->n_F_applications;
-    ++n_moves;
-  }
-
-  void
-  Simulator::move_subdomains(const std::vector<unsigned int> &first)
-  {
-    std::vector<unsigned int> new_owner(owner.size(), 0);
-    for (unsigned int r = 0; r < n_ranks; ++r)
-      for (unsigned int s = first[r]; s < first[r + 1]; ++s)
-        new_owner[s] = r;
-    for (unsigned int s = 0; s < owner.size(); ++s)
-      n_moved_subdomains += (new_owner[s] != owner[s]);
-    // Those that leave first (their factors freed before the new ones are made).
-    subdomains.erase(std::remove_if(subdomains.begin(),
-                                    subdomains.end(),
-                                    [&](const std::unique_ptr<Subdomain> &s) {
-                                      return new_owner[s->global_index] != rank;
-                                    }),
-                     subdomains.end());
-    const auto start  = std::chrono::steady_clock::now();
-    double     weight = 0;
-    for (const auto &body : bodies)
-      for (unsigned int p = 0; p < body->partition.n_parts; ++p)
-        {
-          const unsigned int s = first_subdomain[body->index] + p;
-          if (new_owner[s] == rank && owner[s] != rank)
-            {
-              subdomains.push_back(make_subdomain(*body, p));
-              subdomains.back()->assemble(mapping);
-              subdomains.back()->factorize(parameters.feti.local_solver);
-              weight += weight_start[s + 1] - weight_start[s];
-            }
-        }
-    build_time += seconds_since(start);
-    built_weight += weight;
-    std::sort(subdomains.begin(), subdomains.end(), [](const auto &a, const auto &b) {
-      return a->global_index < b->global_index;
-    });
-    owned.clear();
-    for (const auto &s : subdomains)
-      owned.push_back(s.get());
-    owner         = new_owner;
-    first_of_rank = first;
-    dual->reassign(owned);
   }
 
   void
@@ -575,11 +464,9 @@ namespace FetiContact
       .set("solve", time("solve"))
       .set("primal_recovery", time("primal recovery"))
       .set("output", time("output"));
-    // The moves of the load balance happen inside the solve (and are timed inside it too).
-    double total = -time("load balance");
+    double total = 0;
     for (const auto &[name, value] : times)
       total += value;
-    t.set("load_balance", time("load balance"));
     t.set("total", total);
     // Inside the solve: the applications of F (local solves with the factors, B, Bᵀ, the sum over
     // ranks; the slowest rank) and the rest, the QP's own work (vector operations, projections,
@@ -601,8 +488,7 @@ namespace FetiContact
       .set("hessian_local_fastest_rank", local_fastest)
       .set("preconditioner", preconditioner_time)
       .set("preconditioner_applications", solve_preconditioner_applications)
-      .set("qp_bookkeeping",
-           time("solve") - hessian_time - preconditioner_time - time("load balance"))
+      .set("qp_bookkeeping", time("solve") - hessian_time - preconditioner_time)
       .set("one_hessian_application", mean_F)
       .set("cost_floor", floor)
       .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
@@ -615,12 +501,7 @@ namespace FetiContact
     if (solve_preconditioner_applications > 0)
       line << " + preconditioner " << preconditioner_time << " s ("
            << solve_preconditioner_applications << ")";
-    if (n_moves > 0)
-      line << " + load balance " << time("load balance") << " s (" << n_moves
-           << (n_moves == 1 ? " move of " : " moves of ") << n_moved_subdomains
-           << " subdomains in all)";
-    line << " + QP bookkeeping "
-         << time("solve") - hessian_time - preconditioner_time - time("load balance")
+    line << " + QP bookkeeping " << time("solve") - hessian_time - preconditioner_time
          << " s; cost floor (factorization + n_A × one application of F) " << floor
          << " s, run without output / floor "
          << (floor > 0 ? (total - time("output")) / floor : 0.);
@@ -677,16 +558,6 @@ namespace FetiContact
              "total")
       .set("local_solver", parameters.feti.local_solver)
       .set("times", t)
-      .set("load_balance",
-           JsonObject()
-             .set("mode",
-                  parameters.feti.load_balance == Parameters::Feti::LoadBalance::measured ?
-                    "measured" :
-                    "cells")
-             .set("moves", n_moves)
-             .set("moved_subdomains", n_moved_subdomains)
-             .set("first_subdomain_of_rank",
-                  std::vector<double>(first_of_rank.begin(), first_of_rank.end())))
       .set("memory", memory)
       .append(summary);
     if (rank == 0)
@@ -706,7 +577,6 @@ namespace FetiContact
           << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
           << std::endl;
     solve();
-    dual->set_periodic_check({}, 0);
     solve_F_time                      = dual->F_time;
     solve_F_local_time                = dual->F_local_time;
     solve_F_applications              = dual->n_F_applications;

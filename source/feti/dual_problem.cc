@@ -15,15 +15,40 @@ namespace FetiContact
                            const std::vector<unsigned int> &mode_offset,
                            const DualRows                  &rows)
     : comm(comm)
-    , rows(&rows)
-    , n_subdomains(mode_offset.size() - 1)
     , owned(owned)
+    , B(owned.size())
+    , work(owned.size())
   {
     const unsigned int m = rows.n_rows();
     c.reinit(m);
     for (unsigned int r = 0; r < m; ++r)
       c[r] = rows.c[r];
-    build_local_blocks();
+
+    // B_i: the entries of the rows that touch subdomain i, with DoFs looked up by body vertex.
+    std::unordered_map<unsigned int, unsigned int> local_of_global;
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      local_of_global[owned[i]->global_index] = i;
+    std::vector<std::unordered_map<unsigned int, unsigned int>> vertex_of_body_vertex(owned.size());
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      {
+        for (unsigned int v = 0; v < owned[i]->body_vertex.size(); ++v)
+          vertex_of_body_vertex[i][owned[i]->body_vertex[v]] = v;
+        work[i].reinit(owned[i]->dof_handler.n_dofs());
+      }
+    for (unsigned int r = 0; r < m; ++r)
+      for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+        {
+          const auto &entry = rows.entries[k];
+          const auto  it    = local_of_global.find(entry.subdomain);
+          if (it == local_of_global.end())
+            continue;
+          const unsigned int i = it->second;
+          const unsigned int v = vertex_of_body_vertex[i].at(entry.body_vertex);
+          B[i].row.push_back(r);
+          B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
+          B[i].value.push_back(entry.value);
+          B[i].slot.push_back(k);
+        }
     // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
     // entries: on one rank the order of the loop over the subdomains.
     slot_start.assign(rows.row_start.begin(), rows.row_start.end());
@@ -38,7 +63,7 @@ namespace FetiContact
         });
       }
     slots.assign(rows.entries.size(), 0.);
-    setup_row_sums(rows, n_subdomains);
+    setup_row_sums(rows, mode_offset.size() - 1);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -79,55 +104,6 @@ namespace FetiContact
     sum_slots(h);
     h -= c;
     coarse.initialize(comm, G_entries, mode_offset.back(), m);
-  }
-
-  void
-  DualProblem::build_local_blocks()
-  {
-    // B_i: the entries of the rows that touch subdomain i, with DoFs looked up by body vertex.
-    B.assign(owned.size(), LocalBlock());
-    work.resize(owned.size());
-    std::unordered_map<unsigned int, unsigned int> local_of_global;
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      local_of_global[owned[i]->global_index] = i;
-    std::vector<std::unordered_map<unsigned int, unsigned int>> vertex_of_body_vertex(owned.size());
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        for (unsigned int v = 0; v < owned[i]->body_vertex.size(); ++v)
-          vertex_of_body_vertex[i][owned[i]->body_vertex[v]] = v;
-        work[i].reinit(owned[i]->dof_handler.n_dofs());
-      }
-    for (unsigned int r = 0; r < rows->n_rows(); ++r)
-      for (unsigned int k = rows->row_start[r]; k < rows->row_start[r + 1]; ++k)
-        {
-          const auto &entry = rows->entries[k];
-          const auto  it    = local_of_global.find(entry.subdomain);
-          if (it == local_of_global.end())
-            continue;
-          const unsigned int i = it->second;
-          const unsigned int v = vertex_of_body_vertex[i].at(entry.body_vertex);
-          B[i].row.push_back(r);
-          B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
-          B[i].value.push_back(entry.value);
-          B[i].slot.push_back(k);
-        }
-  }
-
-  void
-  DualProblem::reassign(const std::vector<Subdomain *> &new_owned)
-  {
-    owned = new_owned;
-    build_local_blocks();
-    // Slots of subdomains that left this rank keep their last values; the new row sums read
-    // them no more (a row reads only slots written here or received).
-    setup_row_sums(*rows, n_subdomains);
-  }
-
-  void
-  DualProblem::set_periodic_check(std::function<void()> check, const unsigned int interval)
-  {
-    periodic_check = std::move(check);
-    check_interval = interval;
   }
 
   void
@@ -298,8 +274,6 @@ namespace FetiContact
     sum_slots(y);
     ++n_F_applications;
     F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (periodic_check && check_interval > 0 && n_F_applications % check_interval == 0)
-      periodic_check();
   }
 
   void

@@ -45,18 +45,6 @@ namespace FetiContact::Parameters
                       "no solve; about 3 times fewer iterations, nearly independent of the "
                       "number of subdomains. 'none': plain projected CG. For contact see "
                       "Contact solver/Preconditioner. Measured in doc/feti.md.");
-    prm.declare_entry("Load balance",
-                      "measured",
-                      Patterns::Selection("cells|measured"),
-                      "How the subdomains are spread over the MPI ranks. Both start with "
-                      "contiguous ranges of subdomains with equal numbers of cells. 'cells' keeps "
-                      "them. 'measured' (the default) times every rank's work in the "
-                      "applications of F and moves subdomains from slower to faster ranks (built "
-                      "again, assembled and factorized there) when the time already lost to the "
-                      "imbalance since the last move reaches the time the move costs: for cores "
-                      "of unequal speed, e.g. the virtual cores of a shared machine. The results "
-                      "are the same bits either way; only the times differ. No effect on one "
-                      "rank. Measured in doc/performance.md.");
     prm.leave_subsection();
   }
 
@@ -72,7 +60,6 @@ namespace FetiContact::Parameters
             "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
     max_iterations        = prm.get_integer("Maximum iterations");
     lumped_preconditioner = prm.get("Preconditioner") == "lumped";
-    load_balance = prm.get("Load balance") == "cells" ? LoadBalance::cells : LoadBalance::measured;
     prm.leave_subsection();
   }
 } // namespace FetiContact::Parameters

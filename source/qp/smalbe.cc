@@ -46,6 +46,8 @@ namespace FetiContact::QP
         mu.reinit(k);
       }
     AssertThrow(options.beta_M > 1, ExcMessage("SMALBE: β_M must be > 1."));
+    AssertThrow(options.multiplier_step > 0 && options.multiplier_step < 2,
+                ExcMessage("SMALBE: the multiplier step factor must lie in (0, 2)."));
     AssertThrow(options.tolerance > 0 && options.feasibility_tolerance > 0,
                 ExcMessage("SMALBE: tolerances must be positive."));
 
@@ -284,9 +286,9 @@ namespace FetiContact::QP
         const bool converged        = report.relative_gradient <= options.tolerance &&
                                report.relative_feasibility <= options.feasibility_tolerance;
 
-        // 3. μ_{k+1} = μ_k + ρ(Gλ_k − e).
+        // 3. μ_{k+1} = μ_k + sρ(Gλ_k − e) (s = 1 unless over-relaxed).
         if (k > 0)
-          mu.add(rho, r);
+          mu.add(options.multiplier_step * rho, r);
 
         // 4. M_{k+1}.
         if (!converged && outer > 0 && L < L_previous + rho / 2 * feasibility * feasibility &&

@@ -59,6 +59,8 @@ namespace FetiContact::Parameters
     unsigned int continuation_steps = 1;
     /** SMALBE penalty ρ as a multiple of ‖F‖, or of ‖PFP‖ with penalty_projected_norm. */
     double penalty_factor = 1;
+    /** s of SMALBE's multiplier update μ ← μ + sρ(Gλ − e) (QP::SmalbeOptions). */
+    double multiplier_step = 1;
     /**
      * "Penalty norm": false ‖F‖, true ‖PFP‖ (the projector variant) as the norm that
      * penalty_factor multiplies and that bounds the FETI part of the Hessian in MPGP's step.

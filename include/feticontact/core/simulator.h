@@ -97,20 +97,6 @@ namespace FetiContact
     factorize();
     void
     build_dual_problem();
-    /**
-     * FETI/Load balance = measured: called by the DualProblem every few applications of F;
-     * gathers the ranks' local work since the last move and moves subdomains when
-     * LoadBalance::propose says so.
-     */
-    void
-    check_load_balance();
-    /** Builds, assembles and factorizes the subdomains that arrive at this rank (ranges
-     * @p first), drops those that leave, and hands the new set to the DualProblem. */
-    void
-    move_subdomains(const std::vector<unsigned int> &first);
-    /** Builds subdomain @p s (of @p body, part @p part) on this rank: mesh and DoFs only. */
-    std::unique_ptr<Subdomain>
-    make_subdomain(const Body &body, const unsigned int part) const;
     void
     solve();
     void
@@ -137,27 +123,15 @@ namespace FetiContact
     std::vector<unsigned int>          first_subdomain; ///< per body, + total at the end
     /** Verification/Reference displacements, by body and vertex (empty: none). */
     std::vector<std::vector<dealii::Tensor<1, 3>>> reference_displacements;
-    std::vector<unsigned int>                      owner; ///< rank of each subdomain
-    /** Prefix sums of the cells of the subdomains (the weights of the load balance). */
-    std::vector<double> weight_start;
-    /** The first subdomain of every rank's range (size n_ranks + 1). */
-    std::vector<unsigned int> first_of_rank;
-    /**
-     * Load balance: this rank's time building its subdomains (mesh, assembly, factorization)
-     * and their weight; its F_local_time and the number of applications of F at the last move;
-     * the part of the time of the last move that was not building subdomains; the moves made and
-     * the subdomains they moved.
-     */
-    double       build_time = 0, built_weight = 0, local_time_at_move = 0, fixed_move_cost = 0;
-    unsigned int applications_at_move = 0, n_moves = 0, n_moved_subdomains = 0;
-    std::vector<std::unique_ptr<Subdomain>> subdomains; ///< this rank's
-    std::vector<Subdomain *>                owned;
-    std::vector<unsigned int>               mode_offset;
-    DualRows                                rows;
-    std::vector<ContactNode>                contact_nodes;
-    std::vector<ContactTriangle>            contact_triangles;
-    DualLayout                              layout;
-    std::unique_ptr<DualProblem>            dual;
+    std::vector<unsigned int>                      owner;      ///< rank of each subdomain
+    std::vector<std::unique_ptr<Subdomain>>        subdomains; ///< this rank's
+    std::vector<Subdomain *>                       owned;
+    std::vector<unsigned int>                      mode_offset;
+    DualRows                                       rows;
+    std::vector<ContactNode>                       contact_nodes;
+    std::vector<ContactTriangle>                   contact_triangles;
+    DualLayout                                     layout;
+    std::unique_ptr<DualProblem>                   dual;
 
     dealii::Vector<double> lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */

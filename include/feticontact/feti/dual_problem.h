@@ -6,7 +6,6 @@
 #include <feticontact/feti/equality_constraints.h>
 #include <feticontact/subdomain/subdomain.h>
 
-#include <functional>
 #include <mpi.h>
 #include <vector>
 
@@ -35,31 +34,12 @@ namespace FetiContact
   public:
     /**
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
-     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c (kept by reference
-     * for reassign(): it must outlive the DualProblem).
+     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c.
      */
     DualProblem(const MPI_Comm                   comm,
                 const std::vector<Subdomain *>  &owned,
                 const std::vector<unsigned int> &mode_offset,
                 const DualRows                  &rows);
-
-    /**
-     * Another assignment of the subdomains to the ranks: @p owned is this rank's new set
-     * (factorized; the same global subdomains, built on this rank). Rebuilds the blocks B_i and
-     * the exchange of the row sums; h, c, e, G and the coarse problem do not depend on the
-     * assignment and stay. Collective: every rank calls it with its new set, and the sets
-     * together hold every subdomain once. Results of apply_F are the same bits before and after.
-     */
-    void
-    reassign(const std::vector<Subdomain *> &owned);
-
-    /**
-     * Calls @p check after every @p interval-th application of F (outside the times of F), on
-     * every rank at the same application, so that @p check may be collective (e.g. move
-     * subdomains with reassign()). An empty @p check removes it.
-     */
-    void
-    set_periodic_check(std::function<void()> check, const unsigned int interval);
 
     /** The number of dual unknowns m. */
     unsigned int
@@ -123,9 +103,6 @@ namespace FetiContact
       std::vector<double>       value;
     };
 
-    /** B_i and a work vector for every owned subdomain, from the rows of B. */
-    void
-    build_local_blocks();
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
@@ -149,13 +126,8 @@ namespace FetiContact
     mutable dealii::Vector<double>              lumped_Dx;
     mutable std::vector<dealii::Vector<double>> lumped_Ku;
 
-    MPI_Comm comm;
-    /** All rows of B (kept by the Simulator for the whole run), and the number of subdomains. */
-    const DualRows                             *rows;
-    unsigned int                                n_subdomains;
+    MPI_Comm                                    comm;
     std::vector<Subdomain *>                    owned;
-    std::function<void()>                       periodic_check;
-    unsigned int                                check_interval = 0;
     std::vector<LocalBlock>                     B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;

@@ -31,19 +31,6 @@ namespace FetiContact::Parameters
      */
     bool lumped_preconditioner = true;
 
-    /**
-     * How the subdomains are spread over the MPI ranks: `cells` (contiguous ranges with equal
-     * numbers of cells, fixed) or `measured` (the same start, then subdomains move between
-     * ranks when the ranks' measured speeds in the applications of F make that pay off; see
-     * LoadBalance). Results are the same bits either way.
-     */
-    enum class LoadBalance
-    {
-      cells,
-      measured
-    };
-    LoadBalance load_balance = LoadBalance::measured;
-
     static void
     declare_parameters(dealii::ParameterHandler &prm);
     void

@@ -76,6 +76,15 @@ namespace FetiContact::QP
     /** β_M > 1: M ← M/β_M when the Lagrangian did not increase enough. */
     double beta_M = 10;
     /**
+     * s ∈ (0, 2): the multiplier update μ ← μ + sρ(Gλ − e). 1 is SMALBE as published (Dostál),
+     * with its bound on the number of outer iterations. s > 1 over-relaxes the update, as in the
+     * method of multipliers, which converges for s ∈ (0, 2) when the inner problems are solved
+     * exactly. With active constraints ‖Gλ − e‖ falls by a fixed factor per outer iteration
+     * that s can improve; without them one update with s = 1 removes it, and s overshoots by
+     * s − 1.
+     */
+    double multiplier_step = 1;
+    /**
      * Whether the problem of this outer iteration is that of the previous one, asked when the
      * M test fails: the test L(λ_k, μ_k) ≥ L(λ_{k−1}, μ_{k−1}) + ρ/2 ‖Gλ_k − e‖² compares the
      * Lagrangians of two iterations and says something about M only if both minimize over the

@@ -79,9 +79,10 @@ namespace FetiContact::QP
      * s ∈ (0, 2): the multiplier update μ ← μ + sρ(Gλ − e). 1 is SMALBE as published (Dostál),
      * with its bound on the number of outer iterations. s > 1 over-relaxes the update, as in the
      * method of multipliers, which converges for s ∈ (0, 2) when the inner problems are solved
-     * exactly. With active constraints ‖Gλ − e‖ falls by a fixed factor per outer iteration
-     * that s can improve; without them one update with s = 1 removes it, and s overshoots by
-     * s − 1.
+     * exactly. In the projector variant without active constraints the Hessian is ρ on the
+     * range of Gᵀ, and one update with s = 1 and an exact inner solve removes Gλ − e (s
+     * overshoots by s − 1); with active constraints ‖Gλ − e‖ falls by a fixed factor per outer
+     * iteration, which s > 1 can improve.
      */
     double multiplier_step = 1;
     /**

@@ -12,13 +12,12 @@
  * Usage: first_touch [--huge-pages] [--gib N]
  */
 
-#include <sys/mman.h>
-
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
+#include <sys/mman.h>
 
 int
 main(int argc, char **argv)
@@ -52,8 +51,8 @@ main(int argc, char **argv)
     madvise(block, bytes, MADV_HUGEPAGE);
   char *const p = static_cast<char *>(block);
 
-  using clock       = std::chrono::steady_clock;
-  const auto start  = clock::now();
+  using clock      = std::chrono::steady_clock;
+  const auto start = clock::now();
   for (std::size_t i = 0; i < bytes; i += 4096)
     p[i] = 1;
   const auto   touched = clock::now();

@@ -23,7 +23,10 @@ namespace FetiContact::Parameters
                       "cholmod",
                       Patterns::Selection(LocalSolver::available_backends()),
                       "Sparse direct solver for the regularized subdomain stiffness matrices: "
-                      "'cholmod' (SuiteSparse supernodal Cholesky), 'amesos2-klu2' (Trilinos "
+                      "'cholmod' (SuiteSparse supernodal Cholesky, with the project's "
+                      "triangular solves), 'cholmod-library-solves' (the same factor with "
+                      "CHOLMOD's own solves, about a third slower: the arithmetic of runs made "
+                      "before the project's solves), 'amesos2-klu2' (Trilinos "
                       "Amesos2 KLU2), 'amesos-mumps' (Trilinos Amesos MUMPS), 'umfpack' "
                       "(SuiteSparse UMFPACK through deal.II). See doc/local_solvers.md for "
                       "timings.");

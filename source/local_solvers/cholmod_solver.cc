@@ -56,7 +56,8 @@ namespace FetiContact
   template cholmod_sparse *
   upper_triangle<SuiteSparse_long>(const SparseMatrix<double> &, cholmod_common &);
 
-  CholmodSolver::CholmodSolver()
+  CholmodSolver::CholmodSolver(const Solves solves)
+    : solves(solves)
   {
     cholmod_start(&common);
     common.supernodal = CHOLMOD_SUPERNODAL;
@@ -78,6 +79,7 @@ namespace FetiContact
   {
     n                 = A.m();
     cholmod_sparse *S = upper_triangle<int>(A, common);
+    supernodal.reset();
     if (factor != nullptr)
       cholmod_free_factor(&factor, &common);
     factor = cholmod_analyze(S, &common);
@@ -87,10 +89,24 @@ namespace FetiContact
             "CHOLMOD: the matrix is not positive definite (leading minor " +
               std::to_string(factor->minor) + " of " + std::to_string(n) +
               "): the body or subdomain is not held as the scene claims.");
+    if (factor->is_super && solves == Solves::project)
+      supernodal = std::make_unique<SupernodalSolve>(*factor);
   }
 
   void
   CholmodSolver::solve(Vector<double> &v) const
+  {
+    Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
+    if (n == 0)
+      return;
+    if (supernodal)
+      supernodal->solve(v.begin());
+    else
+      solve_by_library(v);
+  }
+
+  void
+  CholmodSolver::solve_by_library(Vector<double> &v) const
   {
     Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
     if (n == 0)

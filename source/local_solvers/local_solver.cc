@@ -41,7 +41,9 @@ namespace FetiContact
   LocalSolver::create(const std::string &name)
   {
     if (name == "cholmod")
-      return std::make_unique<CholmodSolver>();
+      return std::make_unique<CholmodSolver>(CholmodSolver::Solves::project);
+    if (name == "cholmod-library-solves")
+      return std::make_unique<CholmodSolver>(CholmodSolver::Solves::library);
     if (name == "amesos2-klu2")
       return std::make_unique<Amesos2Klu2Solver>();
     if (name == "amesos-mumps")
@@ -54,6 +56,6 @@ namespace FetiContact
   std::string
   LocalSolver::available_backends()
   {
-    return "cholmod|amesos2-klu2|amesos-mumps|umfpack";
+    return "cholmod|cholmod-library-solves|amesos2-klu2|amesos-mumps|umfpack";
   }
 } // namespace FetiContact

@@ -24,6 +24,8 @@
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
 
+#include "benchmark_tools.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -34,6 +36,8 @@
 
 using namespace dealii;
 using namespace FetiContact;
+using BenchmarkTools::median;
+using BenchmarkTools::parse_positive;
 
 namespace
 {
@@ -44,24 +48,6 @@ namespace
               << "  NAME: one of " << LocalSolver::available_backends() << "\n"
               << "  N:    cubes per edge of the unit cube (3(N+1)^3 DoFs), N >= 1\n"
               << "  R:    repetitions (fresh solver each time; medians are printed), R >= 1\n";
-  }
-
-  /** A positive integer, or 0 if @p text is not one. */
-  unsigned int
-  parse_positive(const std::string &text)
-  {
-    if (text.empty() || text.size() > 9 ||
-        !std::all_of(text.begin(), text.end(), [](const char c) { return c >= '0' && c <= '9'; }))
-      return 0;
-    return std::stoul(text);
-  }
-
-  double
-  median(std::vector<double> v)
-  {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
   }
 
   /** The unit cube with N^3 cubes (6 tetrahedra each), as a parameter file would give it. */
@@ -88,12 +74,7 @@ namespace
                              "  set Blocks = 1, 1, 1\n"
                              " end\n"
                              "end\n";
-    ParameterHandler prm;
-    Parameters::Scene::declare_parameters(prm, 1);
-    prm.parse_input_from_string(text);
-    Parameters::Scene scene;
-    scene.parse_parameters(prm, "");
-    return scene;
+    return BenchmarkTools::scene_from_text(text);
   }
 } // namespace
 

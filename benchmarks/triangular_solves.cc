@@ -27,6 +27,8 @@
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
 
+#include "benchmark_tools.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -39,6 +41,8 @@
 
 using namespace dealii;
 using namespace FetiContact;
+using BenchmarkTools::median;
+using BenchmarkTools::parse_positive;
 
 namespace
 {
@@ -49,24 +53,6 @@ namespace
               << "  N: cubes per edge of a subdomain (default 8: 3(N+1)^3 = 2187 unknowns)\n"
               << "  C: factorized copies of the matrix, solved in turn (default 64)\n"
               << "  R: rounds, alternating between the two solves (default 21)\n";
-  }
-
-  /** A positive integer, or 0 if @p text is not one. */
-  unsigned int
-  parse_positive(const std::string &text)
-  {
-    if (text.empty() || text.size() > 9 ||
-        !std::all_of(text.begin(), text.end(), [](const char c) { return c >= '0' && c <= '9'; }))
-      return 0;
-    return std::stoul(text);
-  }
-
-  double
-  median(std::vector<double> v)
-  {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
   }
 
   /** The brick 0 ≤ x ≤ 3 with 3N × N × N cubes in three blocks of N × N × N, clamped at x = 0. */
@@ -92,12 +78,7 @@ namespace
                              "  set Blocks = 3, 1, 1\n"
                              " end\n"
                              "end\n";
-    ParameterHandler prm;
-    Parameters::Scene::declare_parameters(prm, 1);
-    prm.parse_input_from_string(text);
-    Parameters::Scene scene;
-    scene.parse_parameters(prm, "");
-    return scene;
+    return BenchmarkTools::scene_from_text(text);
   }
 } // namespace
 
@@ -143,17 +124,8 @@ main(int argc, char **argv)
       // kernel-fixing unknowns replaced by their diagonal.
       Subdomain subdomain(body, 1, 1, /*eliminate_prescribed=*/false, fe);
       subdomain.assemble(mapping);
-      SparseMatrix<double> A;
-      A.reinit(subdomain.K.get_sparsity_pattern());
-      A.copy_from(subdomain.K);
       subdomain.factorize("cholmod");
-      for (const unsigned int d : subdomain.kernel_fixing_dofs)
-        for (auto it = A.begin(d); it != A.end(d); ++it)
-          if (it->column() != d)
-            {
-              it->value() = 0;
-              A.set(it->column(), d, 0.);
-            }
+      const SparseMatrix<double> A = subdomain.regularized_stiffness();
 
       std::vector<std::unique_ptr<CholmodSolver>> copies;
       for (unsigned int c = 0; c < n_copies; ++c)

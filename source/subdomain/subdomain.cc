@@ -109,8 +109,13 @@ namespace FetiContact
       }
     R                  = rigid_body_modes(points, dof_component, fixed);
     kernel_fixing_dofs = select_kernel_fixing_dofs(R);
+    solver             = LocalSolver::create(local_solver);
+    solver->factorize(regularized_stiffness());
+  }
 
-    // K̃: K with the kernel-fixing rows and columns replaced by their diagonal.
+  SparseMatrix<double>
+  Subdomain::regularized_stiffness() const
+  {
     SparseMatrix<double> K_regularized(sparsity);
     K_regularized.copy_from(K);
     std::vector<bool> fix(K.m(), false);
@@ -120,9 +125,7 @@ namespace FetiContact
       for (auto it = K_regularized.begin(i); it != K_regularized.end(i); ++it)
         if (it->column() != i && (fix[i] || fix[it->column()]))
           it->value() = 0;
-
-    solver = LocalSolver::create(local_solver);
-    solver->factorize(K_regularized);
+    return K_regularized;
   }
 
   void

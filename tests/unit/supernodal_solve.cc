@@ -59,20 +59,11 @@ main(int argc, char **argv)
         Subdomain s(body, p, p, primal, fe);
         s.assemble(mapping);
         // K itself (primal elimination, SPD at the clamp), or, for floating subdomains, K with the
-        // rows and columns of the kernel-fixing unknowns replaced by their diagonal (SPD), as the
-        // subdomain's own solver has it.
-        SparseMatrix<double> A;
-        A.reinit(s.K.get_sparsity_pattern());
-        A.copy_from(s.K);
+        // rows and columns of the kernel-fixing unknowns replaced by their diagonal: the matrix
+        // the subdomain's own solver factorizes.
         s.factorize("cholmod");
-        for (const unsigned int d : s.kernel_fixing_dofs)
-          for (auto it = A.begin(d); it != A.end(d); ++it)
-            if (it->column() != d)
-              {
-                it->value() = 0;
-                A.set(it->column(), d, 0.);
-              }
-        CholmodSolver solver(CholmodSolver::Solves::project);
+        const SparseMatrix<double> A = s.regularized_stiffness();
+        CholmodSolver              solver(CholmodSolver::Solves::project);
         solver.factorize(A);
 
         Vector<double> b(A.m());

@@ -52,6 +52,14 @@ namespace FetiContact
     void
     factorize(const std::string &local_solver);
 
+    /**
+     * K̃_i: K_i with the rows and columns of the kernel-fixing DoFs replaced by their diagonal,
+     * the symmetric positive definite matrix that factorize() hands to the local solver (the
+     * fixing DoFs are those of the last factorize()).
+     */
+    dealii::SparseMatrix<double>
+    regularized_stiffness() const;
+
     /** x ← K_i⁺ x. */
     void
     apply_generalized_inverse(dealii::Vector<double> &x) const;

@@ -8,6 +8,8 @@
 #include <feticontact/scene/scene_parameters.h>
 
 #include <algorithm>
+#include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,58 @@ namespace FetiContact::BenchmarkTools
         !std::all_of(text.begin(), text.end(), [](const char c) { return c >= '0' && c <= '9'; }))
       return 0;
     return std::stoul(text);
+  }
+
+  /**
+   * The "--name value" pairs of a benchmark's command line, for the option names @p names.
+   * help: "-h" or "--help" was given; ok: false after an unknown option or one without a value
+   * (the reason printed on stderr).
+   */
+  struct CommandLine
+  {
+    std::map<std::string, std::string> values;
+    bool                               help = false;
+    bool                               ok   = true;
+
+    /**
+     * The positive integer given for @p name, @p fallback if it was not given; 0 (with the
+     * reason printed) if its value is not a positive integer.
+     */
+    unsigned int
+    positive(const std::string &name, const unsigned int fallback) const
+    {
+      const auto it = values.find(name);
+      if (it == values.end())
+        return fallback;
+      const unsigned int number = parse_positive(it->second);
+      if (number == 0)
+        std::cerr << "Bad value <" << it->second << "> for " << name << ".\n";
+      return number;
+    }
+  };
+
+  /** Reads "--name value" pairs for the option names @p names from the command line. */
+  inline CommandLine
+  parse_command_line(const int argc, char **argv, const std::vector<std::string> &names)
+  {
+    CommandLine line;
+    for (int a = 1; a < argc; ++a)
+      {
+        const std::string arg = argv[a];
+        if (arg == "--help" || arg == "-h")
+          {
+            line.help = true;
+            return line;
+          }
+        if (a + 1 >= argc || std::find(names.begin(), names.end(), arg) == names.end())
+          {
+            std::cerr << "Bad argument <" << arg << ">.\n";
+            line.ok = false;
+            return line;
+          }
+        line.values[arg] = argv[++a];
+      }
+    return line;
   }
 
   /** The median of @p v (the mean of the two middle values for an even count). */

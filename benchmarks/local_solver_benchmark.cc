@@ -37,7 +37,6 @@
 using namespace dealii;
 using namespace FetiContact;
 using BenchmarkTools::median;
-using BenchmarkTools::parse_positive;
 
 namespace
 {
@@ -83,35 +82,22 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  std::string  backend;
-  unsigned int n_cubes = 0, repeat = 0;
-  for (int a = 1; a < argc; ++a)
+  const auto line =
+    BenchmarkTools::parse_command_line(argc, argv, {"--backend", "--cubes", "--repeat"});
+  if (line.help || !line.ok)
     {
-      const std::string arg = argv[a];
-      if (arg == "--help" || arg == "-h")
-        {
-          print_usage(argv[0]);
-          return 0;
-        }
-      if (a + 1 >= argc || (arg != "--backend" && arg != "--cubes" && arg != "--repeat"))
-        {
-          std::cerr << "Bad argument <" << arg << ">.\n";
-          print_usage(argv[0]);
-          return 1;
-        }
-      const std::string value = argv[++a];
-      if (arg == "--backend")
-        backend = value;
-      else if (arg == "--cubes")
-        n_cubes = parse_positive(value);
-      else
-        repeat = parse_positive(value);
-      if ((arg == "--cubes" && n_cubes == 0) || (arg == "--repeat" && repeat == 0))
-        {
-          std::cerr << "Bad value <" << value << "> for " << arg << ".\n";
-          print_usage(argv[0]);
-          return 1;
-        }
+      print_usage(argv[0]);
+      return line.help ? 0 : 1;
+    }
+  const auto         backend_given = line.values.find("--backend");
+  const std::string  backend = backend_given == line.values.end() ? "" : backend_given->second;
+  const unsigned int n_cubes = line.positive("--cubes", 0);
+  const unsigned int repeat  = line.positive("--repeat", 0);
+  if ((line.values.count("--cubes") && n_cubes == 0) ||
+      (line.values.count("--repeat") && repeat == 0))
+    {
+      print_usage(argv[0]);
+      return 1;
     }
   if (backend.empty() || n_cubes == 0 || repeat == 0)
     {

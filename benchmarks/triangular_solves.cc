@@ -42,7 +42,6 @@
 using namespace dealii;
 using namespace FetiContact;
 using BenchmarkTools::median;
-using BenchmarkTools::parse_positive;
 
 namespace
 {
@@ -87,30 +86,20 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  unsigned int n_cubes = 8, n_copies = 64, n_rounds = 21;
-  for (int a = 1; a < argc; ++a)
+  const auto line =
+    BenchmarkTools::parse_command_line(argc, argv, {"--cubes", "--copies", "--rounds"});
+  if (line.help || !line.ok)
     {
-      const std::string arg = argv[a];
-      if (arg == "--help" || arg == "-h")
-        {
-          print_usage(argv[0]);
-          return 0;
-        }
-      if (a + 1 >= argc || (arg != "--cubes" && arg != "--copies" && arg != "--rounds"))
-        {
-          std::cerr << "Bad argument <" << arg << ">.\n";
-          print_usage(argv[0]);
-          return 1;
-        }
-      const std::string  value  = argv[++a];
-      const unsigned int number = parse_positive(value);
-      if (number == 0)
-        {
-          std::cerr << "Bad value <" << value << "> for " << arg << ".\n";
-          print_usage(argv[0]);
-          return 1;
-        }
-      (arg == "--cubes" ? n_cubes : arg == "--copies" ? n_copies : n_rounds) = number;
+      print_usage(argv[0]);
+      return line.help ? 0 : 1;
+    }
+  const unsigned int n_cubes  = line.positive("--cubes", 8);
+  const unsigned int n_copies = line.positive("--copies", 64);
+  const unsigned int n_rounds = line.positive("--rounds", 21);
+  if (n_cubes == 0 || n_copies == 0 || n_rounds == 0)
+    {
+      print_usage(argv[0]);
+      return 1;
     }
 
   try

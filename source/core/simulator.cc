@@ -171,8 +171,17 @@ namespace FetiContact
   Simulator::factorize()
   {
     TimerOutput::Scope scope(timer, "factorization");
+    if (parameters.feti.share_local_work &&
+        SharedLocalWork::possible(comm, parameters.feti.local_solver))
+      shared_work = std::make_unique<SharedLocalWork>(comm);
     for (auto *s : owned)
-      s->factorize(parameters.feti.local_solver);
+      {
+        s->factorize(parameters.feti.local_solver);
+        // The factor moves to shared memory at once, so that the next factorization reuses
+        // the memory CHOLMOD frees.
+        if (shared_work)
+          shared_work->take_factor(*s);
+      }
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
       n_modes[s->global_index] = s->R.n();
@@ -186,7 +195,7 @@ namespace FetiContact
   Simulator::build_dual_problem()
   {
     TimerOutput::Scope scope(timer, "coarse problem");
-    dual = std::make_unique<DualProblem>(comm, owned, mode_offset, rows);
+    dual = std::make_unique<DualProblem>(comm, owned, mode_offset, rows, shared_work.get());
   }
 
   void
@@ -533,6 +542,34 @@ namespace FetiContact
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;
     pcout << std::endl;
 
+    // How the local work of the multiplications by F was split: shared by the node's ranks
+    // (SharedLocalWork: the subdomain solves each rank made, the shared memory it allocated),
+    // or every rank its own subdomains.
+    const SharedLocalWork    *shared = shared_work.get();
+    const std::vector<double> local_solves =
+      Utilities::MPI::all_gather(comm,
+                                 static_cast<double>(shared ?
+                                                       shared->n_local_solves() :
+                                                       static_cast<unsigned long>(owned.size()) *
+                                                         dual->n_F_applications));
+    const std::vector<double> shared_mib = Utilities::MPI::all_gather(
+      comm, shared ? static_cast<double>(shared->shared_bytes()) / (1024. * 1024.) : 0.);
+    JsonObject local_work;
+    local_work.set("shared", shared != nullptr)
+      .set("subdomain_solves_per_rank", local_solves)
+      .set("shared_mib_per_rank", shared_mib);
+    if (shared)
+      {
+        pcout << "Local work shared by the node's " << n_ranks
+              << " ranks (FETI/Local work balance): subdomain solves per rank";
+        for (const double n : local_solves)
+          pcout << " " << static_cast<unsigned long>(n);
+        pcout << "; shared memory per rank (factors, B, slots)";
+        for (const double mib : shared_mib)
+          pcout << " " << std::fixed << std::setprecision(0) << mib << " MiB" << std::defaultfloat;
+        pcout << std::endl;
+      }
+
     JsonObject s;
     s.set("converged", converged)
       .set("n_primal", n_primal)
@@ -557,6 +594,7 @@ namespace FetiContact
              "primal" :
              "total")
       .set("local_solver", parameters.feti.local_solver)
+      .set("local_work", local_work)
       .set("times", t)
       .set("memory", memory)
       .append(summary);

@@ -13,11 +13,13 @@ namespace FetiContact
   DualProblem::DualProblem(const MPI_Comm                   comm,
                            const std::vector<Subdomain *>  &owned,
                            const std::vector<unsigned int> &mode_offset,
-                           const DualRows                  &rows)
+                           const DualRows                  &rows,
+                           SharedLocalWork                 *shared)
     : comm(comm)
     , owned(owned)
     , B(owned.size())
     , work(owned.size())
+    , shared(shared)
   {
     const unsigned int m = rows.n_rows();
     c.reinit(m);
@@ -62,8 +64,17 @@ namespace FetiContact
           return rows.entries[a].subdomain < rows.entries[b].subdomain;
         });
       }
-    slots.assign(rows.entries.size(), 0.);
     setup_row_sums(rows, mode_offset.size() - 1);
+    if (shared)
+      {
+        shared->share(owned, B, rows.entries.size());
+        slot_values = shared->slots();
+      }
+    else
+      {
+        slots.assign(rows.entries.size(), 0.);
+        slot_values = slots.data();
+      }
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -111,7 +122,7 @@ namespace FetiContact
   {
     const auto &b = B[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
-      slots[b.slot[k]] = b.value[k] * u[b.dof[k]];
+      slot_values[b.slot[k]] = b.value[k] * u[b.dof[k]];
   }
 
   void
@@ -200,9 +211,20 @@ namespace FetiContact
     const auto row_sum = [&](const unsigned int r) {
       double sum = 0;
       for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-        sum += slots[slot_order[k]];
+        sum += slot_values[slot_order[k]];
       return sum;
     };
+    if (shared)
+      {
+        // Every rank adds up all rows from the shared slots, once all have written theirs;
+        // none writes again before all have read.
+        shared->synchronize();
+        shared->reset_counter();
+        for (unsigned int r = 0; r < size(); ++r)
+          y[r] = row_sum(r);
+        shared->synchronize();
+        return;
+      }
     if (single_rank)
       {
         for (unsigned int r = 0; r < size(); ++r)
@@ -223,7 +245,7 @@ namespace FetiContact
     for (auto &exchange : send_slots)
       {
         for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-          exchange.buffer[j] = slots[exchange.slots[j]];
+          exchange.buffer[j] = slot_values[exchange.slots[j]];
         MPI_Isend(exchange.buffer.data(),
                   exchange.buffer.size(),
                   MPI_DOUBLE,
@@ -235,7 +257,7 @@ namespace FetiContact
     MPI_Waitall(n_requests, requests.data(), MPI_STATUSES_IGNORE);
     for (const auto &exchange : receive_slots)
       for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-        slots[exchange.slots[j]] = exchange.buffer[j];
+        slot_values[exchange.slots[j]] = exchange.buffer[j];
     // Every rank adds up its rows; then every rank gets all rows.
     for (unsigned int j = 0; j < own_rows.size(); ++j)
       own_sums[j] = row_sum(own_rows[j]);
@@ -264,12 +286,15 @@ namespace FetiContact
   DualProblem::apply_F(const Vector<double> &x, Vector<double> &y) const
   {
     const auto start = std::chrono::steady_clock::now();
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        set_Bt(i, x, work[i]);
-        owned[i]->apply_generalized_inverse(work[i]);
-        set_B_slots(i, work[i]);
-      }
+    if (shared)
+      shared->apply(x);
+    else
+      for (unsigned int i = 0; i < owned.size(); ++i)
+        {
+          set_Bt(i, x, work[i]);
+          owned[i]->apply_generalized_inverse(work[i]);
+          set_B_slots(i, work[i]);
+        }
     F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sum_slots(y);
     ++n_F_applications;
@@ -287,7 +312,7 @@ namespace FetiContact
           {
             const auto &b = B[i];
             for (unsigned int k = 0; k < b.row.size(); ++k)
-              slots[b.slot[k]] = b.value[k] * b.value[k];
+              slot_values[b.slot[k]] = b.value[k] * b.value[k];
           }
         sum_slots(lumped_row_scale);
         for (auto &d : lumped_row_scale)

@@ -78,6 +78,7 @@ namespace FetiContact
   CholmodSolver::factorize(const SparseMatrix<double> &A)
   {
     n                 = A.m();
+    values_moved      = false;
     cholmod_sparse *S = upper_triangle<int>(A, common);
     supernodal.reset();
     if (factor != nullptr)
@@ -111,6 +112,7 @@ namespace FetiContact
     Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
     if (n == 0)
       return;
+    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -123,6 +125,7 @@ namespace FetiContact
   {
     if (n == 0)
       return;
+    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -133,9 +136,24 @@ namespace FetiContact
     std::memcpy(v.begin(), b_work->x, n * sizeof(double));
   }
 
+  void
+  CholmodSolver::move_factor_values(double *destination)
+  {
+    require(supernodal != nullptr,
+            "CholmodSolver: only a supernodal factor with the project's solves can move.");
+    const std::size_t n_values = supernodal->factor().n_values();
+    std::memcpy(destination, factor->x, n_values * sizeof(double));
+    cholmod_free(factor->xsize, sizeof(double), factor->x, &common);
+    factor->x     = nullptr;
+    factor->xsize = 0;
+    values_moved  = true;
+    supernodal->rebind_values(destination);
+  }
+
   double
   CholmodSolver::reciprocal_condition_estimate() const
   {
+    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
     return n == 0 ? 1.0 : cholmod_rcond(factor, &common);
   }
 } // namespace FetiContact

@@ -16,36 +16,16 @@ namespace FetiContact
 {
   namespace
   {
-    /**
-     * The supernodes of L in CHOLMOD's layout: supernode s has the columns super[s] …
-     * super[s+1] − 1 and the rows Ls[pi[s]] … Ls[pi[s+1] − 1] (the first ones its own columns);
-     * its values are a column-major block of pi[s+1] − pi[s] rows at Lx + px[s].
-     */
-    struct Supernodes
-    {
-      explicit Supernodes(const cholmod_factor &L)
-        : n(L.nsuper)
-        , super(static_cast<const int *>(L.super))
-        , pi(static_cast<const int *>(L.pi))
-        , px(static_cast<const int *>(L.px))
-        , Ls(static_cast<const int *>(L.s))
-        , Lx(static_cast<const double *>(L.x))
-      {}
-      std::size_t   n;
-      const int    *super, *pi, *px, *Ls;
-      const double *Lx;
-    };
-
     /** y ← L⁻¹ y; t holds the rows of one supernode. */
     FETICONTACT_KERNEL void
-    forward(const Supernodes &S, double *y, double *t)
+    forward(const SupernodalFactor &S, double *y, double *t)
     {
-      for (std::size_t s = 0; s < S.n; ++s)
+      for (std::size_t s = 0; s < S.n_supernodes; ++s)
         {
           const int     first = S.super[s], n_columns = S.super[s + 1] - first;
           const int     n_rows = S.pi[s + 1] - S.pi[s];
-          const int    *rows   = S.Ls + S.pi[s];
-          const double *block  = S.Lx + S.px[s];
+          const int    *rows   = S.s + S.pi[s];
+          const double *block  = S.x + S.px[s];
           for (int i = 0; i < n_rows; ++i)
             t[i] = y[rows[i]];
           for (int j = 0; j < n_columns; ++j)
@@ -63,14 +43,14 @@ namespace FetiContact
 
     /** y ← L⁻ᵀ y; t holds the rows of one supernode. */
     FETICONTACT_KERNEL void
-    backward(const Supernodes &S, double *y, double *t)
+    backward(const SupernodalFactor &S, double *y, double *t)
     {
-      for (std::size_t s = S.n; s-- > 0;)
+      for (std::size_t s = S.n_supernodes; s-- > 0;)
         {
           const int     first = S.super[s], n_columns = S.super[s + 1] - first;
           const int     n_rows = S.pi[s + 1] - S.pi[s];
-          const int    *rows   = S.Ls + S.pi[s];
-          const double *block  = S.Lx + S.px[s];
+          const int    *rows   = S.s + S.pi[s];
+          const double *block  = S.x + S.px[s];
           for (int i = n_columns; i < n_rows; ++i)
             t[i] = y[rows[i]];
           for (int j = n_columns - 1; j >= 0; --j)
@@ -96,29 +76,52 @@ namespace FetiContact
     }
   } // namespace
 
-  SupernodalSolve::SupernodalSolve(const cholmod_factor &L)
-    : L(L)
+  SupernodalFactor
+  SupernodalFactor::of(const cholmod_factor &L)
   {
     require(L.is_super && L.is_ll && L.itype == CHOLMOD_INT && L.xtype == CHOLMOD_REAL,
             "SupernodalSolve: the factor is not a real supernodal LLᵀ factor with int indices.");
-    permuted.resize(L.n);
-    const Supernodes S(L);
-    int              max_rows = 0;
-    for (std::size_t s = 0; s < S.n; ++s)
-      max_rows = std::max(max_rows, S.pi[s + 1] - S.pi[s]);
-    rows_of_supernode.resize(max_rows);
+    SupernodalFactor f;
+    f.n            = L.n;
+    f.n_supernodes = L.nsuper;
+    f.super        = static_cast<const int *>(L.super);
+    f.pi           = static_cast<const int *>(L.pi);
+    f.px           = static_cast<const int *>(L.px);
+    f.s            = static_cast<const int *>(L.s);
+    f.perm         = static_cast<const int *>(L.Perm);
+    f.x            = static_cast<const double *>(L.x);
+    return f;
   }
+
+  std::size_t
+  SupernodalFactor::max_supernode_rows() const
+  {
+    int max_rows = 0;
+    for (std::size_t k = 0; k < n_supernodes; ++k)
+      max_rows = std::max(max_rows, pi[k + 1] - pi[k]);
+    return max_rows;
+  }
+
+  void
+  supernodal_solve(const SupernodalFactor &L, double *x, double *permuted, double *rows)
+  {
+    for (std::size_t k = 0; k < L.n; ++k)
+      permuted[k] = x[L.perm[k]];
+    forward(L, permuted, rows);
+    backward(L, permuted, rows);
+    for (std::size_t k = 0; k < L.n; ++k)
+      x[L.perm[k]] = permuted[k];
+  }
+
+  SupernodalSolve::SupernodalSolve(const cholmod_factor &factor)
+    : L(SupernodalFactor::of(factor))
+    , permuted(L.n)
+    , rows_of_supernode(L.max_supernode_rows())
+  {}
 
   void
   SupernodalSolve::solve(double *x) const
   {
-    const int       *perm = static_cast<const int *>(L.Perm);
-    const Supernodes S(L);
-    for (std::size_t k = 0; k < L.n; ++k)
-      permuted[k] = x[perm[k]];
-    forward(S, permuted.data(), rows_of_supernode.data());
-    backward(S, permuted.data(), rows_of_supernode.data());
-    for (std::size_t k = 0; k < L.n; ++k)
-      x[perm[k]] = permuted[k];
+    supernodal_solve(L, x, permuted.data(), rows_of_supernode.data());
   }
 } // namespace FetiContact

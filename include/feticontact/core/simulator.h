@@ -11,6 +11,7 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/feti/dual_problem.h>
+#include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
@@ -123,15 +124,20 @@ namespace FetiContact
     std::vector<unsigned int>          first_subdomain; ///< per body, + total at the end
     /** Verification/Reference displacements, by body and vertex (empty: none). */
     std::vector<std::vector<dealii::Tensor<1, 3>>> reference_displacements;
-    std::vector<unsigned int>                      owner;      ///< rank of each subdomain
-    std::vector<std::unique_ptr<Subdomain>>        subdomains; ///< this rank's
-    std::vector<Subdomain *>                       owned;
-    std::vector<unsigned int>                      mode_offset;
-    DualRows                                       rows;
-    std::vector<ContactNode>                       contact_nodes;
-    std::vector<ContactTriangle>                   contact_triangles;
-    DualLayout                                     layout;
-    std::unique_ptr<DualProblem>                   dual;
+    std::vector<unsigned int>                      owner; ///< rank of each subdomain
+    /**
+     * The factors in memory shared by the node's ranks, and the local work of every
+     * multiplication by F shared among them (FETI/Local work balance = shared, if possible).
+     */
+    std::unique_ptr<SharedLocalWork>        shared_work;
+    std::vector<std::unique_ptr<Subdomain>> subdomains; ///< this rank's
+    std::vector<Subdomain *>                owned;
+    std::vector<unsigned int>               mode_offset;
+    DualRows                                rows;
+    std::vector<ContactNode>                contact_nodes;
+    std::vector<ContactTriangle>            contact_triangles;
+    DualLayout                              layout;
+    std::unique_ptr<DualProblem>            dual;
 
     dealii::Vector<double> lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */

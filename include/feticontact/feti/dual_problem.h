@@ -4,6 +4,7 @@
 
 #include <feticontact/feti/coarse_problem.h>
 #include <feticontact/feti/equality_constraints.h>
+#include <feticontact/feti/shared_local_work.h>
 #include <feticontact/subdomain/subdomain.h>
 
 #include <mpi.h>
@@ -26,20 +27,26 @@ namespace FetiContact
    * adds up its rows, and an MPI_Allgatherv gives every rank all rows. F x, h and B u − c are then
    * the same bits on any number of ranks and any assignment of subdomains to ranks, and so are the
    * iterates and iteration counts of the solvers that use them (floating-point addition is not
-   * associative: a sum in rank order made n_A differ by 8 % between one and two ranks). Knows
-   * nothing of friction: it sees rows of B and their right-hand side c.
+   * associative: a sum in rank order made n_A differ by 8 % between one and two ranks). When the
+   * ranks of a node share their local work (SharedLocalWork), the slots are in shared memory,
+   * any rank may solve any subdomain, and every rank adds up all rows itself; the sums are the
+   * same. Knows nothing of friction: it sees rows of B and their right-hand side c.
    */
   class DualProblem
   {
   public:
     /**
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
-     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c.
+     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c. With
+     * @p shared (which holds the factors of all owned subdomains, SharedLocalWork::take_factor(),
+     * and must outlive this object) the ranks of the node share the local work of every
+     * multiplication by F; F x is the same either way.
      */
     DualProblem(const MPI_Comm                   comm,
                 const std::vector<Subdomain *>  &owned,
                 const std::vector<unsigned int> &mode_offset,
-                const DualRows                  &rows);
+                const DualRows                  &rows,
+                SharedLocalWork                 *shared = nullptr);
 
     /** The number of dual unknowns m. */
     unsigned int
@@ -93,16 +100,6 @@ namespace FetiContact
     mutable double lumped_time = 0;
 
   private:
-    /**
-     * B_i in coordinate form: rows (dual indices), DoFs of subdomain i, values, and the slot of
-     * each entry (its index among the nonzeros of B).
-     */
-    struct LocalBlock
-    {
-      std::vector<unsigned int> row, dof, slot;
-      std::vector<double>       value;
-    };
-
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
@@ -128,7 +125,7 @@ namespace FetiContact
 
     MPI_Comm                                    comm;
     std::vector<Subdomain *>                    owned;
-    std::vector<LocalBlock>                     B;
+    std::vector<BlockOfB>                       B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;
     /** The slots of every row in summation order (CSR: slot_start, slot_order). */
@@ -139,6 +136,10 @@ namespace FetiContact
      * are received before the rows are added up; the rest stay zero and are never read.
      */
     mutable std::vector<double> slots;
+    /** The local work shared by the node's ranks (then the slots are its shared slots). */
+    SharedLocalWork *shared = nullptr;
+    /** slots.data(), or the shared slots. */
+    double *slot_values = nullptr;
     /**
      * The slots exchanged with one other rank: their indices (increasing) and a buffer for
      * their values.

@@ -24,6 +24,12 @@ namespace FetiContact::Parameters
     /** The backend that factorizes the regularized subdomain stiffness matrices. */
     std::string local_solver = "cholmod";
 
+    /**
+     * The ranks of a node share the local work of every multiplication by F (SharedLocalWork),
+     * where possible; otherwise each rank solves its own subdomains.
+     */
+    bool share_local_work = true;
+
     /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
     double       relative_tolerance = 1e-10;
     unsigned int max_iterations     = 5000;

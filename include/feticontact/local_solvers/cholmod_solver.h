@@ -67,6 +67,26 @@ namespace FetiContact
     }
 
     /**
+     * The factor that solve() uses, if the solves are the project's (Solves::project and a
+     * supernodal factor); nullptr otherwise.
+     */
+    const SupernodalFactor *
+    supernodal_factor() const
+    {
+      return supernodal ? &supernodal->factor() : nullptr;
+    }
+
+    /**
+     * Copies the numbers of L (supernodal_factor()->n_values() of them) to @p destination, frees
+     * CHOLMOD's, and solves with the copy from now on, which must outlive this object's solves:
+     * the factor moves to memory shared by the ranks of a node (SharedLocalWork) and is stored
+     * once. Only with the project's solves; solve_by_library(), solve_half() and
+     * reciprocal_condition_estimate() refuse afterwards.
+     */
+    void
+    move_factor_values(double *destination);
+
+    /**
      * With the factorization P A Pᵀ = L Lᵀ (P the fill-reducing permutation): x ← L⁻¹ P x if
      * @p transpose is false, x ← Pᵀ L⁻ᵀ x if true. Then A⁻¹ = (L⁻¹P)ᵀ(L⁻¹P), and for A = GGᵀ the
      * rows of L⁻¹PG are orthonormal.
@@ -89,5 +109,7 @@ namespace FetiContact
     mutable cholmod_dense           *x_work = nullptr, *y_work = nullptr, *e_work = nullptr;
     mutable cholmod_dense           *b_work = nullptr;
     std::size_t                      n      = 0;
+    /** Whether move_factor_values() has taken the numbers of L out of CHOLMOD's factor. */
+    bool values_moved = false;
   };
 } // namespace FetiContact

@@ -2,6 +2,7 @@
 
 #include <cholmod.h>
 
+#include <cstddef>
 #include <vector>
 
 namespace FetiContact
@@ -25,6 +26,44 @@ namespace FetiContact
    * fused multiply-add, no reassociation), so the results do not depend on the processor's
    * instruction set, nor on which MPI rank solves.
    */
+  /**
+   * A supernodal factor P A Pᵀ = L Lᵀ in CHOLMOD's layout, by pointers to its arrays (owned
+   * elsewhere): supernode k has the columns super[k] … super[k+1] − 1 and the rows
+   * s[pi[k]] … s[pi[k+1] − 1] (the first ones its own columns); its numbers are a column-major
+   * block of pi[k+1] − pi[k] rows at x + px[k]; perm is P (row k of P A Pᵀ is row perm[k] of A).
+   * CHOLMOD's own factor (of()), or a copy of its arrays in memory shared by the ranks of a node
+   * (SharedLocalWork).
+   */
+  struct SupernodalFactor
+  {
+    /** The arrays of CHOLMOD's factor @p L (is_super, LLᵀ, int indices). */
+    static SupernodalFactor
+    of(const cholmod_factor &L);
+
+    /** The largest number of rows of a supernode: the size of solve()'s second work array. */
+    std::size_t
+    max_supernode_rows() const;
+
+    /** The number of stored numbers of L (px[n_supernodes]). */
+    std::size_t
+    n_values() const
+    {
+      return n_supernodes == 0 ? 0 : static_cast<std::size_t>(px[n_supernodes]);
+    }
+
+    std::size_t   n = 0, n_supernodes = 0;
+    const int    *super = nullptr, *pi = nullptr, *px = nullptr, *s = nullptr, *perm = nullptr;
+    const double *x = nullptr;
+  };
+
+  /**
+   * Overwrites @p x (L.n numbers) by A⁻¹ x = Pᵀ L⁻ᵀ L⁻¹ P x; @p permuted (L.n numbers) and
+   * @p rows (L.max_supernode_rows()) are work arrays.
+   */
+  void
+  supernodal_solve(const SupernodalFactor &L, double *x, double *permuted, double *rows);
+
+  /** supernodal_solve() bound to one factor, with its own work arrays. */
   class SupernodalSolve
   {
   public:
@@ -38,8 +77,25 @@ namespace FetiContact
     void
     solve(double *x) const;
 
+    /** The factor solved with. */
+    const SupernodalFactor &
+    factor() const
+    {
+      return L;
+    }
+
+    /**
+     * Solves with the numbers of L at @p values from now on (the same layout, e.g. a copy in
+     * shared memory; CHOLMOD's may then be freed).
+     */
+    void
+    rebind_values(const double *values)
+    {
+      L.x = values;
+    }
+
   private:
-    const cholmod_factor       &L;
+    SupernodalFactor            L;
     mutable std::vector<double> permuted, rows_of_supernode;
   };
 } // namespace FetiContact

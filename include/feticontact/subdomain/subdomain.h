@@ -64,6 +64,13 @@ namespace FetiContact
     void
     apply_generalized_inverse(dealii::Vector<double> &x) const;
 
+    /** The backend that holds the factor of K̃_i (nullptr before factorize()). */
+    LocalSolver *
+    local_solver()
+    {
+      return solver.get();
+    }
+
     /** The number of unknowns (without eliminated prescribed DoFs). */
     unsigned int
     n_unknowns() const;

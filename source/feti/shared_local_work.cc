@@ -1,4 +1,3 @@
-#include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
@@ -14,6 +13,8 @@ namespace FetiContact
 {
   using namespace dealii;
 
+  // A failure here is not the user's input (shared memory exhausted, /dev/shm not writable)
+  // and may hit one rank only: AssertThrow, which ends all ranks (main.cc), not InputError.
   namespace
   {
     /** The sizes of one subdomain's arrays in the shared memory, as all ranks learn them. */
@@ -106,18 +107,19 @@ namespace FetiContact
   SharedLocalWork::take_factor(Subdomain &subdomain)
   {
     CholmodSolver *solver = cholmod_of(subdomain);
-    require(solver != nullptr,
-            "SharedLocalWork: subdomain " + std::to_string(subdomain.global_index) +
-              " is not factorized by CHOLMOD with the project's solves.");
+    AssertThrow(solver != nullptr,
+                ExcMessage("SharedLocalWork: subdomain " + std::to_string(subdomain.global_index) +
+                           " is not factorized by CHOLMOD with the project's solves."));
     const std::size_t page  = sysconf(_SC_PAGESIZE);
     const std::size_t bytes = std::max<std::size_t>(
       (solver->supernodal_factor()->n_values() * sizeof(double) + page - 1) / page * page, page);
     const std::string name = segment_name(subdomain.global_index);
     const int         fd   = shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR, 0600);
-    require(fd >= 0,
-            "Shared memory for the factor of subdomain " + std::to_string(subdomain.global_index) +
-              " (" + name + "): " + std::strerror(errno) +
-              ". Set FETI/Local work balance = fixed to run without it.");
+    AssertThrow(fd >= 0,
+                ExcMessage("Shared memory for the factor of subdomain " +
+                           std::to_string(subdomain.global_index) + " (" + name +
+                           "): " + std::strerror(errno) +
+                           ". Set FETI/Local work balance = fixed to run without it."));
     void *address = MAP_FAILED;
     if (ftruncate(fd, bytes) == 0)
       address = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
@@ -125,10 +127,11 @@ namespace FetiContact
     close(fd);
     if (address == MAP_FAILED)
       shm_unlink(name.c_str());
-    require(address != MAP_FAILED,
-            "Shared memory of " + std::to_string(bytes) + " bytes for the factor of subdomain " +
-              std::to_string(subdomain.global_index) + ": " + std::strerror(error) +
-              ". Set FETI/Local work balance = fixed to run without it.");
+    AssertThrow(address != MAP_FAILED,
+                ExcMessage("Shared memory of " + std::to_string(bytes) +
+                           " bytes for the factor of subdomain " +
+                           std::to_string(subdomain.global_index) + ": " + std::strerror(error) +
+                           ". Set FETI/Local work balance = fixed to run without it."));
     own_segments.push_back({subdomain.global_index, address, bytes});
     own_bytes += bytes;
 #ifdef MADV_POPULATE_WRITE
@@ -157,9 +160,10 @@ namespace FetiContact
           std::find_if(own_segments.begin(), own_segments.end(), [&](const Segment &segment) {
             return segment.subdomain == owned[i]->global_index;
           });
-        require(solver != nullptr && taken != own_segments.end(),
-                "SharedLocalWork: the factor of subdomain " +
-                  std::to_string(owned[i]->global_index) + " is not in shared memory.");
+        AssertThrow(solver != nullptr && taken != own_segments.end(),
+                    ExcMessage("SharedLocalWork: the factor of subdomain " +
+                               std::to_string(owned[i]->global_index) +
+                               " is not in shared memory."));
         const SupernodalFactor &L = *solver->supernodal_factor();
         own[i]                    = {owned[i]->global_index,
                                      this_rank,
@@ -256,10 +260,11 @@ namespace FetiContact
             const int error = errno;
             if (fd >= 0)
               close(fd);
-            require(address != MAP_FAILED,
-                    "Shared memory of the factor of subdomain " + std::to_string(all[t].subdomain) +
-                      " (" + name + "): " + std::strerror(error) +
-                      ". Set FETI/Local work balance = fixed to run without it.");
+            AssertThrow(address != MAP_FAILED,
+                        ExcMessage("Shared memory of the factor of subdomain " +
+                                   std::to_string(all[t].subdomain) + " (" + name +
+                                   "): " + std::strerror(error) +
+                                   ". Set FETI/Local work balance = fixed to run without it."));
             mapped_segments.push_back(
               {static_cast<unsigned int>(all[t].subdomain), address, n_bytes});
             values = static_cast<const double *>(address);

@@ -112,7 +112,8 @@ namespace FetiContact
     Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
     if (n == 0)
       return;
-    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
+    AssertThrow(!values_moved,
+                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -125,7 +126,8 @@ namespace FetiContact
   {
     if (n == 0)
       return;
-    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
+    AssertThrow(!values_moved,
+                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -139,8 +141,9 @@ namespace FetiContact
   void
   CholmodSolver::move_factor_values(double *destination)
   {
-    require(supernodal != nullptr,
-            "CholmodSolver: only a supernodal factor with the project's solves can move.");
+    AssertThrow(supernodal != nullptr,
+                ExcMessage("CholmodSolver: only a supernodal factor with the project's solves "
+                           "can move."));
     const std::size_t n_values = supernodal->factor().n_values();
     std::memcpy(destination, factor->x, n_values * sizeof(double));
     cholmod_free(factor->xsize, sizeof(double), factor->x, &common);
@@ -153,7 +156,8 @@ namespace FetiContact
   double
   CholmodSolver::reciprocal_condition_estimate() const
   {
-    require(!values_moved, "CholmodSolver: the factor's numbers have moved out of CHOLMOD.");
+    AssertThrow(!values_moved,
+                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     return n == 0 ? 1.0 : cholmod_rcond(factor, &common);
   }
 } // namespace FetiContact

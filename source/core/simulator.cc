@@ -171,16 +171,19 @@ namespace FetiContact
   Simulator::factorize()
   {
     TimerOutput::Scope scope(timer, "factorization");
-    if (parameters.feti.share_local_work &&
+    if (parameters.feti.shared_local_work > 0 &&
         SharedLocalWork::possible(comm, parameters.feti.local_solver))
       shared_work = std::make_unique<SharedLocalWork>(comm);
-    for (auto *s : owned)
+    // The reserve whose factors go to shared memory: the last subdomains of this rank's range.
+    const std::size_t n_own =
+      owned.size() - std::lround(parameters.feti.shared_local_work * owned.size());
+    for (std::size_t i = 0; i < owned.size(); ++i)
       {
-        s->factorize(parameters.feti.local_solver);
+        owned[i]->factorize(parameters.feti.local_solver);
         // The factor moves to shared memory at once, so that the next factorization reuses
         // the memory CHOLMOD frees.
-        if (shared_work)
-          shared_work->take_factor(*s);
+        if (shared_work && i >= n_own)
+          shared_work->take_factor(*owned[i]);
       }
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
@@ -547,11 +550,7 @@ namespace FetiContact
     // or every rank its own subdomains.
     const SharedLocalWork    *shared = shared_work.get();
     const std::vector<double> local_solves =
-      Utilities::MPI::all_gather(comm,
-                                 static_cast<double>(shared ?
-                                                       shared->n_local_solves() :
-                                                       static_cast<unsigned long>(owned.size()) *
-                                                         dual->n_F_applications));
+      Utilities::MPI::all_gather(comm, static_cast<double>(dual->n_subdomain_solves));
     const std::vector<double> shared_mib = Utilities::MPI::all_gather(
       comm, shared ? static_cast<double>(shared->shared_bytes()) / (1024. * 1024.) : 0.);
     JsonObject local_work;
@@ -560,8 +559,9 @@ namespace FetiContact
       .set("shared_mib_per_rank", shared_mib);
     if (shared)
       {
-        pcout << "Local work shared by the node's " << n_ranks
-              << " ranks (FETI/Local work balance): subdomain solves per rank";
+        pcout << "Local work: a reserve of " << std::lround(100 * parameters.feti.shared_local_work)
+              << " % of the subdomains shared by the node's " << n_ranks
+              << " ranks (FETI/Shared local work); subdomain solves per rank";
         for (const double n : local_solves)
           pcout << " " << static_cast<unsigned long>(n);
         pcout << "; shared memory per rank (factors, B, slots)";

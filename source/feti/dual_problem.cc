@@ -75,6 +75,9 @@ namespace FetiContact
         slots.assign(rows.entries.size(), 0.);
         slot_values = slots.data();
       }
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      if (!shared || !shared->holds(owned[i]->global_index))
+        own_work.push_back(i);
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -286,15 +289,16 @@ namespace FetiContact
   DualProblem::apply_F(const Vector<double> &x, Vector<double> &y) const
   {
     const auto start = std::chrono::steady_clock::now();
+    // This rank's own subdomains, then (if the node's ranks share work) the reserves.
+    for (const unsigned int i : own_work)
+      {
+        set_Bt(i, x, work[i]);
+        owned[i]->apply_generalized_inverse(work[i]);
+        set_B_slots(i, work[i]);
+      }
+    n_subdomain_solves += own_work.size();
     if (shared)
-      shared->apply(x);
-    else
-      for (unsigned int i = 0; i < owned.size(); ++i)
-        {
-          set_Bt(i, x, work[i]);
-          owned[i]->apply_generalized_inverse(work[i]);
-          set_B_slots(i, work[i]);
-        }
+      n_subdomain_solves += shared->apply(x);
     F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     sum_slots(y);
     ++n_F_applications;

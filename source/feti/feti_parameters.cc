@@ -30,17 +30,16 @@ namespace FetiContact::Parameters
                       "Amesos2 KLU2), 'amesos-mumps' (Trilinos Amesos MUMPS), 'umfpack' "
                       "(SuiteSparse UMFPACK through deal.II). See doc/local_solvers.md for "
                       "timings.");
-    prm.declare_entry("Local work balance",
-                      "shared",
-                      Patterns::Selection("shared|fixed"),
-                      "How the MPI ranks split the local work of every multiplication by F "
-                      "(the solves with the subdomains' factors). 'shared' (the default): with "
-                      "several ranks on one node and the backend 'cholmod', the factors move to "
-                      "memory shared by the node's ranks and every multiplication hands out the "
-                      "subdomains to whichever rank is free, so that a rank on a slower core "
-                      "takes fewer; otherwise as 'fixed'. 'fixed': every rank solves its own "
-                      "subdomains. The results are the same to the last digit "
-                      "(doc/performance.md).");
+    prm.declare_entry("Shared local work",
+                      "0.25",
+                      Patterns::Double(0, 1),
+                      "With several MPI ranks on one node and the backend 'cholmod': the "
+                      "fraction of every rank's subdomains (its reserve) whose factors move to "
+                      "memory shared by the node's ranks. In every multiplication by F a rank "
+                      "solves its other subdomains, then takes subdomains from its reserve and, "
+                      "when that is empty, from the other ranks' reserves, so that a rank on a "
+                      "slower core solves fewer. 0: every rank solves its own subdomains. "
+                      "The results are the same to the last digit (doc/performance.md).");
     prm.declare_entry("Relative tolerance",
                       "1e-10",
                       Patterns::Double(0, 1),
@@ -69,7 +68,7 @@ namespace FetiContact::Parameters
     dirichlet_treatment = prm.get("Dirichlet treatment") == "primal" ? DirichletTreatment::primal :
                                                                        DirichletTreatment::total;
     local_solver        = prm.get("Local solver");
-    share_local_work    = prm.get("Local work balance") == "shared";
+    shared_local_work   = prm.get_double("Shared local work");
     relative_tolerance  = prm.get_double("Relative tolerance");
     require(relative_tolerance > 0,
             "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));

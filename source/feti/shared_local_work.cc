@@ -119,7 +119,7 @@ namespace FetiContact
                 ExcMessage("Shared memory for the factor of subdomain " +
                            std::to_string(subdomain.global_index) + " (" + name +
                            "): " + std::strerror(errno) +
-                           ". Set FETI/Local work balance = fixed to run without it."));
+                           ". Set FETI/Shared local work = 0 to run without it."));
     void *address = MAP_FAILED;
     if (ftruncate(fd, bytes) == 0)
       address = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
@@ -131,7 +131,7 @@ namespace FetiContact
                 ExcMessage("Shared memory of " + std::to_string(bytes) +
                            " bytes for the factor of subdomain " +
                            std::to_string(subdomain.global_index) + ": " + std::strerror(error) +
-                           ". Set FETI/Local work balance = fixed to run without it."));
+                           ". Set FETI/Shared local work = 0 to run without it."));
     own_segments.push_back({subdomain.global_index, address, bytes});
     own_bytes += bytes;
 #ifdef MADV_POPULATE_WRITE
@@ -149,23 +149,24 @@ namespace FetiContact
   {
     AssertThrow(B.size() == owned.size(), ExcDimensionMismatch(B.size(), owned.size()));
     AssertThrow(tasks.empty(), ExcMessage("SharedLocalWork::share() is called once."));
+    int n_ranks = 1;
+    MPI_Comm_size(comm, &n_ranks);
 
-    // The records of this rank's subdomains, one after the other.
-    std::vector<TaskSizes> own(owned.size());
-    std::size_t            bytes = 0;
+    // The records of this rank's subdomains in shared memory, one after the other.
+    std::vector<unsigned int> in_reserve;
     for (unsigned int i = 0; i < owned.size(); ++i)
+      if (holds(owned[i]->global_index))
+        in_reserve.push_back(i);
+    AssertThrow(in_reserve.size() == own_segments.size(),
+                ExcMessage("SharedLocalWork: a factor in shared memory belongs to no owned "
+                           "subdomain."));
+    std::vector<TaskSizes> own(in_reserve.size());
+    std::size_t            bytes = 0;
+    for (unsigned int j = 0; j < in_reserve.size(); ++j)
       {
-        const CholmodSolver *solver = cholmod_of(*owned[i]);
-        const auto           taken =
-          std::find_if(own_segments.begin(), own_segments.end(), [&](const Segment &segment) {
-            return segment.subdomain == owned[i]->global_index;
-          });
-        AssertThrow(solver != nullptr && taken != own_segments.end(),
-                    ExcMessage("SharedLocalWork: the factor of subdomain " +
-                               std::to_string(owned[i]->global_index) +
-                               " is not in shared memory."));
-        const SupernodalFactor &L = *solver->supernodal_factor();
-        own[i]                    = {owned[i]->global_index,
+        const unsigned int      i = in_reserve[j];
+        const SupernodalFactor &L = *cholmod_of(*owned[i])->supernodal_factor();
+        own[j]                    = {owned[i]->global_index,
                                      this_rank,
                                      static_cast<long long>(bytes),
                                      static_cast<long long>(L.n),
@@ -174,9 +175,10 @@ namespace FetiContact
                                      static_cast<long long>(L.n_values()),
                                      static_cast<long long>(owned[i]->kernel_fixing_dofs.size()),
                                      static_cast<long long>(B[i].row.size())};
-        bytes += Layout(own[i]).bytes;
+        bytes += Layout(own[j]).bytes;
       }
-    const std::size_t slot_bytes = this_rank == 0 ? 64 + sizeof(double) * n_slots : 0;
+    // Rank 0's window: one counter per rank, each on a cache line of its own, then the slots.
+    const std::size_t slot_bytes = this_rank == 0 ? 64 * n_ranks + sizeof(double) * n_slots : 0;
     own_bytes += bytes + slot_bytes;
 
     MPI_Info info;
@@ -190,10 +192,11 @@ namespace FetiContact
     MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
     MPI_Win_lock_all(MPI_MODE_NOCHECK, slot_window);
 
-    for (unsigned int i = 0; i < owned.size(); ++i)
+    for (unsigned int j = 0; j < in_reserve.size(); ++j)
       {
-        const Layout            layout(own[i]);
-        char                   *record = base + own[i].offset;
+        const unsigned int      i = in_reserve[j];
+        const Layout            layout(own[j]);
+        char                   *record = base + own[j].offset;
         const SupernodalFactor &L      = *cholmod_of(*owned[i])->supernodal_factor();
         const auto              ns     = L.n_supernodes + 1;
         const auto             &b      = B[i];
@@ -202,7 +205,7 @@ namespace FetiContact
         copy_to(record, layout.super, L.super, ns);
         copy_to(record, layout.pi, L.pi, ns);
         copy_to(record, layout.px, L.px, ns);
-        copy_to(record, layout.s, L.s, own[i].n_row_indices);
+        copy_to(record, layout.s, L.s, own[j].n_row_indices);
         copy_to(record, layout.perm, L.perm, L.n);
         std::vector<int> as_int(fixed.begin(), fixed.end());
         copy_to(record, layout.fixed, as_int.data(), as_int.size());
@@ -214,13 +217,17 @@ namespace FetiContact
         copy_to(record, layout.slot, as_int.data(), as_int.size());
       }
 
-    // Every rank's records, in the order of the subdomains, and the other ranks' factors.
+    // Every rank's records, rank by rank in the order of the subdomains, and the other ranks'
+    // factors.
     auto all = MPITools::all_gather(comm, own);
     std::sort(all.begin(), all.end(), [](const TaskSizes &a, const TaskSizes &b) {
-      return a.subdomain < b.subdomain;
+      return a.rank < b.rank || (a.rank == b.rank && a.subdomain < b.subdomain);
     });
-    int n_ranks = 1;
-    MPI_Comm_size(comm, &n_ranks);
+    first_task_of_rank.assign(n_ranks + 1, 0);
+    for (const TaskSizes &t : all)
+      ++first_task_of_rank[t.rank + 1];
+    for (int r = 0; r < n_ranks; ++r)
+      first_task_of_rank[r + 1] += first_task_of_rank[r];
     std::vector<char *> rank_base(n_ranks, nullptr);
     for (int r = 0; r < n_ranks; ++r)
       {
@@ -234,8 +241,10 @@ namespace FetiContact
       MPI_Aint size      = 0;
       int      disp_unit = 1;
       MPI_Win_shared_query(slot_window, 0, &size, &disp_unit, &slot_base);
-      counter      = reinterpret_cast<int *>(slot_base);
-      shared_slots = reinterpret_cast<double *>(slot_base + 64);
+      counters.resize(n_ranks);
+      for (int r = 0; r < n_ranks; ++r)
+        counters[r] = reinterpret_cast<int *>(slot_base + 64 * r);
+      shared_slots = reinterpret_cast<double *>(slot_base + 64 * n_ranks);
     }
     tasks.resize(all.size());
     for (unsigned int t = 0; t < all.size(); ++t)
@@ -264,7 +273,7 @@ namespace FetiContact
                         ExcMessage("Shared memory of the factor of subdomain " +
                                    std::to_string(all[t].subdomain) + " (" + name +
                                    "): " + std::strerror(error) +
-                                   ". Set FETI/Local work balance = fixed to run without it."));
+                                   ". Set FETI/Shared local work = 0 to run without it."));
             mapped_segments.push_back(
               {static_cast<unsigned int>(all[t].subdomain), address, n_bytes});
             values = static_cast<const double *>(address);
@@ -287,7 +296,7 @@ namespace FetiContact
         task.value          = reinterpret_cast<const double *>(record + layout.value);
       }
     if (this_rank == 0)
-      *counter = 0;
+      reset_counter();
     synchronize();
     // Every rank has mapped the segments it needs: the names can go (the memory stays until
     // the last rank unmaps it, also if a rank ends abnormally).
@@ -324,31 +333,48 @@ namespace FetiContact
         }
   }
 
-  void
+  unsigned int
   SharedLocalWork::apply(const Vector<double> &x) const
   {
-    const int n_tasks = tasks.size();
-    for (;;)
+    // This rank's reserve first, then the other ranks' reserves: each list is handed out by
+    // its own counter, to its owner and to ranks that are done with their own work alike.
+    unsigned int n_solves = 0;
+    const int    n_ranks  = counters.size();
+    for (int q = 0; q < n_ranks; ++q)
       {
-        const int t = __atomic_fetch_add(counter, 1, __ATOMIC_RELAXED);
-        if (t >= n_tasks)
-          break;
-        const Task &task = tasks[t];
-        double     *y    = u.data();
-        // u = K_i⁺ B_iᵀ x, with the same operations in the same order as
-        // DualProblem::set_Bt and Subdomain::apply_generalized_inverse.
-        std::fill(y, y + task.L.n, 0.);
-        for (unsigned int k = 0; k < task.n_entries; ++k)
-          y[task.dof[k]] += task.value[k] * x[task.row[k]];
-        for (unsigned int k = 0; k < task.n_fixed; ++k)
-          y[task.fixed[k]] = 0;
-        supernodal_solve(task.L, y, permuted.data(), rows_of_supernode.data());
-        for (unsigned int k = 0; k < task.n_fixed; ++k)
-          y[task.fixed[k]] = 0;
-        for (unsigned int k = 0; k < task.n_entries; ++k)
-          shared_slots[task.slot[k]] = task.value[k] * y[task.dof[k]];
-        ++n_solved;
+        const int r = (this_rank + q) % n_ranks;
+        const int n = first_task_of_rank[r + 1] - first_task_of_rank[r];
+        for (;;)
+          {
+            const int t = __atomic_fetch_add(counters[r], 1, __ATOMIC_RELAXED);
+            if (t >= n)
+              break;
+            const Task &task = tasks[first_task_of_rank[r] + t];
+            double     *y    = u.data();
+            // u = K_i⁺ B_iᵀ x, with the same operations in the same order as
+            // DualProblem::set_Bt and Subdomain::apply_generalized_inverse.
+            std::fill(y, y + task.L.n, 0.);
+            for (unsigned int k = 0; k < task.n_entries; ++k)
+              y[task.dof[k]] += task.value[k] * x[task.row[k]];
+            for (unsigned int k = 0; k < task.n_fixed; ++k)
+              y[task.fixed[k]] = 0;
+            supernodal_solve(task.L, y, permuted.data(), rows_of_supernode.data());
+            for (unsigned int k = 0; k < task.n_fixed; ++k)
+              y[task.fixed[k]] = 0;
+            for (unsigned int k = 0; k < task.n_entries; ++k)
+              shared_slots[task.slot[k]] = task.value[k] * y[task.dof[k]];
+            ++n_solves;
+          }
       }
+    return n_solves;
+  }
+
+  bool
+  SharedLocalWork::holds(const unsigned int subdomain) const
+  {
+    return std::any_of(own_segments.begin(), own_segments.end(), [&](const Segment &segment) {
+      return segment.subdomain == subdomain;
+    });
   }
 
   void
@@ -364,6 +390,7 @@ namespace FetiContact
   void
   SharedLocalWork::reset_counter() const
   {
-    __atomic_store_n(counter, 0, __ATOMIC_RELAXED);
+    for (int *counter : counters)
+      __atomic_store_n(counter, 0, __ATOMIC_RELAXED);
   }
 } // namespace FetiContact

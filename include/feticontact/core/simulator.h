@@ -126,8 +126,8 @@ namespace FetiContact
     std::vector<std::vector<dealii::Tensor<1, 3>>> reference_displacements;
     std::vector<unsigned int>                      owner; ///< rank of each subdomain
     /**
-     * The factors in memory shared by the node's ranks, and the local work of every
-     * multiplication by F shared among them (FETI/Local work balance = shared, if possible).
+     * The reserves of the node's ranks: factors in shared memory, whose local work in every
+     * multiplication by F the ranks share (FETI/Shared local work > 0, if possible).
      */
     std::unique_ptr<SharedLocalWork>        shared_work;
     std::vector<std::unique_ptr<Subdomain>> subdomains; ///< this rank's

@@ -38,9 +38,9 @@ namespace FetiContact
     /**
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
      * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c. With
-     * @p shared (which holds the factors of all owned subdomains, SharedLocalWork::take_factor(),
-     * and must outlive this object) the ranks of the node share the local work of every
-     * multiplication by F; F x is the same either way.
+     * @p shared (which holds the factors of this rank's reserve, SharedLocalWork::take_factor(),
+     * and must outlive this object) the ranks of the node share the reserves' part of the local
+     * work of every multiplication by F; F x is the same either way.
      */
     DualProblem(const MPI_Comm                   comm,
                 const std::vector<Subdomain *>  &owned,
@@ -94,8 +94,10 @@ namespace FetiContact
      * rest is the exchange of the slots, the row sums of this rank's block, and waiting for the
      * other ranks.
      */
-    mutable double       F_local_time          = 0;
-    mutable unsigned int n_lumped_applications = 0;
+    mutable double F_local_time = 0;
+    /** The subdomain solves this rank made in apply_F (its own and from shared reserves). */
+    mutable unsigned long n_subdomain_solves    = 0;
+    mutable unsigned int  n_lumped_applications = 0;
     /** Wall time spent in apply_lumped [s]. */
     mutable double lumped_time = 0;
 
@@ -140,6 +142,8 @@ namespace FetiContact
     SharedLocalWork *shared = nullptr;
     /** slots.data(), or the shared slots. */
     double *slot_values = nullptr;
+    /** The owned subdomains (indices into owned) that only this rank solves. */
+    std::vector<unsigned int> own_work;
     /**
      * The slots exchanged with one other rank: their indices (increasing) and a buffer for
      * their values.

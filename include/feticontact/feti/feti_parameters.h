@@ -25,10 +25,10 @@ namespace FetiContact::Parameters
     std::string local_solver = "cholmod";
 
     /**
-     * The ranks of a node share the local work of every multiplication by F (SharedLocalWork),
-     * where possible; otherwise each rank solves its own subdomains.
+     * The fraction of every rank's subdomains whose local work the ranks of a node share
+     * (SharedLocalWork), where possible; 0: each rank solves its own subdomains.
      */
-    bool share_local_work = true;
+    double shared_local_work = 0.25;
 
     /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
     double       relative_tolerance = 1e-10;

@@ -29,14 +29,21 @@ namespace FetiContact
    * With subdomains assigned to ranks once, every multiplication waits for the slowest rank. On a
    * virtual machine the cores' speed changes within a run (doc/performance.md, "MPI on this
    * machine": local work 20.4 against 15.0 s on two ranks with equal subdomains), so no fixed
-   * assignment is balanced. Here the factors live in memory shared by the node's ranks: right
-   * after a subdomain is factorized, take_factor() moves the numbers of its factor out of
-   * CHOLMOD into a shared segment of its own (so the factors are stored once, and the memory
-   * CHOLMOD frees is reused by the next factorization). share() then copies the supernodal
-   * structure, the permutation, the DoFs fixed to zero and the blocks B_i into a shared window
-   * and maps every rank's segments. In every multiplication each rank takes the next subdomain
-   * from a counter in shared memory (an atomic increment) until none is left, and writes
-   * B_i u_i into the shared slots. A rank that is slower takes fewer subdomains.
+   * assignment is balanced. Here every rank keeps a reserve, a fraction of its subdomains whose
+   * factors live in memory shared by the node's ranks: right after such a subdomain is
+   * factorized, take_factor() moves the numbers of its factor out of CHOLMOD into a shared
+   * segment of its own (the factors stay stored once, and the memory CHOLMOD frees is reused by
+   * the next factorization). share() copies their supernodal structure, permutation, DoFs fixed
+   * to zero and blocks B_i into a shared window and maps every rank's segments. In every
+   * multiplication each rank solves its other subdomains as before (DualProblem), then takes
+   * subdomains from its own reserve and, once that is empty, from the other ranks' reserves: one
+   * counter per reserve in shared memory (an atomic increment), and B_i u_i goes into shared
+   * slots. A rank that is slower takes fewer subdomains.
+   *
+   * Only a reserve, because sharing every factor cost 8–10 % more local work per rank on
+   * balanced cores (doc/performance.md), most likely through the 4 KiB pages of shared memory
+   * (Debian's default gives shared memory no transparent huge pages; the heap's factors sit in
+   * 2 MiB pages).
    *
    * The work for a subdomain is the same operations in the same order whichever rank does it
    * (the kernels of SupernodalSolve do not depend on the instruction set), and DualProblem sums
@@ -74,14 +81,18 @@ namespace FetiContact
     take_factor(Subdomain &subdomain);
 
     /**
-     * Makes the local work of all ranks' subdomains available to every rank: the @p owned
-     * subdomains (every one passed to take_factor()) with their blocks @p B (in the same
-     * order), and @p n_slots shared slots. Collective, once.
+     * Makes the reserves of all ranks available to every rank: of the @p owned subdomains (with
+     * their blocks @p B, in the same order) those passed to take_factor(), and @p n_slots
+     * shared slots. Collective, once.
      */
     void
     share(const std::vector<Subdomain *> &owned,
           const std::vector<BlockOfB>    &B,
           const unsigned int              n_slots);
+
+    /** Whether the factor of subdomain @p subdomain (global index) is in this rank's reserve. */
+    bool
+    holds(const unsigned int subdomain) const;
 
     /** The shared slots: one number per nonzero of B, read and written by every rank. */
     double *
@@ -91,11 +102,11 @@ namespace FetiContact
     }
 
     /**
-     * Writes B_i K_i⁺ B_iᵀ x into the slots of every subdomain of the node, the subdomains taken
-     * by whichever rank is free. Collective; returns after this rank found no subdomain left
-     * (call synchronize() before reading the slots).
+     * Writes B_i K_i⁺ B_iᵀ x into the slots of the subdomains of all reserves, taken by whichever
+     * rank is free, and returns how many this rank solved. Collective; returns once this rank
+     * found no subdomain left (call synchronize() before reading the slots).
      */
-    void
+    unsigned int
     apply(const dealii::Vector<double> &x) const;
 
     /**
@@ -106,18 +117,11 @@ namespace FetiContact
     synchronize() const;
 
     /**
-     * Resets the counter of apply() for the next multiplication: between two calls of
+     * Resets the counters of apply() for the next multiplication: between two calls of
      * synchronize() that follow apply() (every rank may call it).
      */
     void
     reset_counter() const;
-
-    /** The number of subdomain solves this rank made in apply() so far. */
-    unsigned long
-    n_local_solves() const
-    {
-      return n_solved;
-    }
 
     /** The bytes of shared memory this rank allocated (factors, structure, blocks, slots). */
     std::size_t
@@ -153,14 +157,17 @@ namespace FetiContact
     long long            job       = 0;
     std::vector<Segment> own_segments, mapped_segments;
     MPI_Win              window = MPI_WIN_NULL, slot_window = MPI_WIN_NULL;
-    std::vector<Task>    tasks;
-    double              *shared_slots = nullptr;
-    int                 *counter      = nullptr;
-    std::size_t          own_bytes    = 0;
+    /** The subdomains of all reserves, rank by rank (those of rank r from first_task_of_rank[r]).
+     */
+    std::vector<Task>         tasks;
+    std::vector<unsigned int> first_task_of_rank;
+    /** The counters of the reserves, in rank 0's part of the window. */
+    std::vector<int *> counters;
+    double            *shared_slots = nullptr;
+    std::size_t        own_bytes    = 0;
     /** Whether share() has removed the names of this rank's segments. */
     bool names_removed = false;
     /** Work arrays of one solve (sized for the largest subdomain). */
     mutable std::vector<double> u, permuted, rows_of_supernode;
-    mutable unsigned long       n_solved = 0;
   };
 } // namespace FetiContact

@@ -28,7 +28,7 @@ namespace FetiContact::Parameters
      * The fraction of every rank's subdomains whose local work the ranks of a node share
      * (SharedLocalWork), where possible; 0: each rank solves its own subdomains.
      */
-    double shared_local_work = 0.25;
+    double shared_local_work = 0;
 
     /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
     double       relative_tolerance = 1e-10;

@@ -43,7 +43,9 @@ namespace FetiContact
    * Only a reserve, because sharing every factor cost 8–10 % more local work per rank on
    * balanced cores (doc/performance.md), most likely through the 4 KiB pages of shared memory
    * (Debian's default gives shared memory no transparent huge pages; the heap's factors sit in
-   * 2 MiB pages).
+   * 2 MiB pages). Measured on this project's virtual machine, a reserve of a quarter balanced the
+   * ranks and paid off at 10⁵ unknowns but cost 10–15 % at 10⁶, so it is off by default
+   * (FETI/Shared local work = 0).
    *
    * The work for a subdomain is the same operations in the same order whichever rank does it
    * (the kernels of SupernodalSolve do not depend on the instruction set), and DualProblem sums

@@ -58,21 +58,23 @@ namespace FetiContact
       {
         const auto &node = nodes[k];
         auto       &r    = results[k];
-        r.lambda_N       = lambda[layout.normal_row[k]];
+        // The node's multipliers times σ_k are the contact force (σ_k ≠ 1 for averaged rows).
+        const double sigma = layout.scale_of_node(k);
+        r.lambda_N         = sigma * lambda[layout.normal_row[k]];
         if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
           {
             const unsigned int first = layout.tangential_row[k];
             if (!layout.polygonal)
               {
-                r.lambda_T[0] = lambda[first];
-                r.lambda_T[1] = lambda[first + 1];
+                r.lambda_T[0] = sigma * lambda[first];
+                r.lambda_T[1] = sigma * lambda[first + 1];
               }
             else
               for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
                 {
                   const double angle = numbers::PI * j / layout.tangential_per_node;
-                  r.lambda_T[0] += std::cos(angle) * lambda[first + j];
-                  r.lambda_T[1] += std::sin(angle) * lambda[first + j];
+                  r.lambda_T[0] += sigma * std::cos(angle) * lambda[first + j];
+                  r.lambda_T[1] += sigma * std::sin(angle) * lambda[first + j];
                 }
           }
         Tensor<1, 3> relative = vertex_u[node.body][node.vertex];

@@ -14,13 +14,15 @@ namespace FetiContact
                      const std::vector<std::unique_ptr<Body>> &bodies,
                      const std::vector<unsigned int>          &first_subdomain,
                      DualLayout                               &layout,
-                     const unsigned int                        polygon_directions)
+                     const unsigned int                        polygon_directions,
+                     const bool                                average)
   {
     std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
     for (const auto &body : bodies)
       parts[body->index] = parts_of_vertices(body->mesh, body->partition);
-    const auto copy = [&](unsigned int body, unsigned int vertex) {
-      return first_subdomain[body] + parts[body][vertex].front();
+    // The copies a row acts on: the lowest-numbered one, or all of them (averaged).
+    const auto n_copies = [&](unsigned int body, unsigned int vertex) -> unsigned int {
+      return average ? parts[body][vertex].size() : 1;
     };
 
     // A row (B u)_k = v·u_slave − v·u_master ≤ c_k has no entries on prescribed components:
@@ -33,37 +35,46 @@ namespace FetiContact
       const auto it = bodies[body]->prescribed.find(vertex);
       return it != bodies[body]->prescribed.end() ? it->second[c] : std::optional<double>();
     };
+    // σ_k: the averaged row v·(Σu_slave/p − Σu_master/q) has the length |v|√(1/p + 1/q) against
+    // |v|√2 of the row on single copies (|v| and √(1/p), √1 without a master).
+    const auto scale_of = [&](const ContactNode &node) {
+      const double p = n_copies(node.body, node.vertex);
+      if (!node.master)
+        return std::sqrt(p);
+      const double q = n_copies(node.master->first, node.master->second);
+      return std::sqrt(2.0 / (1.0 / p + 1.0 / q));
+    };
     const auto add_row =
       [&](DualRows &rows, const ContactNode &node, const Tensor<1, 3> &v, double c_k) {
         std::vector<DualRowEntry> row;
-        const unsigned int        s = copy(node.body, node.vertex);
-        for (unsigned int c = 0; c < 3; ++c)
-          if (v[c] != 0)
-            {
-              if (const auto p = prescribed(node.body, node.vertex, c))
-                c_k -= v[c] * *p;
-              else
-                row.push_back({s, node.vertex, c, v[c]});
-            }
-        if (node.master)
-          {
-            const auto [mb, mv]   = *node.master;
-            const unsigned int sm = copy(mb, mv);
+        const double              sigma = scale_of(node);
+        const auto                add_side =
+          [&](const unsigned int body, const unsigned int vertex, const double sign) {
+            const auto        &copies = parts[body][vertex];
+            const unsigned int p      = n_copies(body, vertex);
             for (unsigned int c = 0; c < 3; ++c)
               if (v[c] != 0)
                 {
-                  if (const auto p = prescribed(mb, mv, c))
-                    c_k += v[c] * *p;
+                  if (const auto prescribed_value = prescribed(body, vertex, c))
+                    c_k -= sign * v[c] * *prescribed_value;
                   else
-                    row.push_back({sm, mv, c, -v[c]});
+                    for (unsigned int j = 0; j < p; ++j)
+                      row.push_back(
+                        {first_subdomain[body] + copies[j], vertex, c, sigma * sign * v[c] / p});
                 }
-          }
-        rows.add_row(row, c_k);
+          };
+        add_side(node.body, node.vertex, 1.0);
+        if (node.master)
+          add_side(node.master->first, node.master->second, -1.0);
+        rows.add_row(row, sigma * c_k);
       };
 
     DualRows rows;
     layout.normal_row.assign(nodes.size(), 0);
     layout.tangential_row.assign(nodes.size(), numbers::invalid_unsigned_int);
+    layout.node_scale.resize(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      layout.node_scale[k] = scale_of(nodes[k]);
     layout.tangential_per_node = polygon_directions > 0 ? polygon_directions : 2;
     layout.polygonal           = polygon_directions > 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)

@@ -545,8 +545,8 @@ namespace FetiContact
           {
             std::vector<double> g(nodes.size(), 0.0);
             for (unsigned int k = 0; k < nodes.size(); ++k)
-              if (nodes[k].friction > 0)
-                g[k] = parameters.slip_bound;
+              if (nodes[k].friction > 0) // in the units of the node's multipliers
+                g[k] = parameters.slip_bound / layout.scale_of_node(k);
             set_slip_bounds(g);
           }
         const auto report       = solve_tresca(result.lambda, result.mu, result);

@@ -154,7 +154,8 @@ namespace FetiContact
                                 bodies,
                                 first_subdomain,
                                 layout,
-                                polygonal ? parameters.contact_solver.polygon_directions : 0);
+                                polygonal ? parameters.contact_solver.polygon_directions : 0,
+                                parameters.feti.average_contact_rows);
       const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
       layout.n_equality       = equality.n_rows();
       rows.append(equality);

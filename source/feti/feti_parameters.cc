@@ -42,6 +42,18 @@ namespace FetiContact::Parameters
                       "subdomains. 0.25 balanced unequal cores at k = 24 and 32 but cost 10–15 % "
                       "at 10⁶ unknowns on the machine of doc/performance.md. The results are "
                       "the same to the last digit.");
+    prm.declare_entry("Contact rows at interfaces",
+                      "lowest copy",
+                      Patterns::Selection("lowest copy|average"),
+                      "How a contact row (N, T1, T2) takes a contact node that lies on a "
+                      "subdomain interface and so has p ≥ 2 glued copies. 'lowest copy' (the "
+                      "default): the row acts on the copy in the lowest-numbered subdomain. "
+                      "'average': the row acts on the mean of the p copies, scaled by √p (by "
+                      "√((1 + 1)/(1/p + 1/q)) between two bodies with p and q copies) so that it "
+                      "keeps its length; it is then orthogonal to the gluing rows and B has "
+                      "orthonormal rows. The node's multipliers are then the contact force "
+                      "divided by that scale; all output is the force itself. Measured in "
+                      "doc/performance.md.");
     prm.declare_entry("Relative tolerance",
                       "1e-10",
                       Patterns::Double(0, 1),
@@ -67,11 +79,12 @@ namespace FetiContact::Parameters
   Feti::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("FETI");
-    dirichlet_treatment = prm.get("Dirichlet treatment") == "primal" ? DirichletTreatment::primal :
-                                                                       DirichletTreatment::total;
-    local_solver        = prm.get("Local solver");
-    shared_local_work   = prm.get_double("Shared local work");
-    relative_tolerance  = prm.get_double("Relative tolerance");
+    dirichlet_treatment  = prm.get("Dirichlet treatment") == "primal" ? DirichletTreatment::primal :
+                                                                        DirichletTreatment::total;
+    local_solver         = prm.get("Local solver");
+    shared_local_work    = prm.get_double("Shared local work");
+    average_contact_rows = prm.get("Contact rows at interfaces") == "average";
+    relative_tolerance   = prm.get_double("Relative tolerance");
     require(relative_tolerance > 0,
             "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
     max_iterations        = prm.get_integer("Maximum iterations");

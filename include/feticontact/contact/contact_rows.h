@@ -28,6 +28,18 @@ namespace FetiContact
     std::vector<unsigned int> normal_row;
     /** Per contact node: the first of its tangential rows, or invalid if F = 0. */
     std::vector<unsigned int> tangential_row;
+    /**
+     * Per contact node: the factor σ_k by which its rows are scaled (1 unless the rows average
+     * the copies of an interface node). Its multipliers are the contact force divided by σ_k.
+     */
+    std::vector<double> node_scale;
+
+    /** σ_k of contact node @p k (1 if node_scale was not filled). */
+    double
+    scale_of_node(const unsigned int k) const
+    {
+      return node_scale.empty() ? 1.0 : node_scale[k];
+    }
 
     unsigned int
     first_normal() const
@@ -50,7 +62,10 @@ namespace FetiContact
    * The rows of B_t = [T1; T2] and N with their right-hand sides (0 and the gaps d), for the
    * contact nodes: (u^p(x_k) − u^q(χ(x_k)))·v for v = t1_k, t2_k, n_k, or u^p(x_k)·v for a rigid
    * obstacle. A node on a subdomain interface uses the copy in its lowest-numbered subdomain
-   * (the copies are glued). Fills @p layout except n_equality.
+   * (the copies are glued), or with @p average the mean of its p copies, v·(u_1 + … + u_p)/p,
+   * scaled by σ_k = √p (√((1 + 1)/(1/p + 1/q)) with a master node of q copies) so that the row
+   * keeps its length and is orthogonal to the gluing rows; the gap is scaled by σ_k as well.
+   * Fills @p layout except n_equality.
    *
    * With @p polygon_directions = s > 0 (the polygonal baseline of the seed's Table 3) a node
    * with friction gets s tangential rows along d_j = cos(πj/s) t1 + sin(πj/s) t2, j = 0 … s−1,
@@ -61,5 +76,6 @@ namespace FetiContact
                      const std::vector<std::unique_ptr<Body>> &bodies,
                      const std::vector<unsigned int>          &first_subdomain,
                      DualLayout                               &layout,
-                     const unsigned int                        polygon_directions = 0);
+                     const unsigned int                        polygon_directions = 0,
+                     const bool                                average            = false);
 } // namespace FetiContact

@@ -30,6 +30,15 @@ namespace FetiContact::Parameters
      */
     double shared_local_work = 0;
 
+    /**
+     * How the contact rows N, T1, T2 take a contact node that lies on a subdomain interface
+     * (p ≥ 2 glued copies): `lowest copy` puts the row on the copy of the lowest-numbered
+     * subdomain; `average` puts it on the mean of all copies, scaled so that the row keeps its
+     * length. The averaged row is orthogonal to the gluing rows there (Helmert's contrasts sum
+     * to zero), so B has orthonormal rows: Dostál's setting for the bounds on the spectrum of F.
+     */
+    bool average_contact_rows = false;
+
     /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
     double       relative_tolerance = 1e-10;
     unsigned int max_iterations     = 5000;

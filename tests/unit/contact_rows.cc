@@ -1,0 +1,161 @@
+// The contact rows N, T1, T2 at contact nodes on subdomain interfaces (FETI/Contact rows at
+// interfaces), on the brick (k = 4) cut into 3 × 2 × 2 blocks, TFETI, pressed on a rigid plane
+// 0.01 below it (so that the gaps d are not zero):
+//  - averaged rows: σ_k² is the number p of glued copies of the node (1, 2 on interface edges,
+//    4 where four blocks meet), and every value occurs;
+//  - averaged rows with the gluing and Dirichlet rows: B Bᵀ = I (1e-14), Dostál's setting;
+//  - rows on the lowest copy: B Bᵀ ≠ I, a contact row and a gluing row at an interface node have
+//    the product 1/√2 (> 0.5) — the defect the averaged rows remove;
+//  - on a continuous field u the averaged row gives σ_k times the lowest copy's row (1e-14), and
+//    the right-hand sides are c_avg = σ_k c_low (the same constraint, scaled).
+
+#include <deal.II/base/mpi.h>
+
+#include <feticontact/contact/contact_geometry.h>
+#include <feticontact/contact/contact_rows.h>
+#include <feticontact/feti/equality_constraints.h>
+#include <feticontact/scene/decomposition.h>
+
+#include "test_tools.h"
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+using namespace dealii;
+using namespace FetiContact;
+
+namespace
+{
+  /** The largest entry of |B Bᵀ − I| over all rows of @p rows. */
+  double
+  deviation_from_orthonormal(const DualRows &rows)
+  {
+    std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>>
+      by_dof;
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
+      for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+        {
+          const auto &e = rows.entries[k];
+          by_dof[{e.subdomain, e.body_vertex, e.component}].emplace_back(r, e.value);
+        }
+    std::map<std::pair<unsigned, unsigned>, double> BBt;
+    for (const auto &[dof, list] : by_dof)
+      for (const auto &[r, a] : list)
+        for (const auto &[s, b] : list)
+          BBt[{r, s}] += a * b;
+    double deviation = 0;
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
+      deviation = std::max(deviation, std::abs(BBt[{r, r}] - 1));
+    for (const auto &[rs, value] : BBt)
+      if (rs.first != rs.second)
+        deviation = std::max(deviation, std::abs(value));
+    return deviation;
+  }
+
+  /** Row @p r of @p rows applied to the continuous field u(vertex, component). */
+  double
+  on_continuous_field(const DualRows &rows, const unsigned int r)
+  {
+    double s = 0;
+    for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+      s += rows.entries[k].value *
+           std::sin(1.0 + 0.37 * rows.entries[k].body_vertex + 7.0 * rows.entries[k].component);
+    return s;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
+  ParameterHandler prm;
+  Parameters::Scene::declare_parameters(prm, 1, 1);
+  prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") +
+                              "subsection Contact\n"
+                              " set Number of zones = 1\n"
+                              " subsection Zone 1\n"
+                              "  set Type                 = rigid plane\n"
+                              "  set Body                 = 1\n"
+                              "  set Surface              = z = zmin\n"
+                              "  set Friction coefficient = 0.3\n"
+                              "  set Plane point          = 0, 0, -0.01\n"
+                              "  set Plane normal         = 0, 0, 1\n"
+                              " end\n"
+                              "end\n");
+  Parameters::Scene scene;
+  scene.parse_parameters(prm, "");
+
+  std::vector<std::unique_ptr<Body>> bodies;
+  bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
+  bodies[0]->setup();
+  const unsigned int              n_sub = bodies[0]->partition.n_parts;
+  const std::vector<unsigned int> first_subdomain{0, n_sub};
+  const auto                      nodes = find_contact_nodes(bodies, scene.contact);
+  const auto parts = parts_of_vertices(bodies[0]->mesh, bodies[0]->partition);
+  check(n_sub == 12 && !nodes.empty(),
+        std::to_string(nodes.size()) + " contact nodes on " + std::to_string(n_sub) +
+          " subdomains");
+
+  DualLayout     low_layout, avg_layout;
+  const DualRows equality = build_equality_rows(bodies, first_subdomain, true);
+  DualRows       low      = build_contact_rows(nodes, bodies, first_subdomain, low_layout, 0, false);
+  DualRows       avg      = build_contact_rows(nodes, bodies, first_subdomain, avg_layout, 0, true);
+  const unsigned int n_contact = avg.n_rows();
+  check(low.n_rows() == n_contact && n_contact == 3 * nodes.size(),
+        "N, T1, T2: " + std::to_string(n_contact) + " rows either way");
+
+  // σ_k² = p, the number of copies, and all of 1, 2 and 4 occur.
+  unsigned int n_wrong_scale = 0;
+  std::map<unsigned int, unsigned int> n_with_copies;
+  for (unsigned int k = 0; k < nodes.size(); ++k)
+    {
+      const unsigned int p     = parts[nodes[k].vertex].size();
+      const double       sigma = avg_layout.scale_of_node(k);
+      if (std::abs(sigma * sigma - p) > 1e-14 * p || low_layout.scale_of_node(k) != 1.0)
+        ++n_wrong_scale;
+      ++n_with_copies[p];
+    }
+  check(n_wrong_scale == 0, "σ_k² = number of copies for averaged rows, σ_k = 1 on the lowest copy");
+  check(n_with_copies[1] > 0 && n_with_copies[2] > 0 && n_with_copies[4] > 0,
+        "contact nodes with 1, 2, 4 copies: " + std::to_string(n_with_copies[1]) + ", " +
+          std::to_string(n_with_copies[2]) + ", " + std::to_string(n_with_copies[4]));
+
+  // B Bᵀ = I with averaged rows; not with rows on the lowest copy.
+  low.append(equality);
+  avg.append(equality);
+  const double avg_deviation = deviation_from_orthonormal(avg);
+  const double low_deviation = deviation_from_orthonormal(low);
+  check(avg_deviation < 1e-14, "averaged contact rows: |B Bᵀ − I| = " + sci(avg_deviation));
+  check(low_deviation > 0.5 && low_deviation < 1 / std::sqrt(2.0) + 1e-14,
+        "contact rows on the lowest copy: |B Bᵀ − I| = " + sci(low_deviation) +
+          " (1/√2 against a gluing row)");
+
+  // The same constraints, scaled by σ_k: rows on a continuous field and right-hand sides.
+  double row_mismatch = 0, rhs_mismatch = 0, rhs_size = 0;
+  for (unsigned int k = 0; k < nodes.size(); ++k)
+    {
+      const double sigma = avg_layout.scale_of_node(k);
+      std::vector<unsigned int> rows_of_node{avg_layout.normal_row[k]};
+      for (unsigned int j = 0; j < 2; ++j)
+        rows_of_node.push_back(avg_layout.tangential_row[k] + j);
+      for (const unsigned int r : rows_of_node)
+        {
+          row_mismatch = std::max(row_mismatch,
+                                  std::abs(on_continuous_field(avg, r) -
+                                           sigma * on_continuous_field(low, r)));
+          rhs_mismatch = std::max(rhs_mismatch, std::abs(avg.c[r] - sigma * low.c[r]));
+          rhs_size     = std::max(rhs_size, std::abs(low.c[r]));
+        }
+    }
+  check(avg_layout.normal_row == low_layout.normal_row &&
+          avg_layout.tangential_row == low_layout.tangential_row,
+        "the same row layout either way");
+  check(row_mismatch < 1e-14,
+        "averaged row = σ_k × lowest copy's row on a continuous field: " + sci(row_mismatch));
+  check(rhs_size > 0 && rhs_mismatch <= 1e-14 * rhs_size,
+        "c_avg = σ_k c_low: " + sci(rhs_mismatch) + " (largest gap " + sci(rhs_size) + ")");
+
+  return n_failures;
+}

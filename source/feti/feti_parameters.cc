@@ -52,8 +52,10 @@ namespace FetiContact::Parameters
                       "√((1 + 1)/(1/p + 1/q)) between two bodies with p and q copies) so that it "
                       "keeps its length; it is then orthogonal to the gluing rows and B has "
                       "orthonormal rows. The node's multipliers are then the contact force "
-                      "divided by that scale; all output is the force itself. Measured in "
-                      "doc/performance.md.");
+                      "divided by that scale; all output is the force itself. The solution is "
+                      "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
+                      "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
+                      "313,632.");
     prm.declare_entry("Relative tolerance",
                       "1e-10",
                       Patterns::Double(0, 1),

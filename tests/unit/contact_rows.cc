@@ -27,32 +27,6 @@ using namespace FetiContact;
 
 namespace
 {
-  /** The largest entry of |B Bᵀ − I| over all rows of @p rows. */
-  double
-  deviation_from_orthonormal(const DualRows &rows)
-  {
-    std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>>
-      by_dof;
-    for (unsigned int r = 0; r < rows.n_rows(); ++r)
-      for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
-        {
-          const auto &e = rows.entries[k];
-          by_dof[{e.subdomain, e.body_vertex, e.component}].emplace_back(r, e.value);
-        }
-    std::map<std::pair<unsigned, unsigned>, double> BBt;
-    for (const auto &[dof, list] : by_dof)
-      for (const auto &[r, a] : list)
-        for (const auto &[s, b] : list)
-          BBt[{r, s}] += a * b;
-    double deviation = 0;
-    for (unsigned int r = 0; r < rows.n_rows(); ++r)
-      deviation = std::max(deviation, std::abs(BBt[{r, r}] - 1));
-    for (const auto &[rs, value] : BBt)
-      if (rs.first != rs.second)
-        deviation = std::max(deviation, std::abs(value));
-    return deviation;
-  }
-
   /** Row @p r of @p rows applied to the continuous field u(vertex, component). */
   double
   on_continuous_field(const DualRows &rows, const unsigned int r)
@@ -93,21 +67,21 @@ main(int argc, char **argv)
   const unsigned int              n_sub = bodies[0]->partition.n_parts;
   const std::vector<unsigned int> first_subdomain{0, n_sub};
   const auto                      nodes = find_contact_nodes(bodies, scene.contact);
-  const auto parts = parts_of_vertices(bodies[0]->mesh, bodies[0]->partition);
+  const auto                      parts = parts_of_vertices(bodies[0]->mesh, bodies[0]->partition);
   check(n_sub == 12 && !nodes.empty(),
         std::to_string(nodes.size()) + " contact nodes on " + std::to_string(n_sub) +
           " subdomains");
 
-  DualLayout     low_layout, avg_layout;
-  const DualRows equality = build_equality_rows(bodies, first_subdomain, true);
-  DualRows       low      = build_contact_rows(nodes, bodies, first_subdomain, low_layout, 0, false);
-  DualRows       avg      = build_contact_rows(nodes, bodies, first_subdomain, avg_layout, 0, true);
+  DualLayout         low_layout, avg_layout;
+  const DualRows     equality = build_equality_rows(bodies, first_subdomain, true);
+  DualRows           low = build_contact_rows(nodes, bodies, first_subdomain, low_layout, 0, false);
+  DualRows           avg = build_contact_rows(nodes, bodies, first_subdomain, avg_layout, 0, true);
   const unsigned int n_contact = avg.n_rows();
   check(low.n_rows() == n_contact && n_contact == 3 * nodes.size(),
         "N, T1, T2: " + std::to_string(n_contact) + " rows either way");
 
   // σ_k² = p, the number of copies, and all of 1, 2 and 4 occur.
-  unsigned int n_wrong_scale = 0;
+  unsigned int                         n_wrong_scale = 0;
   std::map<unsigned int, unsigned int> n_with_copies;
   for (unsigned int k = 0; k < nodes.size(); ++k)
     {
@@ -117,7 +91,8 @@ main(int argc, char **argv)
         ++n_wrong_scale;
       ++n_with_copies[p];
     }
-  check(n_wrong_scale == 0, "σ_k² = number of copies for averaged rows, σ_k = 1 on the lowest copy");
+  check(n_wrong_scale == 0,
+        "σ_k² = number of copies for averaged rows, σ_k = 1 on the lowest copy");
   check(n_with_copies[1] > 0 && n_with_copies[2] > 0 && n_with_copies[4] > 0,
         "contact nodes with 1, 2, 4 copies: " + std::to_string(n_with_copies[1]) + ", " +
           std::to_string(n_with_copies[2]) + ", " + std::to_string(n_with_copies[4]));
@@ -136,15 +111,15 @@ main(int argc, char **argv)
   double row_mismatch = 0, rhs_mismatch = 0, rhs_size = 0;
   for (unsigned int k = 0; k < nodes.size(); ++k)
     {
-      const double sigma = avg_layout.scale_of_node(k);
+      const double              sigma = avg_layout.scale_of_node(k);
       std::vector<unsigned int> rows_of_node{avg_layout.normal_row[k]};
       for (unsigned int j = 0; j < 2; ++j)
         rows_of_node.push_back(avg_layout.tangential_row[k] + j);
       for (const unsigned int r : rows_of_node)
         {
-          row_mismatch = std::max(row_mismatch,
-                                  std::abs(on_continuous_field(avg, r) -
-                                           sigma * on_continuous_field(low, r)));
+          row_mismatch =
+            std::max(row_mismatch,
+                     std::abs(on_continuous_field(avg, r) - sigma * on_continuous_field(low, r)));
           rhs_mismatch = std::max(rhs_mismatch, std::abs(avg.c[r] - sigma * low.c[r]));
           rhs_size     = std::max(rhs_size, std::abs(low.c[r]));
         }

@@ -76,25 +76,7 @@ main(int argc, char **argv)
                 label + ": the seed's brick has 2 interfaces × 25 nodes × 3 = 150 gluing rows");
 
         // B_E B_Eᵀ = I.
-        std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>>
-          by_dof;
-        for (unsigned int r = 0; r < rows.n_rows(); ++r)
-          for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
-            {
-              const auto &e = rows.entries[k];
-              by_dof[{e.subdomain, e.body_vertex, e.component}].emplace_back(r, e.value);
-            }
-        std::map<std::pair<unsigned, unsigned>, double> BBt;
-        for (const auto &[dof, list] : by_dof)
-          for (const auto &[r, a] : list)
-            for (const auto &[s, b] : list)
-              BBt[{r, s}] += a * b;
-        double deviation = 0;
-        for (unsigned int r = 0; r < rows.n_rows(); ++r)
-          deviation = std::max(deviation, std::abs(BBt[{r, r}] - 1));
-        for (const auto &[rs, value] : BBt)
-          if (rs.first != rs.second)
-            deviation = std::max(deviation, std::abs(value));
+        const double deviation = deviation_from_orthonormal(rows);
         check(deviation < 1e-14, label + ": |B_E B_Eᵀ − I| = " + sci(deviation));
 
         // Gluing rows vanish on a continuous field u(vertex, component).

@@ -2,11 +2,18 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/feti/equality_constraints.h>
 #include <feticontact/scene/scene_parameters.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 /** Counts failed checks; a test program returns the count (0: passed). */
 inline int n_failures = 0;
@@ -63,4 +70,30 @@ brick_text(const std::string &decomposition, const unsigned int k = 4)
          decomposition +
          "\n end\n"
          "end\n";
+}
+
+/** The largest entry of |B Bᵀ − I| over all rows of @p rows. */
+inline double
+deviation_from_orthonormal(const FetiContact::DualRows &rows)
+{
+  std::map<std::tuple<unsigned, unsigned, unsigned>, std::vector<std::pair<unsigned, double>>>
+    by_dof;
+  for (unsigned int r = 0; r < rows.n_rows(); ++r)
+    for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+      {
+        const auto &e = rows.entries[k];
+        by_dof[{e.subdomain, e.body_vertex, e.component}].emplace_back(r, e.value);
+      }
+  std::map<std::pair<unsigned, unsigned>, double> BBt;
+  for (const auto &[dof, list] : by_dof)
+    for (const auto &[r, a] : list)
+      for (const auto &[s, b] : list)
+        BBt[{r, s}] += a * b;
+  double deviation = 0;
+  for (unsigned int r = 0; r < rows.n_rows(); ++r)
+    deviation = std::max(deviation, std::abs(BBt[{r, r}] - 1));
+  for (const auto &[rs, value] : BBt)
+    if (rs.first != rs.second)
+      deviation = std::max(deviation, std::abs(value));
+  return deviation;
 }

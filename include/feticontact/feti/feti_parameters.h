@@ -36,6 +36,8 @@ namespace FetiContact::Parameters
      * subdomain; `average` puts it on the mean of all copies, scaled so that the row keeps its
      * length. The averaged row is orthogonal to the gluing rows there (Helmert's contrasts sum
      * to zero), so B has orthonormal rows: Dostál's setting for the bounds on the spectrum of F.
+     * Not the default: on the brick it saves applications of F on small meshes and costs some
+     * on large ones (doc/performance.md, "Numerical scalability").
      */
     bool average_contact_rows = false;
 

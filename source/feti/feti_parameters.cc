@@ -42,20 +42,21 @@ namespace FetiContact::Parameters
                       "subdomains. 0.25 balanced unequal cores at k = 24 and 32 but cost 10–15 % "
                       "at 10⁶ unknowns on the machine of doc/performance.md. The results are "
                       "the same to the last digit.");
-    prm.declare_entry("Contact rows at interfaces",
-                      "lowest copy",
-                      Patterns::Selection("lowest copy|average"),
-                      "How a contact row (N, T1, T2) takes a contact node that lies on a "
-                      "subdomain interface and so has p ≥ 2 glued copies. 'lowest copy' (the "
-                      "default): the row acts on the copy in the lowest-numbered subdomain. "
-                      "'average': the row acts on the mean of the p copies, scaled by √p (by "
-                      "√((1 + 1)/(1/p + 1/q)) between two bodies with p and q copies) so that it "
-                      "keeps its length; it is then orthogonal to the gluing rows and B has "
-                      "orthonormal rows. The node's multipliers are then the contact force "
-                      "divided by that scale; all output is the force itself. The solution is "
-                      "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
-                      "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
-                      "313,632.");
+    prm.declare_entry(
+      "Contact rows at interfaces",
+      "lowest copy",
+      Patterns::Selection("lowest copy|average"),
+      "How a contact row (N, T1, T2) takes a contact node that lies on a "
+      "subdomain interface and so has p ≥ 2 glued copies. 'lowest copy' (the "
+      "default): the row acts on the copy in the lowest-numbered subdomain. "
+      "'average': the row acts on the mean of the p copies, scaled by √p (by "
+      "√((1 + 1)/(1/p + 1/q)) between two bodies with p and q copies) so that it "
+      "keeps its length; it is then orthogonal to the gluing rows, so that on a "
+      "rigid obstacle B has orthonormal rows. The node's multipliers are then the contact force "
+      "divided by that scale; all output is the force itself. The solution is "
+      "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
+      "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
+      "313,632.");
     prm.declare_entry("Relative tolerance",
                       "1e-10",
                       Patterns::Double(0, 1),

@@ -35,7 +35,8 @@ namespace FetiContact::Parameters
      * (p ≥ 2 glued copies): `lowest copy` puts the row on the copy of the lowest-numbered
      * subdomain; `average` puts it on the mean of all copies, scaled so that the row keeps its
      * length. The averaged row is orthogonal to the gluing rows there (Helmert's contrasts sum
-     * to zero), so B has orthonormal rows: Dostál's setting for the bounds on the spectrum of F.
+     * to zero), so on a rigid obstacle B has orthonormal rows: Dostál's setting for the bounds
+     * on the spectrum of F (a row between two bodies has the length √2 either way).
      * Not the default: on the brick it saves applications of F on small meshes and costs some
      * on large ones (doc/performance.md, "Numerical scalability").
      */

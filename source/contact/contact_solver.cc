@@ -314,12 +314,14 @@ namespace FetiContact
   {
     const Vector<double> lambda = total(lambda_tilde);
     unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
-    double               lambda_max = 0;
+    // A node is open when its normal force σ_k λ_N (σ_k ≠ 1 only with averaged contact rows)
+    // is below 1e-8 of the largest; slip and stick compare multipliers of the same node.
+    double lambda_max = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      lambda_max = std::max(lambda_max, lambda[layout.normal_row[k]]);
+      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda[layout.normal_row[k]]);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const double       lN = lambda[layout.normal_row[k]];
+        const double       lN = layout.scale_of_node(k) * lambda[layout.normal_row[k]];
         const unsigned int t  = layout.tangential_row[k];
         double             lT = 0;
         if (t != numbers::invalid_unsigned_int)

@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""How the iteration counts grow with the number of subdomains at fixed H/h, from the linear
+problem to Coulomb friction (goal 2 of issue 5: n_A within 1.5x from the smallest to the largest).
+
+Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
+3a x a x a subdomains. For each a, on the same decomposition:
+
+  - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
+    `FETI/Preconditioner = none | lumped`: iterations (one application of F each);
+  - contact: prm/brick_contact.prm with the six options of doc/performance.md (MPGP, projected
+    cg expansion, Hessian norm bound max, Inexact MSA factor 0.001, Recursive gradient
+    tolerance 0.1, Arc preconditioner scale mean diagonal, Penalty norm projected F), for each
+    friction coefficient F: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
+
+F = 0 is the frictionless problem (one bound-constrained QP), the Coulomb problem without its
+fixed point. The counts do not depend on the machine's speed, so runs may share the cores
+(--jobs 2); the times in the CSV are then those of a shared machine and are not reported.
+
+Usage: iteration_growth.py [--exe PATH] [--a 1,2,3,4,6] [--friction 0,0.3] [--jobs 1]
+       [--csv doc/data/iteration_growth.csv] [--markdown doc/data/iteration_growth.md]
+
+The executable is copied to a temporary file first, so that a rebuild during the run does not
+change it. OPENBLAS_NUM_THREADS=1.
+"""
+import concurrent.futures
+import csv
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+from cli import arguments, option
+from scaling import env, read_summary, settings
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PRM = os.path.join(HERE, "..", "prm")
+SIX_OPTIONS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "projected F", "", "")
+FIELDS = ["problem", "F", "a", "k", "n_subdomains", "n", "m", "preconditioner", "iterations",
+          "n_A", "smalbe", "msa", "cg", "expansion", "proportioning", "converged"]
+
+
+def run(exe, prm, sets):
+    with tempfile.TemporaryDirectory() as out:
+        command = [exe, *sets, "--set", f"Output/Directory={out}", prm]
+        p = subprocess.run(command, capture_output=True, text=True, env=env())
+        return read_summary(p, command, out)
+
+
+def linear(exe, a, preconditioner):
+    k = 8 * a
+    sets = ["--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+            "--set", f"Body 1/Decomposition/Blocks={3 * a}, {a}, {a}",
+            "--set", "FETI/Dirichlet treatment=total",
+            "--set", f"FETI/Preconditioner={preconditioner}",
+            "--set", "Output/Write vtu=false", "--set", "Output/Write displacement csv=false"]
+    s = run(exe, os.path.join(PRM, "brick.prm"), sets)
+    return row("linear", "", a, k, preconditioner, s)
+
+
+def contact(exe, a, friction):
+    k = 8 * a
+    sets = settings(k, (3 * a, a, a), SIX_OPTIONS)
+    sets = [s if not s.startswith("Contact/Zone 1/Friction coefficient=")
+            else f"Contact/Zone 1/Friction coefficient={friction}" for s in sets]
+    s = run(exe, os.path.join(PRM, "brick_contact.prm"), sets)
+    return row("contact", friction, a, k, "none", s)
+
+
+def row(problem, friction, a, k, preconditioner, s):
+    steps = s.get("mpgp_steps", {})
+    return {"problem": problem, "F": friction, "a": a, "k": k,
+            "n_subdomains": s["n_subdomains"], "n": s["n_primal"], "m": s["m_total"],
+            "preconditioner": preconditioner, "iterations": s["iterations"],
+            "n_A": s.get("hessian_multiplications", {}).get("total", ""),
+            "smalbe": s.get("smalbe_iterations", ""),
+            "msa": s.get("outer_iterations", "") if problem == "contact" else "",
+            "cg": steps.get("cg", ""), "expansion": steps.get("expansion", ""),
+            "proportioning": steps.get("proportioning", ""), "converged": s["converged"]}
+
+
+def ratio(values):
+    first = values[0]
+    return f"{values[-1] / first:.2f}" if first else ""
+
+
+def write_markdown(path, rows, a_list, frictions, command):
+    def find(problem, a, key_name, key_value):
+        for r in rows:
+            if r["problem"] == problem and r["a"] == a and str(r[key_name]) == str(key_value):
+                return r
+        return None
+
+    with open(path, "w") as f:
+        f.write("<!-- written by benchmarks/iteration_growth.py -->\n\n"
+                "# Growth of the iteration counts at fixed H/h\n\n"
+                f"Written by `{command}`. H/h = 8, TFETI, k cubes across the brick's width, "
+                "3a × a × a subdomains, one run per cell. Linear: projected CG iterations to "
+                "‖P(Fλ − h)‖ ≤ 1e-10 ‖Ph‖ (one application of F each). Contact: n_A with the "
+                "six options of doc/performance.md, SMALBE and MSA iterations in parentheses; "
+                "F = 0 is the frictionless problem.\n\n")
+        header = ["k", "subdomains", "n", "linear, none", "linear, lumped"]
+        header += [f"n_A, F = {fr} (SMALBE, MSA)" for fr in frictions]
+        header += [f"n_A / linear none, F = {fr}" for fr in frictions]
+        f.write("| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n")
+        columns = {h: [] for h in header}
+        for a in a_list:
+            none, lumped = find("linear", a, "preconditioner", "none"), \
+                find("linear", a, "preconditioner", "lumped")
+            base = none or lumped or next(r for r in rows if r["a"] == a)
+            cells = [str(base["k"]), str(base["n_subdomains"]), f"{base['n']:,}",
+                     str(none["iterations"]) if none else "",
+                     str(lumped["iterations"]) if lumped else ""]
+            columns["linear, none"].append(none["iterations"] if none else 0)
+            columns["linear, lumped"].append(lumped["iterations"] if lumped else 0)
+            for fr in frictions:
+                r = find("contact", a, "F", fr)
+                cells.append(f"{r['n_A']} ({r['smalbe']}, {r['msa']})" if r else "")
+                columns[f"n_A, F = {fr} (SMALBE, MSA)"].append(r["n_A"] if r else 0)
+            for fr in frictions:
+                r = find("contact", a, "F", fr)
+                cells.append(f"{r['n_A'] / none['iterations']:.1f}" if r and none else "")
+            f.write("| " + " | ".join(cells) + " |\n")
+        f.write("| largest / smallest | | | " +
+                " | ".join(ratio(columns[h]) for h in header[3:5 + len(frictions)]) +
+                " |" + " |" * len(frictions) + "\n")
+
+
+def main():
+    arguments(__doc__, ["--exe", "--a", "--friction", "--jobs", "--csv", "--markdown"])
+    exe_source = option("--exe", os.path.join(HERE, "..", "build", "feticontact"))
+    a_list = [int(x) for x in option("--a", "1,2,3,4,6").split(",") if x]
+    frictions = [x for x in option("--friction", "0,0.3").split(",") if x]
+    jobs = int(option("--jobs", "1"))
+    csv_path = option("--csv", os.path.join(HERE, "..", "doc", "data", "iteration_growth.csv"))
+    markdown = option("--markdown", os.path.join(HERE, "..", "doc", "data",
+                                                 "iteration_growth.md"))
+    command = "python3 benchmarks/iteration_growth.py " + " ".join(sys.argv[1:])
+    with tempfile.TemporaryDirectory() as tmp:
+        exe = os.path.join(tmp, "feticontact")
+        shutil.copy2(exe_source, exe)
+        # Largest problems first, so that two jobs finish close together.
+        tasks = []
+        for a in sorted(a_list, reverse=True):
+            tasks += [(contact, a, fr) for fr in reversed(frictions)]
+            tasks += [(linear, a, pc) for pc in ("none", "lumped")]
+        rows = []
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            futures = [pool.submit(fn, exe, a, arg) for fn, a, arg in tasks]
+            for future in concurrent.futures.as_completed(futures):
+                rows.append(future.result())
+                print(rows[-1], flush=True)
+    rows.sort(key=lambda r: (r["problem"], str(r["F"]), r["a"], r["preconditioner"]))
+    with open(csv_path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=FIELDS)
+        w.writeheader()
+        w.writerows(rows)
+    write_markdown(markdown, rows, a_list, frictions, command)
+
+
+if __name__ == "__main__":
+    main()

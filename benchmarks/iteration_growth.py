@@ -31,6 +31,7 @@ import sys
 import tempfile
 
 from cli import arguments, option
+from lumped_preconditioner import row as lumped_row
 from scaling import env, read_summary, settings
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -68,15 +69,9 @@ def contact(exe, a, friction):
 
 
 def row(problem, friction, a, k, preconditioner, s):
-    steps = s.get("mpgp_steps", {})
-    return {"problem": problem, "F": friction, "a": a, "k": k,
-            "n_subdomains": s["n_subdomains"], "n": s["n_primal"], "m": s["m_total"],
-            "preconditioner": preconditioner, "iterations": s["iterations"],
-            "n_A": s.get("hessian_multiplications", {}).get("total", ""),
-            "smalbe": s.get("smalbe_iterations", ""),
-            "msa": s.get("outer_iterations", "") if problem == "contact" else "",
-            "cg": steps.get("cg", ""), "expansion": steps.get("expansion", ""),
-            "proportioning": steps.get("proportioning", ""), "converged": s["converged"]}
+    r = lumped_row(problem, friction, a, k, preconditioner, s)
+    r["msa"] = s.get("outer_iterations", "") if problem == "contact" else ""
+    return r
 
 
 def ratio(values):
@@ -152,7 +147,7 @@ def main():
                 print(rows[-1], flush=True)
     rows.sort(key=lambda r: (r["problem"], str(r["F"]), r["a"], r["preconditioner"]))
     with open(csv_path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=FIELDS)
+        w = csv.DictWriter(f, fieldnames=FIELDS, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
     write_markdown(markdown, rows, a_list, frictions, command)

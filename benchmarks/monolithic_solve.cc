@@ -12,9 +12,9 @@
 //   {"n": free DoFs, "assembly": s, "factorization": s, "solve": s, "peak_rss_mib": MiB,
 //    "factor_entries": nnz(L), "relative_residual": ‖K u − f‖/‖f‖}
 //
-// CHOLMOD is called through its 64-bit-integer interface (cholmod_l_*), not through the
-// project's LocalSolver (32-bit, enough for subdomains): the factor of the brick at about 10⁶
-// unknowns holds more than 2³¹ entries.
+// CHOLMOD is called through its 64-bit-integer interface (solve_by_long_cholmod), not through
+// the project's LocalSolver (32-bit, enough for subdomains): the factor of the brick at about 10⁶
+// unknowns holds nearly 2³¹ entries and its supernodal storage more.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
@@ -42,68 +42,6 @@
 
 using namespace dealii;
 using namespace FetiContact;
-
-namespace
-{
-  /**
-   * Solves K u = f in place (u holds f on entry) by the supernodal Cholesky factorization of
-   * CHOLMOD with 64-bit indices; returns nnz(L) and the seconds of the factorization and of the
-   * solve. Throws with CHOLMOD's status if it fails (e.g. out of memory).
-   */
-  struct LongCholmodTimes
-  {
-    double factor_entries = 0, factorization = 0, solve = 0;
-  };
-
-  LongCholmodTimes
-  solve_with_long_cholmod(const SparseMatrix<double> &K, Vector<double> &u)
-  {
-    using clock = std::chrono::steady_clock;
-    using Int   = SuiteSparse_long;
-    cholmod_common common;
-    cholmod_l_start(&common);
-    const auto check_status = [&](const char *what) {
-      if (common.status != CHOLMOD_OK)
-        {
-          const int status = common.status;
-          cholmod_l_finish(&common);
-          throw std::runtime_error(std::string("CHOLMOD (64-bit) failed in ") + what +
-                                   " with status " + std::to_string(status) +
-                                   (status == CHOLMOD_OUT_OF_MEMORY ? " (out of memory)" : ""));
-        }
-    };
-    const std::size_t n = K.m();
-    common.supernodal   = CHOLMOD_SUPERNODAL;
-    cholmod_sparse *S   = upper_triangle<Int>(K, common);
-    check_status("allocating K");
-
-    LongCholmodTimes times;
-    const auto       t0     = clock::now();
-    cholmod_factor  *factor = cholmod_l_analyze(S, &common);
-    check_status("analyze");
-    cholmod_l_factorize(S, factor, &common);
-    check_status("factorize");
-    times.factor_entries = common.lnz;
-    if (factor->minor != n)
-      throw std::runtime_error("CHOLMOD (64-bit): K is not positive definite (leading minor " +
-                               std::to_string(factor->minor) + ")");
-    cholmod_l_free_sparse(&S, &common);
-    const auto     t1 = clock::now();
-    cholmod_dense *b  = cholmod_l_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
-    std::copy(u.begin(), u.end(), static_cast<double *>(b->x));
-    cholmod_dense *solution = cholmod_l_solve(CHOLMOD_A, factor, b, &common);
-    check_status("solve");
-    std::copy_n(static_cast<const double *>(solution->x), n, u.begin());
-    const auto t2       = clock::now();
-    times.factorization = std::chrono::duration<double>(t1 - t0).count();
-    times.solve         = std::chrono::duration<double>(t2 - t1).count();
-    cholmod_l_free_dense(&b, &common);
-    cholmod_l_free_dense(&solution, &common);
-    cholmod_l_free_factor(&factor, &common);
-    cholmod_l_finish(&common);
-    return times;
-  }
-} // namespace
 
 int
 main(int argc, char **argv)
@@ -156,8 +94,8 @@ main(int argc, char **argv)
       subdomain.assemble(mapping);
       const auto t2 = clock::now();
 
-      Vector<double>         u(subdomain.f);
-      const LongCholmodTimes cholmod = solve_with_long_cholmod(subdomain.K, u);
+      Vector<double>              u(subdomain.f);
+      const LongCholmodStatistics cholmod = solve_by_long_cholmod(subdomain.K, u);
 
       Vector<double> residual(u.size());
       subdomain.K.vmult(residual, u);
@@ -177,17 +115,17 @@ main(int argc, char **argv)
                    subdomain.K.m(),
                    seconds(t0, t1),
                    seconds(t1, t2),
-                   cholmod.factorization,
+                   cholmod.factorization_seconds,
                    cholmod.factor_entries,
-                   cholmod.solve,
+                   cholmod.solve_seconds,
                    relative_residual);
       std::printf("{\"n\": %u, \"assembly\": %.6e, \"factorization\": %.6e, \"solve\": %.6e, "
                   "\"peak_rss_mib\": %.1f, \"factor_entries\": %.6e, \"relative_residual\": "
                   "%.3e}\n",
                   body.n_free_dofs(),
                   seconds(t1, t2),
-                  cholmod.factorization,
-                  cholmod.solve,
+                  cholmod.factorization_seconds,
+                  cholmod.solve_seconds,
                   usage.ru_maxrss / 1024.0,
                   cholmod.factor_entries,
                   relative_residual);

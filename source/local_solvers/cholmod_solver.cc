@@ -2,7 +2,10 @@
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -56,6 +59,93 @@ namespace FetiContact
   template cholmod_sparse *
   upper_triangle<SuiteSparse_long>(const SparseMatrix<double> &, cholmod_common &);
 
+  std::string
+  cholmod_status_text(const int status)
+  {
+    switch (status)
+      {
+        case CHOLMOD_OK:
+          return "ok";
+        case CHOLMOD_NOT_POSDEF:
+          return "the matrix is not positive definite";
+        case CHOLMOD_DSMALL:
+          return "a diagonal entry of the factor is tiny (nearly singular matrix)";
+        case CHOLMOD_OUT_OF_MEMORY:
+          return "out of memory";
+        case CHOLMOD_TOO_LARGE:
+          return "the factor is too large for CHOLMOD's integer type";
+        case CHOLMOD_INVALID:
+          return "invalid input";
+        default:
+          return "status " + std::to_string(status);
+      }
+  }
+
+  LongCholmodStatistics
+  solve_by_long_cholmod(const SparseMatrix<double> &K, Vector<double> &u)
+  {
+    using clock         = std::chrono::steady_clock;
+    const std::size_t n = K.m();
+    AssertThrow(u.size() == n, ExcDimensionMismatch(u.size(), n));
+    LongCholmodStatistics statistics;
+    if (n == 0)
+      return statistics;
+    cholmod_common common;
+    cholmod_l_start(&common);
+    common.supernodal        = CHOLMOD_SUPERNODAL;
+    common.print             = 0;
+    cholmod_sparse *S        = nullptr;
+    cholmod_factor *factor   = nullptr;
+    cholmod_dense  *b        = nullptr;
+    cholmod_dense  *solution = nullptr;
+    const auto      release  = [&]() {
+      cholmod_l_free_dense(&solution, &common);
+      cholmod_l_free_dense(&b, &common);
+      cholmod_l_free_factor(&factor, &common);
+      cholmod_l_free_sparse(&S, &common);
+      cholmod_l_finish(&common);
+    };
+    // Throws unless CHOLMOD's last call succeeded and returned `result`.
+    const auto check = [&](const void *result, const std::string &what) {
+      if (result != nullptr && common.status == CHOLMOD_OK)
+        return;
+      const std::string message = "CHOLMOD (64-bit) failed in " + what + " of a matrix of " +
+                                  std::to_string(n) +
+                                  " rows: " + cholmod_status_text(common.status) + ".";
+      release();
+      throw std::runtime_error(message);
+    };
+
+    const auto t0 = clock::now();
+    S             = upper_triangle<SuiteSparse_long>(K, common);
+    factor        = cholmod_l_analyze(S, &common);
+    check(factor, "the analysis");
+    cholmod_l_factorize(S, factor, &common);
+    if (common.status != CHOLMOD_NOT_POSDEF && common.status != CHOLMOD_DSMALL)
+      check(factor, "the factorization");
+    if (common.status != CHOLMOD_OK || factor->minor != n)
+      {
+        const std::string minor = std::to_string(factor->minor);
+        release();
+        require(false,
+                "CHOLMOD (64-bit): the matrix is not positive definite (leading minor " + minor +
+                  " of " + std::to_string(n) + "): the body is not held as the scene claims.");
+      }
+    statistics.factor_entries = common.lnz;
+    const auto t1             = clock::now();
+    b                         = cholmod_l_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
+    check(b, "allocating the right-hand side");
+    std::copy(u.begin(), u.end(), static_cast<double *>(b->x));
+    solution = cholmod_l_solve(CHOLMOD_A, factor, b, &common);
+    check(solution, "the solve");
+    std::copy_n(static_cast<const double *>(solution->x), n, u.begin());
+    const auto t2                    = clock::now();
+    statistics.factorization_seconds = std::chrono::duration<double>(t1 - t0).count();
+    statistics.solve_seconds         = std::chrono::duration<double>(t2 - t1).count();
+    release();
+    return statistics;
+  }
+
   CholmodSolver::CholmodSolver(const Solves solves)
     : solves(solves)
   {
@@ -84,9 +174,21 @@ namespace FetiContact
     if (factor != nullptr)
       cholmod_free_factor(&factor, &common);
     factor = cholmod_analyze(S, &common);
+    if (factor == nullptr)
+      {
+        const int status = common.status;
+        cholmod_free_sparse(&S, &common);
+        throw std::runtime_error("CHOLMOD failed in the analysis of a matrix of " +
+                                 std::to_string(n) + " rows: " + cholmod_status_text(status) + ".");
+      }
     cholmod_factorize(S, factor, &common);
     cholmod_free_sparse(&S, &common);
-    require(common.status == CHOLMOD_OK && factor->minor == n,
+    const int status = common.status;
+    // A failure to allocate or address the factor is not the scene's fault: say which it is.
+    if (status != CHOLMOD_OK && status != CHOLMOD_NOT_POSDEF && status != CHOLMOD_DSMALL)
+      throw std::runtime_error("CHOLMOD failed in the factorization of a matrix of " +
+                               std::to_string(n) + " rows: " + cholmod_status_text(status) + ".");
+    require(status == CHOLMOD_OK && factor->minor == n,
             "CHOLMOD: the matrix is not positive definite (leading minor " +
               std::to_string(factor->minor) + " of " + std::to_string(n) +
               "): the body or subdomain is not held as the scene claims.");

@@ -8,6 +8,10 @@
 //   −1) of size 50, whose supernodes have one to a few columns: the solution of A x = A·(1, …, 1)
 //   within 1e-12 of (1, …, 1); a second solve with the same right-hand side gives the same bits (no
 //   state between solves).
+// And the 64-bit solve of the undecomposed body (solve_by_long_cholmod, the monolithic
+// verification): the same solution as the 32-bit factor to 1e-10 on the subdomains' matrices and
+// to 1e-12 on the Laplacian; an indefinite matrix (one diagonal entry negated) is refused by both
+// with InputError naming "not positive definite", not with a crash or a wrong solution.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -17,12 +21,14 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/subdomain/subdomain.h>
 
 #include "test_tools.h"
 
+#include <functional>
 #include <random>
 
 using namespace dealii;
@@ -89,6 +95,13 @@ main(int argc, char **argv)
         difference = x_again;
         difference -= x;
         check(difference.linfty_norm() == 0, label + ": a second solve gives the same bits");
+
+        Vector<double> x_long(b);
+        solve_by_long_cholmod(A, x_long);
+        x_long -= x_library;
+        check(x_long.l2_norm() <= 1e-10 * x_library.l2_norm(),
+              label + ": 64-bit solve against the 32-bit one: " +
+                sci(x_long.l2_norm() / x_library.l2_norm()));
       }
 
   // tridiag(−1, 2, −1): every supernode is a chain of one-column nodes merged by CHOLMOD's
@@ -122,5 +135,39 @@ main(int argc, char **argv)
   check(x.linfty_norm() <= 1e-12,
         "1D Laplacian, n = 50: max |x − 1| = " + sci(x.linfty_norm()) +
           " (CHOLMOD's solve: " + sci(x_library.linfty_norm()) + ")");
+
+  Vector<double>              x_long(b);
+  const LongCholmodStatistics statistics = solve_by_long_cholmod(laplacian, x_long);
+  x_long -= ones;
+  check(x_long.linfty_norm() <= 1e-12,
+        "1D Laplacian, 64-bit solve: max |x − 1| = " + sci(x_long.linfty_norm()));
+  // L of a tridiagonal matrix under a fill-reducing ordering: n diagonal entries and at most one
+  // below each (a path graph has an ordering without fill).
+  check(statistics.factor_entries >= n && statistics.factor_entries <= 2 * n - 1,
+        "1D Laplacian: entries of L " +
+          std::to_string(static_cast<long>(statistics.factor_entries)) + " (expected n … 2n − 1)");
+
+  // An indefinite matrix: the 33rd leading minor is negative.
+  laplacian.set(32, 32, -2.);
+  const auto refuses = [&](const std::function<void()> &factorize, const std::string &what) {
+    try
+      {
+        factorize();
+        check(false, what + ": an indefinite matrix was factorized");
+      }
+    catch (const InputError &e)
+      {
+        check(std::string(e.what()).find("not positive definite") != std::string::npos,
+              what + ": message '" + e.what() + "'");
+      }
+  };
+  refuses([&]() { CholmodSolver(CholmodSolver::Solves::project).factorize(laplacian); },
+          "CholmodSolver");
+  refuses(
+    [&]() {
+      Vector<double> y(b);
+      solve_by_long_cholmod(laplacian, y);
+    },
+    "solve_by_long_cholmod");
   return n_failures;
 }

@@ -6,6 +6,7 @@
 #include <cholmod.h>
 
 #include <memory>
+#include <string>
 
 namespace FetiContact
 {
@@ -19,6 +20,31 @@ namespace FetiContact
   template <typename Int>
   cholmod_sparse *
   upper_triangle(const dealii::SparseMatrix<double> &A, cholmod_common &common);
+
+  /** What CHOLMOD's status code @p status (cholmod_common::status) means, for error messages. */
+  std::string
+  cholmod_status_text(const int status);
+
+  /** What solve_by_long_cholmod() measured. */
+  struct LongCholmodStatistics
+  {
+    /** Entries of the factor L (cholmod_common::lnz). */
+    double factor_entries = 0;
+    /** Wall seconds of the analysis and factorization, and of the two triangular solves. */
+    double factorization_seconds = 0, solve_seconds = 0;
+  };
+
+  /**
+   * u ← K⁻¹u (@p u holds the right-hand side on entry) for a symmetric positive definite @p K, by
+   * CHOLMOD's supernodal Cholesky through its 64-bit interface (cholmod_l_*). For the undecomposed
+   * body: its factor may hold more entries than the 32-bit CholmodSolver can address (the brick at
+   * 10⁶ unknowns: 1.9·10⁹ entries and a larger supernodal storage). Used by the comparison with a
+   * monolithic solve (Verification) and by benchmarks/monolithic_solve. Throws InputError if K is
+   * not positive definite, std::runtime_error naming CHOLMOD's status if it fails otherwise (out of
+   * memory, too large); CHOLMOD's memory is freed in both cases.
+   */
+  LongCholmodStatistics
+  solve_by_long_cholmod(const dealii::SparseMatrix<double> &K, dealii::Vector<double> &u);
 
   /**
    * SuiteSparse CHOLMOD, supernodal Cholesky LLᵀ with CHOLMOD's choice of fill-reducing ordering

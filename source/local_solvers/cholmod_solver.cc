@@ -117,8 +117,16 @@ namespace FetiContact
     };
 
     const auto t0 = clock::now();
-    S             = upper_triangle<SuiteSparse_long>(K, common);
-    factor        = cholmod_l_analyze(S, &common);
+    try
+      {
+        S = upper_triangle<SuiteSparse_long>(K, common);
+      }
+    catch (...)
+      {
+        release();
+        throw;
+      }
+    factor = cholmod_l_analyze(S, &common);
     check(factor, "the analysis");
     cholmod_l_factorize(S, factor, &common);
     if (common.status != CHOLMOD_NOT_POSDEF && common.status != CHOLMOD_DSMALL)

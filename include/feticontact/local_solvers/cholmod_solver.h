@@ -38,7 +38,8 @@ namespace FetiContact
    * u ← K⁻¹u (@p u holds the right-hand side on entry) for a symmetric positive definite @p K, by
    * CHOLMOD's supernodal Cholesky through its 64-bit interface (cholmod_l_*). For the undecomposed
    * body: its factor may hold more entries than the 32-bit CholmodSolver can address (the brick at
-   * 10⁶ unknowns: 1.9·10⁹ entries and a larger supernodal storage). Used by the comparison with a
+   * 10⁶ unknowns: 1.9·10⁹ entries, near the 32-bit limit of 2.1·10⁹; there the 32-bit analysis
+   * returned no factor). Used by the comparison with a
    * monolithic solve (Verification) and by benchmarks/monolithic_solve. Throws InputError if K is
    * not positive definite, std::runtime_error naming CHOLMOD's status if it fails otherwise (out of
    * memory, too large); CHOLMOD's memory is freed in both cases.

@@ -18,6 +18,8 @@ fixed point. The counts do not depend on the machine's speed, so runs may share 
 
 Usage: iteration_growth.py [--exe PATH] [--a 1,2,3,4,6] [--friction 0,0.3] [--jobs 1]
        [--csv doc/data/iteration_growth.csv] [--markdown doc/data/iteration_growth.md]
+       iteration_growth.py --plot doc/data/iteration_growth.csv doc/iteration_growth.png
+(the plot needs matplotlib: /usr/bin/python3 on Debian with python3-matplotlib)
 
 The executable is copied to a temporary file first, so that a rebuild during the run does not
 change it. OPENBLAS_NUM_THREADS=1.
@@ -124,7 +126,44 @@ def write_markdown(path, rows, a_list, frictions, command):
                 " |" + " |" * len(frictions) + "\n")
 
 
+def plot(csv_path, png_path):
+    """Every count divided by its value on the smallest decomposition, against n, with the band
+    of goal 2 (1.5x)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    series = [("linear", "", "none", "iterations", "linear FETI, no preconditioner", "o"),
+              ("linear", "", "lumped", "iterations", "linear FETI, lumped preconditioner", "s")]
+    series += [("contact", fr, "none", "n_A", f"contact, F = {fr}: n_A", m)
+               for fr, m in zip(sorted({r["F"] for r in rows if r["problem"] == "contact"}),
+                                "^v*D")]
+    for problem, friction, preconditioner, column, label, marker in series:
+        sel = sorted([r for r in rows if r["problem"] == problem and r["F"] == friction
+                      and r["preconditioner"] == preconditioner], key=lambda r: int(r["n"]))
+        if sel:
+            first = float(sel[0][column])
+            ax.semilogx([int(r["n"]) for r in sel], [float(r[column]) / first for r in sel],
+                        marker=marker, label=label)
+    ax.axhline(1.5, color="k", linestyle="--", label="goal 2: 1.5 × the smallest")
+    ax.set_xlabel("primal unknowns n (H/h = 8, 3 … 648 subdomains)")
+    ax.set_ylabel("count / count on the smallest decomposition")
+    ax.set_ylim(bottom=0.9)
+    ax.legend(fontsize="small")
+    ax.set_title("Growth of the iteration counts at fixed H/h")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=110)
+
+
 def main():
+    if "--plot" in sys.argv:
+        i = sys.argv.index("--plot")
+        if len(sys.argv) != 4 or i != 1:
+            raise SystemExit("usage: iteration_growth.py --plot CSV PNG (see --help)")
+        plot(sys.argv[2], sys.argv[3])
+        return
     arguments(__doc__, ["--exe", "--a", "--friction", "--jobs", "--csv", "--markdown"])
     exe_source = option("--exe", os.path.join(HERE, "..", "build", "feticontact"))
     a_list = [int(x) for x in option("--a", "1,2,3,4,6").split(",") if x]

@@ -7,8 +7,8 @@
 //   g++ -O2 -o /tmp/stream_triad benchmarks/stream_triad.cc
 //   /tmp/stream_triad && (/tmp/stream_triad & /tmp/stream_triad; wait)
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <vector>
 

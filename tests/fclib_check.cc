@@ -4,10 +4,15 @@
 //
 //   M v = H r + f,   u = Hᵀ v + w,   C*_μ ∋ u + [μ‖u_T‖, 0, 0] ⊥ r ∈ C_μ per contact.
 //
-// Usage: fclib_check FILE N_DOFS N_CONTACTS TOLERANCE
+// Usage: fclib_check FILE N_DOFS N_CONTACTS TOLERANCE UNITS [SI_FILE]
 // N_DOFS and N_CONTACTS are the sizes the scene must have; TOLERANCE bounds the relative
-// residuals of equilibrium and of the Coulomb conditions (the natural map, scaled). Exit 0 if
-// every check holds, 1 with the failed checks listed otherwise.
+// residuals of equilibrium and of the Coulomb conditions (the natural map, scaled). UNITS (SI or
+// nondimensional) is what the root attribute `units` of FILE must say; the attributes
+// length_scale L, stress_scale S and force_scale S L² must be 1 in SI and positive with
+// force_scale = S L² otherwise. A nondimensional FILE must be of order one: the largest entries
+// of M, f, v, u and r between 1e-2 and 1e2. With SI_FILE, the SI file of the same scene and
+// solve, FILE times its scales must be SI_FILE to 1e-12 (relative to the largest entry of each
+// array). Exit 0 if every check holds, 1 with the failed checks listed otherwise.
 
 // fclib.h declares its C functions without extern "C".
 extern "C"
@@ -18,8 +23,11 @@ extern "C"
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <hdf5.h>
+#include <hdf5_hl.h>
 #include <iostream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace
@@ -58,6 +66,56 @@ namespace
         }
   }
 
+  /** The units and scales a file stores as attributes of its root group. */
+  struct Units
+  {
+    std::string name;
+    double      length = 0, stress = 0, force = 0;
+  };
+
+  /** Reads the attributes units, length_scale, stress_scale, force_scale of @p file. */
+  bool
+  read_units(const std::string &file, Units &units)
+  {
+    const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (h5 < 0)
+      return false;
+    bool        ok = true;
+    hsize_t     dims[1]{0};
+    H5T_class_t type_class;
+    size_t      size = 0;
+    if (H5LTget_attribute_info(h5, "/", "units", dims, &type_class, &size) < 0 ||
+        type_class != H5T_STRING)
+      ok = false;
+    else
+      {
+        std::vector<char> text(size + 1, '\0');
+        ok         = H5LTget_attribute_string(h5, "/", "units", text.data()) >= 0;
+        units.name = text.data();
+      }
+    ok = ok && H5LTget_attribute_double(h5, "/", "length_scale", &units.length) >= 0 &&
+         H5LTget_attribute_double(h5, "/", "stress_scale", &units.stress) >= 0 &&
+         H5LTget_attribute_double(h5, "/", "force_scale", &units.force) >= 0;
+    H5Fclose(h5);
+    return ok;
+  }
+
+  /**
+   * The largest difference of @p x times @p scale from @p reference (both of size @p n),
+   * relative to max |reference|.
+   */
+  double
+  scaled_difference(const double *x, const double *reference, const int n, const double scale)
+  {
+    double d = 0, largest = 0;
+    for (int i = 0; i < n; ++i)
+      {
+        d       = std::max(d, std::abs(x[i] * scale - reference[i]));
+        largest = std::max(largest, std::abs(reference[i]));
+      }
+    return largest > 0 ? d / largest : d;
+  }
+
   /** Projection of (r_N, r_T1, r_T2) on the cone ‖r_T‖ ≤ μ r_N. */
   void
   project_on_cone(double r[3], const double mu)
@@ -80,15 +138,22 @@ namespace
 int
 main(int argc, char **argv)
 {
-  if (argc != 5)
+  if (argc != 6 && argc != 7)
     {
-      std::cerr << "usage: fclib_check FILE N_DOFS N_CONTACTS TOLERANCE\n";
+      std::cerr << "usage: fclib_check FILE N_DOFS N_CONTACTS TOLERANCE UNITS [SI_FILE]\n";
       return 2;
     }
   const std::string file       = argv[1];
   const int         n_dofs     = std::atoi(argv[2]);
   const int         n_contacts = std::atoi(argv[3]);
   const double      tolerance  = std::atof(argv[4]);
+  const std::string units_name = argv[5];
+  const std::string si_file    = argc == 7 ? argv[6] : "";
+  if (units_name != "SI" && units_name != "nondimensional")
+    {
+      std::cerr << "fclib_check: UNITS must be SI or nondimensional\n";
+      return 2;
+    }
 
   fclib_global   *problem  = fclib_read_global(file.c_str());
   fclib_solution *solution = problem ? fclib_read_solution(file.c_str()) : nullptr;
@@ -134,6 +199,92 @@ main(int argc, char **argv)
 
   const std::vector<double> v(solution->v, solution->v + n), u(solution->u, solution->u + m),
     r(solution->r, solution->r + m), f(problem->f, problem->f + n), w(problem->w, problem->w + m);
+  const double M_max = max_abs(std::vector<double>(M.x, M.x + M.p[n]));
+  std::cout << "       max |M| = " << M_max << ", max |f| = " << max_abs(f)
+            << ", max |w| = " << max_abs(w) << ", max |v| = " << max_abs(v)
+            << ", max |u| = " << max_abs(u) << ", max |r| = " << max_abs(r) << '\n';
+
+  // The units and scales stored in the file.
+  Units units;
+  if (!read_units(file, units))
+    {
+      check(false, "root attributes units, length_scale, stress_scale, force_scale", 0, 0);
+      return 1;
+    }
+  std::cout << "       units = " << units.name << ", length_scale = " << units.length
+            << ", stress_scale = " << units.stress << ", force_scale = " << units.force << '\n';
+  check(units.name == units_name, "units = " + units_name, units.name == units_name, 1);
+  if (units_name == "SI")
+    check(units.length == 1 && units.stress == 1 && units.force == 1,
+          "SI: the scales are 1",
+          std::max(
+            {std::abs(units.length - 1), std::abs(units.stress - 1), std::abs(units.force - 1)}),
+          0);
+  else
+    {
+      check(units.length > 0 && units.stress > 0 && std::isfinite(units.length) &&
+              std::isfinite(units.stress),
+            "length and stress scales positive",
+            std::min(units.length, units.stress),
+            0);
+      const double force = units.stress * units.length * units.length;
+      check(std::abs(units.force - force) <= 1e-15 * force,
+            "force_scale = stress_scale length_scale² (relative)",
+            std::abs(units.force - force) / force,
+            1e-15);
+      // Of order one (in SI, M, f and r are 1e5 to 1e11, v and u below 1e-3).
+      for (const auto &[name, value] :
+           std::vector<std::pair<std::string, double>>{{"M", M_max},
+                                                       {"f", max_abs(f)},
+                                                       {"v", max_abs(v)},
+                                                       {"u", max_abs(u)},
+                                                       {"r", max_abs(r)}})
+        check(value >= 1e-2 && value <= 1e2, "max |" + name + "| in [1e-2, 1e2]", value, 1e2);
+    }
+
+  // FILE times its scales is the SI file: the same problem and solution in other units.
+  if (!si_file.empty())
+    {
+      fclib_global   *si          = fclib_read_global(si_file.c_str());
+      fclib_solution *si_solution = si ? fclib_read_solution(si_file.c_str()) : nullptr;
+      if (!si || !si_solution)
+        {
+          std::cerr << "fclib_check: libfclib cannot read the problem and solution of " << si_file
+                    << '\n';
+          return 1;
+        }
+      const fclib_matrix &M_si = *si->M, &H_si = *si->H;
+      const bool          same_pattern =
+        M_si.m == M.m && M_si.n == M.n && H_si.m == H.m && H_si.n == H.n && M_si.nz == -1 &&
+        H_si.nz == -1 && std::equal(M.p, M.p + n + 1, M_si.p) &&
+        std::equal(H.p, H.p + m + 1, H_si.p) && std::equal(M.i, M.i + M.p[n], M_si.i) &&
+        std::equal(H.i, H.i + H.p[m], H_si.i);
+      check(same_pattern, "the SI file has the same sizes and sparsity", same_pattern, 1);
+      if (same_pattern)
+        {
+          const double L = units.length, S = units.stress, F = units.force;
+          const std::vector<std::tuple<std::string, const double *, const double *, int, double>>
+            arrays{{"M", M.x, M_si.x, M.p[n], S * L},
+                   {"H", H.x, H_si.x, H.p[m], 1},
+                   {"f", problem->f, si->f, n, F},
+                   {"w", problem->w, si->w, m, L},
+                   {"mu", problem->mu, si->mu, nc, 1},
+                   {"v", solution->v, si_solution->v, n, L},
+                   {"u", solution->u, si_solution->u, m, L},
+                   {"r", solution->r, si_solution->r, m, F}};
+          for (const auto &[name, x, reference, size, scale] : arrays)
+            {
+              const double d = scaled_difference(x, reference, size, scale);
+              check(d <= 1e-12,
+                    name + " × scale = " + name + " of the SI file (relative)",
+                    d,
+                    1e-12);
+            }
+        }
+      fclib_delete_global(si);
+      free(si);
+      fclib_delete_solutions(si_solution, 1);
+    }
 
   // u = Hᵀ v + w.
   {

@@ -337,12 +337,17 @@ namespace FetiContact
                 std::string title = "feticontact:";
                 for (const auto &body : bodies)
                   title += (body->index > 0 ? ", " : " ") + body->parameters.name;
-                write_fclib(
-                  parameters.output.directory + "/fclib_problem.hdf5",
-                  assemble_fclib_problem(bodies, contact_nodes, results, vertex_u, mapping, fe),
-                  title,
-                  "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
-                  "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
+                write_fclib(parameters.output.directory + "/fclib_problem.hdf5",
+                            assemble_fclib_problem(bodies,
+                                                   contact_nodes,
+                                                   results,
+                                                   vertex_u,
+                                                   mapping,
+                                                   fe,
+                                                   parameters.output.fclib_units),
+                            title,
+                            "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
+                            "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
               }
             if (parameters.output.write_vtu)
               write_contact_surface_vtu(

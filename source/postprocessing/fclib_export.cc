@@ -7,8 +7,13 @@
 #include <feticontact/subdomain/elasticity_assembly.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #ifdef FETICONTACT_WITH_FCLIB
 // fclib.h declares its C functions without extern "C".
@@ -16,6 +21,7 @@ extern "C"
 {
 #  include <fclib.h>
 }
+#  include <hdf5.h>
 #endif
 
 namespace FetiContact
@@ -29,7 +35,97 @@ namespace FetiContact
     {
       std::vector<std::array<int, 3>> free_index;
     };
+
+    /** Divides every entry of @p x by @p scale. */
+    void
+    divide(std::vector<double> &x, const double scale)
+    {
+      for (double &value : x)
+        value /= scale;
+    }
+
+#ifdef FETICONTACT_WITH_FCLIB
+    /**
+     * Writes the scalar attribute @p name of the root group of the HDF5 file @p file, open for
+     * writing: a double, or a fixed-length string. Throws std::runtime_error if HDF5 fails.
+     */
+    template <typename T>
+    void
+    write_root_attribute(const hid_t file, const std::string &name, const T &value)
+    {
+      hid_t type;
+      if constexpr (std::is_same_v<T, std::string>)
+        {
+          type = H5Tcopy(H5T_C_S1);
+          H5Tset_size(type, value.size() + 1); // with the terminating null
+        }
+      else
+        type = H5Tcopy(H5T_NATIVE_DOUBLE);
+      const hid_t space     = H5Screate(H5S_SCALAR);
+      const hid_t attribute = H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+      herr_t      status    = -1;
+      if (attribute >= 0)
+        {
+          if constexpr (std::is_same_v<T, std::string>)
+            status = H5Awrite(attribute, type, value.c_str());
+          else
+            status = H5Awrite(attribute, type, &value);
+          H5Aclose(attribute);
+        }
+      H5Sclose(space);
+      H5Tclose(type);
+      if (status < 0)
+        throw std::runtime_error("FCLIB: HDF5 cannot write the attribute " + name);
+    }
+#endif
   } // namespace
+
+  FclibScales
+  fclib_scales(const std::vector<std::unique_ptr<Body>> &bodies,
+               const std::vector<ContactNode>           &nodes,
+               const FclibProblem                       &problem)
+  {
+    Assert(!nodes.empty(), ExcMessage("an FCLIB problem needs contact nodes"));
+    Assert(problem.units == Parameters::Output::FclibUnits::SI,
+           ExcMessage("the scales are taken from the problem in SI units"));
+    FclibScales scales;
+    scales.youngs_modulus = 0;
+    for (const auto &body : bodies)
+      scales.youngs_modulus =
+        std::max(scales.youngs_modulus, body->parameters.material.youngs_modulus);
+    double area = 0;
+    for (const auto &node : nodes)
+      area += node.area;
+    scales.contact_spacing = std::sqrt(area / nodes.size());
+    scales.stiffness       = scales.youngs_modulus * scales.contact_spacing;
+
+    double f_max = 0, w_max = 0;
+    for (const double value : problem.f)
+      f_max = std::max(f_max, std::abs(value));
+    for (const double value : problem.w)
+      w_max = std::max(w_max, std::abs(value));
+    scales.force = std::max(f_max, scales.stiffness * w_max);
+    if (scales.force == 0)
+      scales.force = scales.stiffness * scales.contact_spacing;
+    scales.length = scales.force / scales.stiffness;
+    scales.stress = scales.stiffness / scales.length;
+    return scales;
+  }
+
+  void
+  nondimensionalise(FclibProblem &problem, const FclibScales &scales)
+  {
+    Assert(problem.units == Parameters::Output::FclibUnits::SI,
+           ExcMessage("the problem is nondimensional already"));
+    divide(problem.v, scales.length);
+    divide(problem.u, scales.length);
+    divide(problem.w, scales.length);
+    divide(problem.r, scales.force);
+    divide(problem.f, scales.force);
+    divide(problem.M.value, scales.stiffness);
+    problem.units  = Parameters::Output::FclibUnits::nondimensional;
+    problem.scales = scales;
+  }
 
   FclibProblem
   assemble_fclib_problem(const std::vector<std::unique_ptr<Body>>     &bodies,
@@ -37,7 +133,8 @@ namespace FetiContact
                          const std::vector<ContactNodeResult>         &results,
                          const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
                          const Mapping<3>                             &mapping,
-                         const FiniteElement<3>                       &fe)
+                         const FiniteElement<3>                       &fe,
+                         const Parameters::Output::FclibUnits          units)
   {
     FclibProblem problem;
     // Rows of M as (column, value), global free numbering; M is symmetric, so its compressed
@@ -163,6 +260,9 @@ namespace FetiContact
     for (int j = 0; j < H.n_columns; ++j)
       for (int p = H.column_start[j]; p < H.column_start[j + 1]; ++p)
         problem.u[j] += H.value[p] * problem.v[H.row[p]];
+
+    if (units == Parameters::Output::FclibUnits::nondimensional)
+      nondimensionalise(problem, fclib_scales(bodies, nodes, problem));
     return problem;
   }
 
@@ -197,11 +297,27 @@ namespace FetiContact
       return m;
     };
     fclib_matrix M = as_fclib(problem.M), H = as_fclib(problem.H);
-    std::string  math_info =
+    const bool   nondimensional = problem.units == Parameters::Output::FclibUnits::nondimensional;
+    const FclibScales &scales   = problem.scales;
+    std::ostringstream units;
+    units << std::setprecision(std::numeric_limits<double>::max_digits10);
+    if (nondimensional)
+      units << "Units: nondimensional. Length scale L = " << scales.length
+            << " m, stress scale S = " << scales.stress
+            << " Pa, force scale S L^2 = " << scales.force
+            << " N, stiffness scale S L = " << scales.stiffness
+            << " N/m = E_max h_c (E_max = " << scales.youngs_modulus
+            << " Pa the largest Young's modulus, h_c = " << scales.contact_spacing
+            << " m the square root of the contact area per contact node); S L^2 = max(max |f|, "
+               "S L max |w|) in SI. SI values: v, u, w times L; r, f times S L^2; M times S L.";
+    else
+      units << "Units: SI (v, u, w in m; r, f in N; M in N/m).";
+    const std::string full_description = description + "\n" + units.str();
+    std::string       math_info =
       "M symmetric positive semidefinite (definite when every body is held by prescribed "
       "displacements); quasi-static: v, u are displacements, r forces";
     fclib_info   info{const_cast<char *>(title.c_str()),
-                    const_cast<char *>(description.c_str()),
+                    const_cast<char *>(full_description.c_str()),
                     math_info.data()};
     fclib_global global{};
     global.M        = &M;
@@ -224,6 +340,27 @@ namespace FetiContact
                             nullptr};
     if (fclib_write_solution(&solution, file.c_str()) != 1)
       throw std::runtime_error("FCLIB: writing the solution to " + file + " failed");
+
+    // The units and scales, as attributes of the root group. These HDF5 calls go to the HDF5
+    // that deal.II links (its hdf5.h is first on the include path); libfclib has its own serial
+    // HDF5. Each library opens and closes the file on its own.
+    const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (h5 < 0)
+      throw std::runtime_error("FCLIB: HDF5 cannot open " + file + " to write the scales");
+    try
+      {
+        write_root_attribute(h5, "units", std::string(nondimensional ? "nondimensional" : "SI"));
+        write_root_attribute(h5, "length_scale", scales.length);
+        write_root_attribute(h5, "stress_scale", scales.stress);
+        write_root_attribute(h5, "force_scale", scales.force);
+      }
+    catch (...)
+      {
+        H5Fclose(h5);
+        throw;
+      }
+    if (H5Fclose(h5) < 0)
+      throw std::runtime_error("FCLIB: HDF5 cannot close " + file);
 #else
     (void)problem;
     (void)title;

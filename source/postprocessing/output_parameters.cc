@@ -36,6 +36,20 @@ namespace FetiContact::Parameters
                       "DoFs, H the contact frames [normal, t1, t2], w the gaps, mu per contact "
                       "(doc/fclib.md), for Siconos or any other FCLIB solver. Coulomb friction "
                       "only.");
+    prm.declare_entry("FCLIB units",
+                      "nondimensional",
+                      Patterns::Selection("nondimensional|SI"),
+                      "The units of fclib_problem.hdf5. 'nondimensional': lengths and "
+                      "displacements (v, u, w) are divided by a length scale L, forces (r, f) by "
+                      "a force scale S L² and M by S L; H and mu are unchanged, so the stored "
+                      "problem holds exactly when the SI one does. S L = E_max h_c (E_max the "
+                      "largest Young's modulus, h_c the square root of the slave contact area "
+                      "per contact node) makes M of order one, S L² = max(max |f|, E_max h_c "
+                      "max |w|) the load, so that f, r, u and v are of order one too and FCLIB "
+                      "solvers' default tolerances apply (doc/fclib.md). The file stores L, S "
+                      "and S L² (root attributes length_scale, stress_scale, force_scale; "
+                      "attribute units) and a line in the problem's description. 'SI': metres "
+                      "and newtons, the scales stored as 1.");
     prm.leave_subsection();
   }
 
@@ -48,6 +62,7 @@ namespace FetiContact::Parameters
     write_vtu              = prm.get_bool("Write vtu");
     write_displacement_csv = prm.get_bool("Write displacement csv");
     write_fclib            = prm.get_bool("Write FCLIB problem");
+    fclib_units = prm.get("FCLIB units") == "SI" ? FclibUnits::SI : FclibUnits::nondimensional;
     require(!write_fclib || fclib_available(),
             "Output/Write FCLIB problem: this build has no FCLIB (install libfclib-dev, then run "
             "cmake again).");

@@ -14,6 +14,17 @@ namespace FetiContact::Parameters
     bool        write_displacement_csv = false;
     /** The discrete problem and solution in FCLIB's global form (fclib_problem.hdf5). */
     bool write_fclib = false;
+    /**
+     * The units of the FCLIB file: `nondimensional` divides lengths and displacements by a
+     * length scale L and forces by a force scale S L² taken from the scene (doc/fclib.md), `SI`
+     * writes metres and newtons.
+     */
+    enum class FclibUnits
+    {
+      nondimensional,
+      SI
+    };
+    FclibUnits fclib_units = FclibUnits::nondimensional;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -14,6 +14,7 @@
 
 #include <feticontact/base/huge_pages.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/output_files.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
@@ -108,8 +109,31 @@ main(int argc, char **argv)
 
   try
     {
+      // A run starts with an output directory free of every file an earlier run wrote there,
+      // also when it then stops on bad input (--validate writes nothing and removes nothing).
+      if (!validate_only)
+        {
+          std::string error;
+          try
+            {
+              const std::string directory =
+                Parameters::Scene::output_directory(filename, overrides);
+              if (root && !directory.empty())
+                OutputFiles::clean(directory);
+            }
+          catch (const InputError &e)
+            {
+              error = e.what();
+            }
+          OutputFiles::throw_if_any_failed(comm, error);
+        }
+
       dealii::ParameterHandler prm;
-      Parameters::Scene::read_parameter_file(prm, filename, overrides);
+      std::vector<std::string> warnings;
+      Parameters::Scene::read_parameter_file(prm, filename, overrides, &warnings);
+      if (root)
+        for (const auto &w : warnings)
+          std::cerr << "Warning: " << w << std::endl;
       Parameters::Scene scene;
       scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
 
@@ -158,6 +182,10 @@ main(int argc, char **argv)
               if (simulator.no_equilibrium())
                 std::cerr << "Error: " << simulator.solver_message()
                           << ". No result files were written (see log.txt)." << std::endl;
+              else if (!simulator.solver_message().empty() &&
+                       simulator.solver_message() != "converged")
+                std::cerr << "Error: " << simulator.solver_message()
+                          << " (see log.txt; summary.json has \"converged\": false)." << std::endl;
               else
                 std::cerr << "Error: the FETI solver did not converge (see log.txt; "
                              "summary.json has \"converged\": false)."

@@ -54,6 +54,21 @@ def run(exe, prm, outdir, np, extra=(), time_limit=TIME_LIMIT):
     return p
 
 
+def unique_keys(pairs):
+    """object_pairs_hook of json.load: a key given twice is an error (a reader would drop one)."""
+    keys = [k for k, _ in pairs]
+    duplicates = sorted(set(k for k in keys if keys.count(k) > 1))
+    if duplicates:
+        raise ValueError("summary.json: duplicate keys %s" % duplicates)
+    return dict(pairs)
+
+
+def load_summary(path):
+    """summary.json, parsed strictly: valid JSON, unique keys in every object."""
+    with open(path) as f:
+        return json.load(f, object_pairs_hook=unique_keys)
+
+
 def lookup(summary, path):
     value = summary
     for key in path.split("."):
@@ -198,8 +213,7 @@ def scene(args):
         if p.returncode != 0:
             print(f"FAILED: exit status {p.returncode} with {np} rank(s)")
             return 1
-        with open(os.path.join(d, "summary.json")) as f:
-            summary = json.load(f)
+        summary = load_summary(os.path.join(d, "summary.json"))
         ok &= check_expectation(summary, "converged=true")
         for e in expectations:
             ok &= check_expectation(summary, e)
@@ -269,8 +283,7 @@ def bad(args):
     if no_equilibrium:
         allowed = ("summary.json", "history.csv")
         try:
-            with open(os.path.join(outdir, "summary.json")) as f:
-                summary = json.load(f)
+            summary = load_summary(os.path.join(outdir, "summary.json"))
             if summary.get("converged") is not False or summary.get("no_equilibrium") is not True:
                 print("FAILED: summary.json does not say converged = false, no_equilibrium = true")
                 ok = False

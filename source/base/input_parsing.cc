@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace FetiContact::InputParsing
@@ -36,6 +37,14 @@ namespace FetiContact::InputParsing
     return pieces;
   }
 
+  std::string
+  number_text(const double value)
+  {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+    return buffer;
+  }
+
   double
   parse_double(const std::string &text, const std::string &what)
   {
@@ -43,8 +52,12 @@ namespace FetiContact::InputParsing
     char             *end = nullptr;
     errno                 = 0;
     const double value    = std::strtod(t.c_str(), &end);
-    require(!t.empty() && end != nullptr && *end == '\0' && errno != ERANGE,
+    require(!t.empty() && end != nullptr && *end == '\0',
             (what + ": <" + t + "> is not a number."));
+    // strtod reports ERANGE for overflow (±HUGE_VAL) and for underflow (a subnormal or zero).
+    require(errno != ERANGE,
+            (what + ": <" + t + "> is out of range (a double lies within ±1.8e308, and its " +
+             "smallest normal magnitude is 2.2e-308)."));
     require(std::isfinite(value), (what + ": <" + t + "> is not a finite number."));
     return value;
   }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace FetiContact
 {
@@ -24,13 +25,22 @@ namespace FetiContact
       for (const char c : s)
         {
           if (c == '"' || c == '\\')
-            out += '\\';
-          if (c == '\n')
             {
-              out += "\\n";
-              continue;
+              out += '\\';
+              out += c;
             }
-          out += c;
+          else if (c == '\n')
+            out += "\\n";
+          else if (c == '\t')
+            out += "\\t";
+          else if (static_cast<unsigned char>(c) < 0x20)
+            {
+              char code[8];
+              std::snprintf(code, sizeof(code), "\\u%04x", static_cast<unsigned int>(c));
+              out += code;
+            }
+          else
+            out += c;
         }
       return out + "\"";
     }
@@ -39,6 +49,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const double value)
   {
+    add_key(key);
     members.emplace_back(key, number(value));
     object_index.push_back(-1);
     return *this;
@@ -47,6 +58,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const int value)
   {
+    add_key(key);
     members.emplace_back(key, std::to_string(value));
     object_index.push_back(-1);
     return *this;
@@ -55,6 +67,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const unsigned int value)
   {
+    add_key(key);
     members.emplace_back(key, std::to_string(value));
     object_index.push_back(-1);
     return *this;
@@ -63,6 +76,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const bool value)
   {
+    add_key(key);
     members.emplace_back(key, value ? "true" : "false");
     object_index.push_back(-1);
     return *this;
@@ -71,6 +85,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const std::string &value)
   {
+    add_key(key);
     members.emplace_back(key, quoted(value));
     object_index.push_back(-1);
     return *this;
@@ -85,6 +100,7 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const std::vector<double> &values)
   {
+    add_key(key);
     std::string text = "[";
     for (unsigned int i = 0; i < values.size(); ++i)
       text += (i > 0 ? ", " : "") + number(values[i]);
@@ -96,9 +112,28 @@ namespace FetiContact
   JsonObject &
   JsonObject::set(const std::string &key, const JsonObject &object)
   {
+    add_key(key);
     members.emplace_back(key, "");
     object_index.push_back(objects.size());
     objects.emplace_back(key, object);
+    return *this;
+  }
+
+  void
+  JsonObject::add_key(const std::string &key)
+  {
+    for (const auto &m : members)
+      if (m.first == key)
+        throw std::logic_error("JsonObject: the key <" + key + "> is set twice.");
+  }
+
+  JsonObject &
+  JsonObject::set(const std::string &key, const std::vector<JsonObject> &objects)
+  {
+    add_key(key);
+    members.emplace_back(key, "");
+    object_index.push_back(-2 - static_cast<int>(arrays.size()));
+    arrays.push_back(objects);
     return *this;
   }
 
@@ -108,11 +143,14 @@ namespace FetiContact
     for (unsigned int i = 0; i < other.members.size(); ++i)
       if (other.object_index[i] < 0)
         {
+          add_key(other.members[i].first);
           members.push_back(other.members[i]);
           object_index.push_back(-1);
         }
-      else
+      else if (other.object_index[i] >= 0)
         set(other.members[i].first, other.objects[other.object_index[i]].second);
+      else
+        set(other.members[i].first, other.arrays[-2 - other.object_index[i]]);
     return *this;
   }
 
@@ -124,8 +162,20 @@ namespace FetiContact
     for (unsigned int i = 0; i < members.size(); ++i)
       {
         out += pad + quoted(members[i].first) + ": ";
-        out += object_index[i] < 0 ? members[i].second :
-                                     objects[object_index[i]].second.str(indent, level + 1);
+        if (object_index[i] == -1)
+          out += members[i].second;
+        else if (object_index[i] >= 0)
+          out += objects[object_index[i]].second.str(indent, level + 1);
+        else
+          {
+            const auto       &array = arrays[-2 - object_index[i]];
+            const std::string inner(indent * (level + 2), ' ');
+            out += array.empty() ? "[" : "[\n";
+            for (unsigned int k = 0; k < array.size(); ++k)
+              out +=
+                inner + array[k].str(indent, level + 2) + (k + 1 < array.size() ? ",\n" : "\n");
+            out += (array.empty() ? "" : pad) + "]";
+          }
         out += (i + 1 < members.size() ? ",\n" : "\n");
       }
     return out + std::string(indent * level, ' ') + "}";

@@ -70,11 +70,47 @@ namespace FetiContact
     }
 
     std::string
-    point_text(const Point<3> &p)
+    point_text(const Tensor<1, 3> &p)
     {
-      std::ostringstream out;
-      out << '(' << p[0] << ", " << p[1] << ", " << p[2] << ')';
-      return out.str();
+      // (+ 0.0 prints −0 as 0.)
+      return '(' + InputParsing::number_text(p[0] + 0.0) + ", " +
+             InputParsing::number_text(p[1] + 0.0) + ", " + InputParsing::number_text(p[2] + 0.0) +
+             ')';
+    }
+
+    /**
+     * A rigid plane's normal must point out of the obstacle, towards the body: against the
+     * (area-weighted) outer normal of the zone's surface. Otherwise InputError names the zone
+     * and the node whose outer normal points most along the plane's normal.
+     */
+    void
+    check_plane_faces_body(const Surface                 &slave,
+                           const Body                    &body,
+                           const Parameters::ContactZone &zone,
+                           const std::string             &where)
+    {
+      Tensor<1, 3> total;
+      double       worst        = -2;
+      unsigned int worst_vertex = 0;
+      for (const auto &[vertex, normal_sum] : slave.normal_sum)
+        {
+          total += normal_sum;
+          const double c = normal_sum * zone.plane_normal / normal_sum.norm();
+          if (c > worst)
+            {
+              worst        = c;
+              worst_vertex = vertex;
+            }
+        }
+      require(total * zone.plane_normal < 0,
+              where + "the plane normal " + point_text(zone.plane_normal) + " points into body '" +
+                body.parameters.name + "': the outer normal of its surface <" +
+                zone.surface.name() + "> is " +
+                point_text(slave.normal_sum.at(worst_vertex) /
+                           slave.normal_sum.at(worst_vertex).norm()) +
+                " at the node at " + point_text(body.mesh.get_vertices()[worst_vertex]) +
+                ". The plane normal must point out of the obstacle, towards the body (here " +
+                point_text(-zone.plane_normal) + "?).");
     }
   } // namespace
 
@@ -114,6 +150,9 @@ namespace FetiContact
             master = collect_surface(master_body->mesh, master_surface);
           }
 
+        if (zone.type == Parameters::ContactZone::Type::rigid_plane)
+          check_plane_faces_body(slave, body, zone, where);
+
         unsigned int n_in_zone = 0;
         for (const auto &[vertex, normal_sum] : slave.normal_sum)
           {
@@ -138,7 +177,7 @@ namespace FetiContact
                 require(distance >= -1e-10 * slave.mean_edge,
                         where + "the node at " + point_text(node.x) +
                           " lies inside the rigid obstacle (initial penetration " +
-                          std::to_string(-distance) + " m).");
+                          InputParsing::number_text(-distance) + ").");
                 node.gap = std::max(distance, 0.0);
                 node.n   = -zone.plane_normal;
               }
@@ -152,7 +191,7 @@ namespace FetiContact
                     const Tensor<1, 3> d      = master_body->mesh.get_vertices()[mv] - node.x;
                     const double       along  = d * outer;
                     const double       offset = (d - along * outer).norm();
-                    if (along >= -1e-8 * slave.mean_edge && offset < best_offset)
+                    if (offset < best_offset)
                       {
                         best_offset = offset;
                         best        = mv;
@@ -167,6 +206,23 @@ namespace FetiContact
                           "be conforming node to node).");
                 node.master          = std::make_pair(zone.master_body, best);
                 const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
+                const Tensor<1, 3> master_outer =
+                  master.normal_sum.at(best) / master.normal_sum.at(best).norm();
+                require(master_outer * outer < 0,
+                        where + "the master surface <" + zone.master_surface.name() +
+                          "> of body '" + master_body->parameters.name +
+                          "' faces away from the slave surface: at the node at " +
+                          point_text(node.x) + " of body '" + body.parameters.name +
+                          "' the outer normals of the two surfaces are " + point_text(outer) +
+                          " and " + point_text(master_outer) +
+                          " (they must point towards each other; is the master surface the "
+                          "other side of its body?).");
+                require(d * outer >= -1e-8 * slave.mean_edge,
+                        where + "the node at " + point_text(node.x) + " of body '" +
+                          body.parameters.name + "' lies inside body '" +
+                          master_body->parameters.name + "' (initial penetration " +
+                          InputParsing::number_text(-(d * outer)) +
+                          " along its outer normal): the bodies overlap before any load.");
                 if (d.norm() > 1e-8 * slave.mean_edge)
                   {
                     node.n   = d / d.norm();

@@ -36,6 +36,33 @@ namespace FetiContact
     return kkt;
   }
 
+  double
+  surface_penetration(const Parameters::Contact                    &contact,
+                      const std::vector<ContactTriangle>           &triangles,
+                      const std::vector<std::unique_ptr<Body>>     &bodies,
+                      const std::vector<std::vector<Tensor<1, 3>>> &vertex_u)
+  {
+    double u_max = 0;
+    for (const auto &body : vertex_u)
+      for (const auto &u : body)
+        u_max = std::max(u_max, u.norm());
+    double worst = 0;
+    for (const auto &t : triangles)
+      {
+        const auto &zone = contact.zones[t.zone];
+        if (zone.type != Parameters::ContactZone::Type::rigid_plane)
+          continue;
+        for (const unsigned int v : t.vertices)
+          {
+            const Point<3> x = bodies[t.body]->mesh.get_vertices()[v];
+            const double   distance =
+              (x + vertex_u[t.body][v] - zone.plane_point) * zone.plane_normal;
+            worst = std::max(worst, -distance);
+          }
+      }
+    return u_max > 0 ? worst / u_max : worst;
+  }
+
   std::vector<ContactNodeResult>
   evaluate_contact(const std::vector<ContactNode>               &nodes,
                    const DualLayout                             &layout,
@@ -135,11 +162,10 @@ namespace FetiContact
   }
 
   void
-  write_contact_csv(const std::string                    &filename,
+  write_contact_csv(std::ostream                         &out,
                     const std::vector<ContactNode>       &nodes,
                     const std::vector<ContactNodeResult> &results)
   {
-    std::ofstream out(filename);
     out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure\n"
         << std::setprecision(12);
     for (unsigned int k = 0; k < nodes.size(); ++k)

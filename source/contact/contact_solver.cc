@@ -1,3 +1,4 @@
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/qp/smalbe.h>
 
@@ -39,21 +40,21 @@ namespace FetiContact
                                const std::vector<ContactNode>  &nodes,
                                const Parameters::ContactSolver &parameters,
                                std::ostream                    &out,
-                               const std::string               &history_file)
+                               std::ostream                    *history)
     : dual(dual)
     , layout(layout)
     , nodes(nodes)
     , parameters(parameters)
     , out(out)
+    , history(history)
     , set(layout.size())
     , set_c(layout.size() - layout.n_tangential)
     , set_t(layout.n_tangential)
     , disc_of_node(nodes.size(), numbers::invalid_unsigned_int)
     , slip_bound(nodes.size(), 0.0)
   {
-    if (!history_file.empty())
+    if (history != nullptr)
       {
-        history = std::make_unique<std::ofstream>(history_file);
         *history << "msa_iteration,smalbe_iteration,feasibility,projected_gradient,"
                     "slip_bound_change,open,stick,slip,inner_iterations\n";
       }
@@ -613,7 +614,7 @@ namespace FetiContact
                                 "converged" :
                                 "Algorithm 2 did not converge; last relative change of the slip "
                                 "bound " +
-                         std::to_string(last_change);
+                         InputParsing::number_text(last_change);
   }
 
   void
@@ -730,6 +731,6 @@ namespace FetiContact
       }
     result.message = "MSA did not converge in " + std::to_string(parameters.max_msa_iterations) +
                      " iterations; last relative change of the slip bound " +
-                     std::to_string(last_change);
+                     InputParsing::number_text(last_change);
   }
 } // namespace FetiContact

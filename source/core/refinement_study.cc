@@ -1,6 +1,8 @@
 #include <deal.II/base/mpi.h>
 
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/base/json_writer.h>
+#include <feticontact/base/output_files.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
 
@@ -36,13 +38,7 @@ namespace FetiContact
     Parameters::Scene base;
     base.parse_parameters(base_prm, base_directory);
     const std::string directory = base.output.directory;
-    if (root)
-      {
-        std::filesystem::create_directories(directory);
-        for (const char *name :
-             {"convergence_table.txt", "convergence_table.org", "refinement_study.json"})
-          std::filesystem::remove(std::filesystem::path(directory) / name);
-      }
+    // (main() has removed every file of an earlier run from the directory.)
 
     ConvergenceTable                           table;
     std::map<std::string, std::vector<double>> columns;
@@ -88,8 +84,8 @@ namespace FetiContact
         if (!simulator.run())
           {
             failure = "refinement study: cycle " + std::to_string(cycle + 1) + " (factor " +
-                      std::to_string(factors[cycle]) + "): " + simulator.solver_message() +
-                      " (see " + cycle_directory + "/log.txt)";
+                      InputParsing::number_text(factors[cycle]) +
+                      "): " + simulator.solver_message() + " (see " + cycle_directory + "/log.txt)";
             break;
           }
         const auto &s = simulator.statistics();
@@ -128,26 +124,38 @@ namespace FetiContact
                                              "factor",
                                              ConvergenceTable::reduction_rate_log2,
                                              1);
+        std::string error;
         if (root)
-          {
-            std::cout << "\nRefinement study (" << directory << "/convergence_table.txt):\n";
-            table.write_text(std::cout, TableHandler::table_with_headers);
-            write_table(table, directory);
-            JsonObject json;
-            for (const auto &[key, values] : columns)
-              json.set(key, values);
-            std::ofstream(directory + "/refinement_study.json") << json.str() << '\n';
-          }
+          try
+            {
+              std::cout << "\nRefinement study (" << directory << "/convergence_table.txt):\n";
+              table.write_text(std::cout, TableHandler::table_with_headers);
+              ResultFiles files;
+              write_table(table, files, directory);
+              JsonObject json;
+              for (const auto &[key, values] : columns)
+                json.set(key, values);
+              files.open(directory + "/refinement_study.json") << json.str() << '\n';
+              files.commit();
+            }
+          catch (const OutputError &e)
+            {
+              error = e.what();
+            }
+        OutputFiles::throw_if_any_failed(comm, error);
       }
     return failure.empty();
   }
 
   void
-  RefinementStudy::write_table(ConvergenceTable &table, const std::string &directory) const
+  RefinementStudy::write_table(ConvergenceTable  &table,
+                               ResultFiles       &files,
+                               const std::string &directory) const
   {
-    std::ofstream text(directory + "/convergence_table.txt");
-    table.write_text(text, TableHandler::table_with_headers);
-    std::ofstream org(directory + "/convergence_table.org");
-    table.write_text(org, TableHandler::org_mode_table);
+    files.write(directory + "/convergence_table.txt", [&](std::ostream &out) {
+      table.write_text(out, TableHandler::table_with_headers);
+    });
+    files.write(directory + "/convergence_table.org",
+                [&](std::ostream &out) { table.write_text(out, TableHandler::org_mode_table); });
   }
 } // namespace FetiContact

@@ -15,7 +15,9 @@
 #include <feticontact/qp/projected_cg.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -52,29 +54,61 @@ namespace FetiContact
   Simulator::prepare_output_directory()
   {
     const std::string &dir = parameters.output.directory;
-    if (rank == 0)
+    on_all_ranks([&]() {
+      if (rank != 0)
+        return;
+      // Files of an earlier run must not pass for this run's.
+      OutputFiles::clean(dir);
+      // The input as read, at once: they are no results, and a run that stops keeps them.
+      ResultFiles inputs;
+      inputs.open(dir + "/parameters.prm") << effective_parameters;
+      inputs.open(dir + "/input.prm") << input;
+      inputs.commit();
+      errno = 0;
+      log_file.open(dir + "/log.txt");
+      if (!log_file)
+        throw OutputError("Cannot create the output file <" + dir +
+                          "/log.txt>: " + std::strerror(errno) + ".");
+      tee.add(log_file, dir + "/log.txt");
+    });
+  }
+
+  void
+  Simulator::on_all_ranks(const std::function<void()> &write)
+  {
+    std::string error;
+    try
       {
-        std::filesystem::create_directories(dir);
-        // Result files of an earlier run must not pass for this run's (a run that stops
-        // without a solution writes none).
-        for (const char *name : {"/summary.json",
-                                 "/contact.csv",
-                                 "/displacements.csv",
-                                 "/solution.pvtu",
-                                 "/solution.pvd",
-                                 "/contact_surface.vtu",
-                                 "/contact_surface.pvd"})
-          std::filesystem::remove(dir + name);
-        for (const auto &entry : std::filesystem::directory_iterator(dir))
-          if (entry.path().filename().string().rfind("solution_", 0) == 0 &&
-              entry.path().extension() == ".vtu")
-            std::filesystem::remove(entry.path());
-        std::ofstream(dir + "/parameters.prm") << effective_parameters;
-        std::ofstream(dir + "/input.prm") << input;
-        log_file.open(dir + "/log.txt");
-        tee.add(log_file);
+        write();
       }
-    MPI_Barrier(comm);
+    catch (const OutputError &e)
+      {
+        error = e.what();
+      }
+    OutputFiles::throw_if_any_failed(comm, error);
+  }
+
+  void
+  Simulator::check_log()
+  {
+    tee.flush();
+    on_all_ranks([this]() {
+      if (!tee.failed().empty())
+        throw OutputError("Cannot write the output file <" + tee.failed() + ">: " +
+                          OutputFiles::failure_reason(tee.failure_errno(), tee.failed()) + ".");
+    });
+  }
+
+  void
+  Simulator::commit_results()
+  {
+    on_all_ranks([this]() {
+      result_files.complete();
+      summary_file.complete();
+    });
+    check_log();
+    on_all_ranks([this]() { result_files.commit(); });
+    on_all_ranks([this]() { summary_file.commit(); });
   }
 
   void
@@ -243,15 +277,15 @@ namespace FetiContact
   Simulator::solve_contact()
   {
     TimerOutput::Scope scope(timer, "solve");
-    std::ostringstream history;
-    ContactSolver      solver(*dual,
-                         layout,
-                         contact_nodes,
-                         parameters.contact_solver,
-                         pcout.get_stream(),
-                         rank == 0 ? parameters.output.directory + "/history.csv" : "");
-    const auto         result = solver.solve();
-    lambda                    = result.lambda;
+    std::ostream      *history = nullptr;
+    on_all_ranks([&]() {
+      if (rank == 0)
+        history = &result_files.open(parameters.output.directory + "/history.csv");
+    });
+    ContactSolver solver(
+      *dual, layout, contact_nodes, parameters.contact_solver, pcout.get_stream(), history);
+    const auto result = solver.solve();
+    lambda            = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
@@ -315,6 +349,22 @@ namespace FetiContact
                                               vertex_u,
                                               check,
                                               tresca ? parameters.contact_solver.slip_bound : -1.0);
+        // The independent check counts every vertex of every rigid-plane surface too.
+        check.penetration =
+          std::max(check.penetration,
+                   surface_penetration(parameters.contact, contact_triangles, bodies, vertex_u));
+        // A solution that the independent check finds inside an obstacle by more than 1 % of
+        // the largest displacement is no solution, whatever the solver's residuals say.
+        if (converged && check.penetration > 1e-2)
+          {
+            converged = false;
+            message   = "the solver's residuals are small, but the independent check finds a "
+                        "penetration of " +
+                      InputParsing::number_text(check.penetration) +
+                      " of the largest displacement into an obstacle (kkt.penetration)";
+            summary.set("check_failure", message);
+            pcout << "Check failed: " << message << std::endl;
+          }
         // Before any file is written: a scene that does not fit the comparison is refused
         // without result files.
         if (parameters.verification.hertz.enabled)
@@ -329,30 +379,48 @@ namespace FetiContact
             if (node.master)
               contact_forces[node.master->first] -= force;
           }
-        if (rank == 0)
-          {
-            write_contact_csv(parameters.output.directory + "/contact.csv", contact_nodes, results);
-            if (parameters.output.write_fclib)
-              {
-                std::string title = "feticontact:";
-                for (const auto &body : bodies)
-                  title += (body->index > 0 ? ", " : " ") + body->parameters.name;
-                write_fclib(parameters.output.directory + "/fclib_problem.hdf5",
-                            assemble_fclib_problem(bodies,
-                                                   contact_nodes,
-                                                   results,
-                                                   vertex_u,
-                                                   mapping,
-                                                   fe,
-                                                   parameters.output.fclib_units),
-                            title,
-                            "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
-                            "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
-              }
-            if (parameters.output.write_vtu)
-              write_contact_surface_vtu(
-                parameters.output.directory, bodies, contact_nodes, results, contact_triangles);
-          }
+        on_all_ranks([&]() {
+          if (rank != 0)
+            return;
+          write_contact_csv(result_files.open(parameters.output.directory + "/contact.csv"),
+                            contact_nodes,
+                            results);
+          if (parameters.output.write_fclib)
+            {
+              std::string title = "feticontact:";
+              for (const auto &body : bodies)
+                title += (body->index > 0 ? ", " : " ") + body->parameters.name;
+              const std::string file =
+                result_files.reserve(parameters.output.directory + "/fclib_problem.hdf5");
+              const FclibProblem problem = assemble_fclib_problem(bodies,
+                                                                  contact_nodes,
+                                                                  results,
+                                                                  vertex_u,
+                                                                  mapping,
+                                                                  fe,
+                                                                  parameters.output.fclib_units);
+              try
+                {
+                  write_fclib(file,
+                              problem,
+                              title,
+                              "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
+                              "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
+                }
+              catch (const std::runtime_error &e)
+                {
+                  throw OutputError("Cannot write the output file <" + parameters.output.directory +
+                                    "/fclib_problem.hdf5>: " + e.what());
+                }
+            }
+          if (parameters.output.write_vtu)
+            write_contact_surface_vtu(result_files,
+                                      parameters.output.directory,
+                                      bodies,
+                                      contact_nodes,
+                                      results,
+                                      contact_triangles);
+        });
         summary.set("kkt", check.json());
         JsonObject totals;
         totals
@@ -379,25 +447,27 @@ namespace FetiContact
           }
       }
 
-    JsonObject equilibrium;
-    double     worst = 0;
-    const auto balance =
+    JsonObject              equilibrium;
+    std::vector<JsonObject> body_records;
+    double                  worst = 0;
+    const auto              balance =
       compute_force_balance(comm, bodies.size(), owned, u, mapping, contact_forces);
     for (const auto &body : bodies)
       {
         const auto &fb = balance[body->index];
         JsonObject  b;
+        b.set("index", body->index + 1).set("name", body->parameters.name);
         b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
         b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
         b.set("contact_force", std::vector<double>{fb.contact[0], fb.contact[1], fb.contact[2]});
         b.set("relative_imbalance", fb.relative_imbalance);
-        equilibrium.set(body->parameters.name, b);
+        body_records.push_back(b);
         worst = std::max(worst, fb.relative_imbalance);
         pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
               << ", support force " << fb.support << ", contact force " << fb.contact
               << ", relative imbalance " << fb.relative_imbalance << std::endl;
       }
-    equilibrium.set("largest_relative_imbalance", worst);
+    equilibrium.set("bodies", body_records).set("largest_relative_imbalance", worst);
     summary.set("equilibrium", equilibrium);
 
     if (parameters.verification.compare_with_monolithic && !contact_nodes.empty())
@@ -442,21 +512,24 @@ namespace FetiContact
 
     const std::string &dir = parameters.output.directory;
     if (parameters.output.write_vtu)
-      write_solution_vtu(comm, owned, u, first_subdomain.back(), mapping, dir);
-    if (parameters.output.write_displacement_csv && rank == 0)
-      {
-        std::ofstream csv(dir + "/displacements.csv");
-        csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
-        for (const auto &body : bodies)
-          for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
-            if (body->mesh.get_used_vertices()[v])
-              {
-                const auto &x = body->mesh.get_vertices()[v];
-                const auto &d = vertex_u[body->index][v];
-                csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0]
-                    << ',' << d[1] << ',' << d[2] << '\n';
-              }
-      }
+      on_all_ranks([&]() {
+        write_solution_vtu(result_files, comm, owned, u, first_subdomain.back(), mapping, dir);
+      });
+    on_all_ranks([&]() {
+      if (!parameters.output.write_displacement_csv || rank != 0)
+        return;
+      std::ostream &csv = result_files.open(dir + "/displacements.csv");
+      csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
+      for (const auto &body : bodies)
+        for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
+          if (body->mesh.get_used_vertices()[v])
+            {
+              const auto &x = body->mesh.get_vertices()[v];
+              const auto &d = vertex_u[body->index][v];
+              csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0] << ','
+                  << d[1] << ',' << d[2] << '\n';
+            }
+    });
   }
 
   void
@@ -604,8 +677,10 @@ namespace FetiContact
       .set("times", t)
       .set("memory", memory)
       .append(summary);
-    if (rank == 0)
-      std::ofstream(parameters.output.directory + "/summary.json") << s.str() << '\n';
+    on_all_ranks([&]() {
+      if (rank == 0)
+        summary_file.open(parameters.output.directory + "/summary.json") << s.str() << '\n';
+    });
   }
 
   bool
@@ -620,7 +695,9 @@ namespace FetiContact
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s), "
           << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
           << std::endl;
+    check_log();
     solve();
+    check_log();
     solve_F_time                      = dual->F_time;
     solve_F_local_time                = dual->F_local_time;
     solve_F_applications              = dual->n_F_applications;
@@ -631,6 +708,7 @@ namespace FetiContact
       postprocess();
     write_summary();
     timer.print_summary();
+    commit_results();
     return converged;
   }
 } // namespace FetiContact

@@ -90,7 +90,7 @@ namespace FetiContact
     const double rcond = GGt.reciprocal_condition_estimate();
     require(rcond > 1e-13,
             "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
-              std::to_string(rcond) + "): a body is not held.");
+              InputParsing::number_text(rcond) + "): a body is not held.");
   }
 
   void

@@ -11,7 +11,8 @@ namespace FetiContact
   using namespace dealii;
 
   void
-  write_contact_surface_vtu(const std::string                        &directory,
+  write_contact_surface_vtu(ResultFiles                              &files,
+                            const std::string                        &directory,
                             const std::vector<std::unique_ptr<Body>> &bodies,
                             const std::vector<ContactNode>           &nodes,
                             const std::vector<ContactNodeResult>     &results,
@@ -32,7 +33,7 @@ namespace FetiContact
           node_of[it->second] = k;
       }
 
-    std::ofstream out(directory + "/contact_surface.vtu");
+    std::ostream &out = files.open(directory + "/contact_surface.vtu");
     out << std::setprecision(10);
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
            "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
@@ -92,7 +93,8 @@ namespace FetiContact
     scalar("zone", [&](int k) { return nodes[k].zone + 1; });
     out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
 
-    std::ofstream pvd(directory + "/contact_surface.pvd");
-    DataOutBase::write_pvd_record(pvd, {{0.0, "contact_surface.vtu"}});
+    files.write(directory + "/contact_surface.pvd", [](std::ostream &pvd) {
+      DataOutBase::write_pvd_record(pvd, {{0.0, "contact_surface.vtu"}});
+    });
   }
 } // namespace FetiContact

@@ -60,7 +60,8 @@ namespace FetiContact
   } // namespace
 
   void
-  write_solution_vtu(const MPI_Comm                     comm,
+  write_solution_vtu(ResultFiles                       &files,
+                     const MPI_Comm                     comm,
                      const std::vector<Subdomain *>    &owned,
                      const std::vector<Vector<double>> &u,
                      const unsigned int                 n_subdomains,
@@ -97,17 +98,18 @@ namespace FetiContact
         data_out.add_data_vector(subdomain_id, "subdomain", DataOut<3>::type_cell_data);
         data_out.add_data_vector(body_id, "body", DataOut<3>::type_cell_data);
         data_out.build_patches(mapping);
-        std::ofstream out(directory + "/" + piece_name(s.global_index));
-        data_out.write_vtu(out);
+        files.write(directory + "/" + piece_name(s.global_index),
+                    [&](std::ostream &out) { data_out.write_vtu(out); });
         if (i == 0 && Utilities::MPI::this_mpi_process(comm) == 0)
           {
             // The pvtu record needs the list of fields: take it from the first piece.
             for (unsigned int p = 0; p < n_subdomains; ++p)
               pieces.push_back(piece_name(p));
-            std::ofstream pvtu(directory + "/solution.pvtu");
-            data_out.write_pvtu_record(pvtu, pieces);
-            std::ofstream pvd(directory + "/solution.pvd");
-            DataOutBase::write_pvd_record(pvd, {{0.0, "solution.pvtu"}});
+            files.write(directory + "/solution.pvtu",
+                        [&](std::ostream &out) { data_out.write_pvtu_record(out, pieces); });
+            files.write(directory + "/solution.pvd", [](std::ostream &out) {
+              DataOutBase::write_pvd_record(out, {{0.0, "solution.pvtu"}});
+            });
           }
       }
   }

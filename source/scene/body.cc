@@ -49,8 +49,9 @@ namespace FetiContact
                             require(std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)),
                                     "Body '" + parameters.name + "': the boundary parts <" +
                                       from[c]->boundary.name() + "> and <" + p.boundary.name() +
-                                      "> prescribe different displacements (" + std::to_string(a) +
-                                      " and " + std::to_string(b) + ") for component " +
+                                      "> prescribe different displacements (" +
+                                      InputParsing::number_text(a) + " and " +
+                                      InputParsing::number_text(b) + ") for component " +
                                       std::to_string(c) + " at the vertex they share.");
                           }
                         value[c] = p.value[c];

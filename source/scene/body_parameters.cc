@@ -124,6 +124,8 @@ namespace FetiContact::Parameters
         require(!file.empty(), ("Mesh: 'Type = gmsh' needs 'File'."));
         if (std::filesystem::path(file).is_relative() && !base_directory.empty())
           file = (std::filesystem::path(base_directory) / file).string();
+        require(!std::filesystem::is_directory(file),
+                ("Mesh/File: <" + file + "> is a folder, not a mesh file."));
         require(std::filesystem::is_regular_file(file),
                 ("Mesh/File: the mesh file <" + file + "> does not exist."));
       }

@@ -4,9 +4,13 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/mesh_generation.h>
+#include <feticontact/scene/parameter_file.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,6 +61,202 @@ namespace FetiContact::MeshGeneration
             }
         }
       return "the file ends inside its node list ($EndNodes is missing)";
+    }
+
+    /** The name of a Gmsh element type that is not a linear simplex or point, else "". */
+    std::string
+    unsupported_gmsh_element(const int type)
+    {
+      switch (type)
+        {
+          case 1:
+          case 2:
+          case 4:
+          case 15:
+            return "";
+          case 3:
+            return "4-node quadrangles";
+          case 5:
+            return "8-node hexahedra";
+          case 6:
+            return "6-node prisms";
+          case 7:
+            return "5-node pyramids";
+          case 8:
+            return "second-order (3-node) lines";
+          case 9:
+            return "second-order (6-node) triangles";
+          case 10:
+            return "second-order (9-node) quadrangles";
+          case 11:
+            return "second-order (10-node) tetrahedra";
+          case 12:
+            return "second-order (27-node) hexahedra";
+          case 16:
+            return "second-order (8-node) quadrangles";
+          case 17:
+            return "second-order (20-node) hexahedra";
+          default:
+            return "elements of Gmsh type " + std::to_string(type) +
+                   " (higher order or other shapes)";
+        }
+    }
+
+    /**
+     * The element types of an ASCII Gmsh file (MSH 2 or 4) that are not linear simplices: the
+     * first one found, described, or "" if all are linear tetrahedra, triangles, lines, points.
+     */
+    std::string
+    diagnose_gmsh_elements(const std::string &file)
+    {
+      std::ifstream in(file);
+      std::string   line;
+      double        version = 0;
+      while (std::getline(in, line))
+        {
+          const std::string trimmed = InputParsing::trim(line);
+          if (trimmed == "$MeshFormat" && std::getline(in, line))
+            version = std::atof(line.c_str());
+          if (trimmed == "$Elements")
+            break;
+        }
+      if (!in)
+        return "";
+      std::getline(in, line);
+      if (version >= 4)
+        {
+          // Header: blocks, elements, min tag, max tag; per block: dim, tag, type, count.
+          std::istringstream header(line);
+          long               n_blocks = 0;
+          header >> n_blocks;
+          for (long b = 0; b < n_blocks && std::getline(in, line); ++b)
+            {
+              std::istringstream block(line);
+              int                dim = 0, tag = 0, type = 0;
+              long               count = 0;
+              block >> dim >> tag >> type >> count;
+              if (!unsupported_gmsh_element(type).empty())
+                return unsupported_gmsh_element(type) + " (Gmsh element type " +
+                       std::to_string(type) + ")";
+              for (long e = 0; e < count && std::getline(in, line); ++e)
+                ;
+            }
+          return "";
+        }
+      while (std::getline(in, line) && InputParsing::trim(line) != "$EndElements")
+        {
+          std::istringstream words(line);
+          long               number = 0;
+          int                type   = 0;
+          if (words >> number >> type && !unsupported_gmsh_element(type).empty())
+            return unsupported_gmsh_element(type) + " (Gmsh element type " + std::to_string(type) +
+                   ")";
+        }
+      return "";
+    }
+
+    /**
+     * Refuses a Gmsh file that deal.II cannot read as text: a folder, a binary file (file-type 1
+     * in $MeshFormat), a byte-order mark, UTF-16, NUL bytes.
+     */
+    void
+    check_gmsh_file(const std::string &file, const std::string &where)
+    {
+      require(!std::filesystem::is_directory(file),
+              where + "the mesh file <" + file + "> is a folder, not a file.");
+      std::ifstream in(file, std::ios::binary);
+      std::string   first, format;
+      std::getline(in, first);
+      std::getline(in, format);
+      if (InputParsing::trim(first) == "$MeshFormat")
+        {
+          std::istringstream words(format);
+          std::string        version;
+          int                file_type = 0;
+          words >> version >> file_type;
+          require(file_type != 1,
+                  where + "the mesh file <" + file + "> is a binary Gmsh file (MSH " + version +
+                    ", file-type 1 in $MeshFormat); deal.II reads ASCII Gmsh files only: save it "
+                    "as ASCII (Gmsh: File > Export with 'Binary' unchecked, or the option "
+                    "Mesh.Binary = 0).");
+        }
+      try
+        {
+          Parameters::check_text_file(file, "mesh file");
+        }
+      catch (const InputError &e)
+        {
+          throw InputError(where + e.what());
+        }
+    }
+
+    /**
+     * Checks the vertices of a mesh: coordinates within a range that double precision resolves
+     * at the size of the cells, and no two distinct vertices at the same point (the two sides
+     * of an internal crack, or nodes a mesher duplicated, which no cell shares).
+     */
+    void
+    check_vertices(const Triangulation<3> &mesh, const std::string &where)
+    {
+      const auto &vertices = mesh.get_vertices();
+      const auto &used     = mesh.get_used_vertices();
+      // Beyond 1e15 in any unit the cells of a mesh one can store are below the rounding of
+      // their coordinates.
+      const double limit = 1e15;
+      Point<3>     lower, upper;
+      bool         first = true;
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        if (used[v])
+          {
+            for (unsigned int d = 0; d < 3; ++d)
+              if (!(std::abs(vertices[v][d]) <= limit))
+                throw InputError(where + "the mesh has a node at (" +
+                                 InputParsing::number_text(vertices[v][0]) + ", " +
+                                 InputParsing::number_text(vertices[v][1]) + ", " +
+                                 InputParsing::number_text(vertices[v][2]) +
+                                 "): coordinates beyond ±1e15 are not a mesh (a stray node, or "
+                                 "a unit mixed up?).");
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                lower[d] = first ? vertices[v][d] : std::min(lower[d], vertices[v][d]);
+                upper[d] = first ? vertices[v][d] : std::max(upper[d], vertices[v][d]);
+              }
+            first = false;
+          }
+      const double diameter = lower.distance(upper);
+      const double h_min    = GridTools::minimal_cell_diameter(mesh);
+      require(diameter <= 1e9 * h_min,
+              where + "the mesh extends over " + InputParsing::number_text(diameter) +
+                " but its smallest cell measures " + InputParsing::number_text(h_min) +
+                ": a ratio above 1e9 leaves the cells to rounding (a stray node far from the "
+                "others?).");
+
+      // Coincident vertices: equal after rounding to 1e-12 of the mesh's size, sorted.
+      const double quantum = 1e-12 * diameter;
+      using Key            = std::array<long long, 3>;
+      std::vector<std::pair<Key, unsigned int>> keys;
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        if (used[v])
+          {
+            Key k;
+            for (unsigned int d = 0; d < 3; ++d)
+              k[d] = std::llround((vertices[v][d] - lower[d]) / quantum);
+            keys.emplace_back(k, v);
+          }
+      std::sort(keys.begin(), keys.end());
+      for (std::size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first)
+          {
+            const Point<3> &x = vertices[keys[i].second];
+            throw InputError(
+              where + "the mesh has two distinct nodes at (" + InputParsing::number_text(x[0]) +
+              ", " + InputParsing::number_text(x[1]) + ", " + InputParsing::number_text(x[2]) +
+              ") (vertices " + std::to_string(keys[i - 1].second) + " and " +
+              std::to_string(keys[i].second) +
+              ") that no cell shares: an internal crack or duplicated nodes, which the bodies "
+              "here cannot have (merge them, e.g. Gmsh's Coherence; a crack is two bodies in "
+              "contact).");
+          }
     }
 
     /** Boundary ids 0…5 by the face of the bounding box a boundary face lies in. */
@@ -212,6 +412,7 @@ namespace FetiContact::MeshGeneration
       }
     else
       {
+        check_gmsh_file(parameters.file, where);
         std::ifstream in(parameters.file);
         require(static_cast<bool>(in),
                 where + "cannot open the mesh file <" + parameters.file + ">.");
@@ -229,29 +430,35 @@ namespace FetiContact::MeshGeneration
             const auto  pos = msg.find("Additional information:");
             if (pos != std::string::npos)
               msg = InputParsing::trim(msg.substr(pos + 23, msg.find("Stacktrace") - pos - 23));
-            const std::string cause = diagnose_gmsh_nodes(parameters.file);
+            std::string cause = diagnose_gmsh_elements(parameters.file);
+            if (!cause.empty())
+              throw InputError(where + "the Gmsh file <" + parameters.file + "> has " + cause +
+                               ": only linear 4-node tetrahedra (with 3-node triangles on the "
+                               "boundary) are supported; mesh with Mesh.ElementOrder = 1.");
+            cause = diagnose_gmsh_nodes(parameters.file);
             throw InputError(where + "cannot read the Gmsh file <" + parameters.file +
                              ">: " + (cause.empty() ? msg : cause + " (deal.II: " + msg + ")"));
           }
       }
 
     require(mesh.n_active_cells() > 0, where + "the mesh has no cells.");
+    check_vertices(mesh, where);
     // The messages are built only when a check fails: this loop visits every cell of the body
     // (two million at 10⁶ unknowns), on every MPI rank.
     for (const auto &cell : mesh.active_cell_iterators())
       {
         if (cell->reference_cell() != ReferenceCells::Tetrahedron)
           throw InputError(where + "the mesh has a cell that is not a tetrahedron (only linear "
-                                   "tetrahedra are supported).");
+                                   "4-node tetrahedra are supported).");
         std::array<Point<3>, 4> p;
         for (unsigned int v = 0; v < 4; ++v)
           p[v] = cell->vertex(v);
         const double h = p[0].distance(p[1]);
         if (!(signed_volume(p) > 1e-12 * h * h * h))
           throw InputError(where + "the mesh has a degenerate or inverted tetrahedron at " +
-                           std::to_string(cell->center()[0]) + ", " +
-                           std::to_string(cell->center()[1]) + ", " +
-                           std::to_string(cell->center()[2]) + ".");
+                           InputParsing::number_text(cell->center()[0]) + ", " +
+                           InputParsing::number_text(cell->center()[1]) + ", " +
+                           InputParsing::number_text(cell->center()[2]) + ".");
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary() && face->boundary_id() == interface_boundary_id)
             throw InputError(where + "boundary id " + std::to_string(interface_boundary_id) +

@@ -1,8 +1,10 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/scene/parameter_file.h>
 #include <feticontact/scene/scene_parameters.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -129,6 +131,29 @@ namespace FetiContact::Parameters
 
   namespace
   {
+    /** The --set options as parameter-file text, to be appended to the file. */
+    std::string
+    overrides_text(const std::vector<std::string> &overrides)
+    {
+      std::ostringstream buffer;
+      for (const auto &o : overrides)
+        {
+          const auto eq = o.find('=');
+          require(eq != std::string::npos && eq > 0,
+                  "--set <" + o + ">: expected 'Subsection/.../Entry=value'.");
+          auto path = InputParsing::split(o.substr(0, eq), '/');
+          require(!path.empty(), "--set <" + o + ">: no entry named.");
+          const std::string entry = path.back();
+          path.pop_back();
+          for (const auto &p : path)
+            buffer << "subsection " << p << '\n';
+          buffer << "set " << entry << " = " << o.substr(eq + 1) << '\n';
+          for (unsigned int k = 0; k < path.size(); ++k)
+            buffer << "end\n";
+        }
+      return buffer.str();
+    }
+
     /** deal.II's messages carry file and line of the library; keep the part for the user. */
     std::string
     user_part_of(const std::exception &e)
@@ -162,38 +187,39 @@ namespace FetiContact::Parameters
   void
   Scene::read_parameter_file(ParameterHandler               &prm,
                              const std::string              &filename,
-                             const std::vector<std::string> &overrides)
+                             const std::vector<std::string> &overrides,
+                             std::vector<std::string>       *warnings)
   {
-    std::ifstream in(filename);
-    require(static_cast<bool>(in), "Cannot open the parameter file <" + filename + ">.");
+    const ParameterFileText file = ParameterFileText::read(filename);
+    if (warnings != nullptr)
+      warnings->insert(warnings->end(), file.warnings.begin(), file.warnings.end());
     std::stringstream buffer;
-    buffer << in.rdbuf() << '\n';
-    const std::string file_text = buffer.str();
-    for (const auto &o : overrides)
-      {
-        const auto eq = o.find('=');
-        require(eq != std::string::npos && eq > 0,
-                "--set <" + o + ">: expected 'Subsection/.../Entry=value'.");
-        auto path = InputParsing::split(o.substr(0, eq), '/');
-        require(!path.empty(), "--set <" + o + ">: no entry named.");
-        const std::string entry = path.back();
-        path.pop_back();
-        for (const auto &p : path)
-          buffer << "subsection " << p << '\n';
-        buffer << "set " << entry << " = " << o.substr(eq + 1) << '\n';
-        for (unsigned int k = 0; k < path.size(); ++k)
-          buffer << "end\n";
-      }
-    const std::string text       = buffer.str();
-    const auto        file_lines = std::count(file_text.begin(), file_text.end(), '\n');
-    const auto        describe   = [&](const std::exception &e) {
-      std::string       msg   = user_part_of(e);
+    buffer << file.text << '\n';
+    buffer << overrides_text(overrides);
+    const std::string text     = buffer.str();
+    const auto        describe = [&](const std::exception &e) {
+      std::string msg = user_part_of(e);
+      // deal.II counts the lines of the expanded text: name the file and line they came from.
+      const auto line = msg.find("Line <");
+      if (line != std::string::npos)
+        {
+          const auto         close  = msg.find('>', line);
+          const unsigned int number = std::stoul(msg.substr(line + 6));
+          const std::string  label  = "of file <input string>";
+          if (number >= 1 && number <= file.origin.size())
+            {
+              const auto &[origin_file, origin_line] = file.origin[number - 1];
+              msg.replace(line, close - line + 1, "Line <" + std::to_string(origin_line) + ">");
+              const auto pos = msg.find(label);
+              if (pos != std::string::npos)
+                msg.replace(pos, label.size(), "of file <" + origin_file + ">");
+            }
+          else
+            msg += " (this line comes from a --set option)";
+        }
       const std::string label = "<input string>";
       for (auto pos = msg.find(label); pos != std::string::npos; pos = msg.find(label))
         msg.replace(pos, label.size(), "<" + filename + ">");
-      const auto line = msg.find("Line <");
-      if (line != std::string::npos && std::stol(msg.substr(line + 6)) > file_lines)
-        msg += " (this line comes from a --set option)";
       return "Parameter file <" + filename + ">: " + msg;
     };
 
@@ -228,5 +254,27 @@ namespace FetiContact::Parameters
       {
         throw InputError(describe(e));
       }
+  }
+
+  std::string
+  Scene::output_directory(const std::string &filename, const std::vector<std::string> &overrides)
+  {
+    std::string text;
+    try
+      {
+        text = ParameterFileText::read(filename).text + "\n" + overrides_text(overrides);
+      }
+    catch (const InputError &)
+      {
+        // A file that fails its checks (encoding, include cycle) still names its directory.
+        std::ifstream in(filename, std::ios::binary);
+        if (!std::filesystem::is_regular_file(filename) || !in)
+          return "";
+        std::stringstream raw;
+        raw << in.rdbuf();
+        text = raw.str() + "\n" + overrides_text(overrides);
+      }
+    Output defaults;
+    return ParameterFileText::last_value(text, "Output", "Directory", defaults.directory);
   }
 } // namespace FetiContact::Parameters

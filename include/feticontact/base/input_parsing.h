@@ -45,7 +45,17 @@ namespace FetiContact::InputParsing
   std::vector<std::string>
   split(const std::string &text, const char separator);
 
-  /** One finite real number; @p what names the parameter for the error message. */
+  /**
+   * A number for a message: six significant digits, in scientific notation when it is small or
+   * large (printf's %g: 3.5e-07, 0.25, 2.1e+11), so that no value prints as 0.000000.
+   */
+  std::string
+  number_text(const double value);
+
+  /**
+   * One finite real number; @p what names the parameter for the error message. A number beyond
+   * the range of double (1e400, 1e-400) is "out of range".
+   */
   double
   parse_double(const std::string &text, const std::string &what);
 

@@ -4,6 +4,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/json_writer.h>
+#include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 
 #include <string>
@@ -62,6 +63,19 @@ namespace FetiContact
   };
 
   /**
+   * The penetration of every vertex of every rigid-plane zone's surface into that zone's
+   * obstacle, from the displacements alone: max over the zones z and the vertices x of
+   * @p triangles of zone z of (−(x + u(x) − p_z)·n_z)⁺, relative to max |u|. It counts also the
+   * vertices that are no contact nodes of the zone and those that are contact nodes of another
+   * zone, so that a node on the edge of two obstacles is checked against both.
+   */
+  double
+  surface_penetration(const Parameters::Contact                            &contact,
+                      const std::vector<ContactTriangle>                   &triangles,
+                      const std::vector<std::unique_ptr<Body>>             &bodies,
+                      const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
+
+  /**
    * Evaluates every contact node. @p vertex_u: displacements per body and vertex; @p lambda in the
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
    * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) F λ_N
@@ -82,7 +96,7 @@ namespace FetiContact
    * lumped area and the pressure λ_N / area per node.
    */
   void
-  write_contact_csv(const std::string                    &filename,
+  write_contact_csv(std::ostream                         &out,
                     const std::vector<ContactNode>       &nodes,
                     const std::vector<ContactNodeResult> &results);
 } // namespace FetiContact

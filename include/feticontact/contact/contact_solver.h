@@ -87,7 +87,7 @@ namespace FetiContact
                   const std::vector<ContactNode>  &nodes,
                   const Parameters::ContactSolver &parameters,
                   std::ostream                    &out,
-                  const std::string               &history_file);
+                  std::ostream                    *history);
 
     Result
     solve();
@@ -150,7 +150,7 @@ namespace FetiContact
     const std::vector<ContactNode>  &nodes;
     const Parameters::ContactSolver &parameters;
     std::ostream                    &out;
-    std::unique_ptr<std::ostream>    history;
+    std::ostream                    *history;
     QP::SeparableSet                 set;   ///< Ω for all of λ
     QP::SeparableSet                 set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
     QP::SeparableSet                 set_t; ///< tangential part λ_T

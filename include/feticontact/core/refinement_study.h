@@ -2,6 +2,7 @@
 
 #include <deal.II/base/convergence_table.h>
 
+#include <feticontact/base/output_files.h>
 #include <feticontact/scene/scene_parameters.h>
 
 #include <mpi.h>
@@ -54,6 +55,8 @@ namespace FetiContact
 
     /** Writes the table files into @p directory (rank 0). */
     void
-    write_table(dealii::ConvergenceTable &table, const std::string &directory) const;
+    write_table(dealii::ConvergenceTable &table,
+                ResultFiles              &files,
+                const std::string        &directory) const;
   };
 } // namespace FetiContact

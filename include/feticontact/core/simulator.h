@@ -7,6 +7,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/json_writer.h>
+#include <feticontact/base/output_files.h>
 #include <feticontact/base/tee_stream.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
@@ -18,6 +19,7 @@
 #include <feticontact/subdomain/subdomain.h>
 
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <mpi.h>
 #include <optional>
@@ -45,7 +47,9 @@ namespace FetiContact
 
     /**
      * Runs everything; returns true if the dual solver converged. Throws InputError for a scene
-     * that cannot be solved as posed.
+     * that cannot be solved as posed and OutputError for a result file that cannot be written
+     * (then no result file is left; result files are written under temporary names and renamed
+     * when the run has written all of them, summary.json last).
      */
     bool
     run();
@@ -106,13 +110,29 @@ namespace FetiContact
     postprocess();
     void
     write_summary();
+    /** Renames every rank's result files to their final names, summary.json last. */
+    void
+    commit_results();
+    /**
+     * Runs @p write (on this rank) and makes an OutputError of any rank every rank's, so that
+     * all ranks stop together.
+     */
+    void
+    on_all_ranks(const std::function<void()> &write);
+    /** Throws OutputError on every rank if rank 0's log.txt could not be written. */
+    void
+    check_log();
 
-    MPI_Comm                   comm;
-    const unsigned int         rank;
-    const unsigned int         n_ranks;
-    Parameters::Scene          parameters;
-    const std::string          effective_parameters, input;
-    std::ofstream              log_file;
+    MPI_Comm           comm;
+    const unsigned int rank;
+    const unsigned int n_ranks;
+    Parameters::Scene  parameters;
+    const std::string  effective_parameters, input;
+    std::ofstream      log_file;
+    /** This rank's result files, renamed to their final names at the end of run(). */
+    ResultFiles result_files;
+    /** summary.json, renamed after every other result file. */
+    ResultFiles                summary_file;
     TeeStream                  tee;
     dealii::ConditionalOStream pcout;
     dealii::TimerOutput        timer;

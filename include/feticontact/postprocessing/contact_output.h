@@ -1,5 +1,6 @@
 #pragma once
 
+#include <feticontact/base/output_files.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_results.h>
 
@@ -14,10 +15,11 @@ namespace FetiContact
    * body as a vector −(λ_N n + λ_T1 t1 + λ_T2 t2), the tangential part of it, the gap d − N u, the
    * slip vector (T1 u) t1 + (T2 u) t2, the status 0 open / 1 stick / 2 slip (−1 for surface
    * vertices that are not contact nodes, e.g. Dirichlet vertices), and the zone) and
-   * `contact_surface.pvd` pointing to it.
+   * `contact_surface.pvd` pointing to it, into @p directory through @p files.
    */
   void
-  write_contact_surface_vtu(const std::string                        &directory,
+  write_contact_surface_vtu(ResultFiles                              &files,
+                            const std::string                        &directory,
                             const std::vector<std::unique_ptr<Body>> &bodies,
                             const std::vector<ContactNode>           &nodes,
                             const std::vector<ContactNodeResult>     &results,

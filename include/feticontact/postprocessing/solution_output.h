@@ -3,6 +3,7 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/base/output_files.h>
 #include <feticontact/subdomain/subdomain.h>
 
 #include <mpi.h>
@@ -15,10 +16,12 @@ namespace FetiContact
    * Writes the solution for ParaView: one `solution_NNNN.vtu` per subdomain (written by the rank
    * that owns it) with the displacement, the stress tensor, the von Mises stress, the
    * subdomain id and the body id (the last three as cell data), and on rank 0 `solution.pvtu`
-   * listing them and `solution.pvd` (one time step) pointing to it.
+   * listing them and `solution.pvd` (one time step) pointing to it, into @p directory through
+   * @p files (this rank's result files).
    */
   void
-  write_solution_vtu(const MPI_Comm                             comm,
+  write_solution_vtu(ResultFiles                               &files,
+                     const MPI_Comm                             comm,
                      const std::vector<Subdomain *>            &owned,
                      const std::vector<dealii::Vector<double>> &u,
                      const unsigned int                         n_subdomains,

@@ -58,11 +58,22 @@ namespace FetiContact::Parameters
      * pattern.
      *
      * @p overrides ("Body 1/Mesh/Subdivisions=24, 8, 8", from the command line option --set)
-     * are applied after the file, as if appended to it.
+     * are applied after the file, as if appended to it. `include` lines are expanded first
+     * (ParameterFileText); its warnings (an entry set twice in one subsection of one file) are
+     * appended to @p warnings if given.
      */
     static void
     read_parameter_file(dealii::ParameterHandler       &prm,
                         const std::string              &filename,
-                        const std::vector<std::string> &overrides = {});
+                        const std::vector<std::string> &overrides = {},
+                        std::vector<std::string>       *warnings  = nullptr);
+
+    /**
+     * The output directory that @p filename with @p overrides names (Output/Directory, or its
+     * default), found by a lenient scan that works also when the file fails to parse; empty if
+     * the file cannot be read.
+     */
+    static std::string
+    output_directory(const std::string &filename, const std::vector<std::string> &overrides);
   };
 } // namespace FetiContact::Parameters

@@ -1,0 +1,225 @@
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/scene/parameter_file.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace FetiContact::Parameters
+{
+  namespace
+  {
+    /** Collapses runs of white space into one blank and trims, as deal.II does with names. */
+    std::string
+    normalized(const std::string &text)
+    {
+      std::string out;
+      bool        blank = false;
+      for (const char c : InputParsing::trim(text))
+        if (c == ' ' || c == '\t')
+          blank = true;
+        else
+          {
+            if (blank)
+              out += ' ';
+            blank = false;
+            out += c;
+          }
+      return out;
+    }
+
+    /** A logical line of a parameter file: comment removed, continuation lines joined. */
+    struct Line
+    {
+      std::string  text;
+      unsigned int first_line;
+    };
+
+    std::vector<Line>
+    logical_lines(const std::string &text)
+    {
+      std::vector<Line>  lines;
+      std::istringstream in(text);
+      std::string        raw, pending;
+      unsigned int       number = 0, first = 0;
+      while (std::getline(in, raw))
+        {
+          ++number;
+          if (pending.empty())
+            first = number;
+          const auto hash = raw.find('#');
+          if (hash != std::string::npos)
+            raw.erase(hash);
+          const std::string trimmed = InputParsing::trim(raw);
+          if (!trimmed.empty() && trimmed.back() == '\\')
+            {
+              pending += trimmed.substr(0, trimmed.size() - 1);
+              continue;
+            }
+          lines.push_back({pending + trimmed, first});
+          pending.clear();
+        }
+      if (!pending.empty())
+        lines.push_back({pending, first});
+      return lines;
+    }
+
+    /** Whether @p line starts with the keyword @p word followed by white space. */
+    bool
+    starts_with_keyword(const std::string &line, const std::string &word)
+    {
+      return line.size() > word.size() && line.compare(0, word.size(), word) == 0 &&
+             (line[word.size()] == ' ' || line[word.size()] == '\t');
+    }
+
+    void
+    expand(const std::string &filename, std::vector<std::string> &stack, ParameterFileText &result)
+    {
+      check_text_file(filename, "parameter file");
+      std::ifstream in(filename);
+      require(static_cast<bool>(in), "Cannot open the parameter file <" + filename + ">.");
+      std::stringstream buffer;
+      buffer << in.rdbuf();
+
+      std::error_code   error;
+      const std::string canonical = std::filesystem::weakly_canonical(filename, error).string();
+      stack.push_back(canonical);
+
+      // Entries set in this file, by subsection path and name: (line, value).
+      std::map<std::string, std::pair<unsigned int, std::string>> seen;
+      std::vector<std::string>                                    path;
+      std::istringstream                                          lines(buffer.str());
+      std::string                                                 raw;
+      unsigned int                                                number = 0;
+      const auto  logical      = logical_lines(buffer.str());
+      std::size_t next_logical = 0;
+      while (std::getline(lines, raw))
+        {
+          ++number;
+          // Subsections and entries, for the duplicate check (by logical line).
+          while (next_logical < logical.size() && logical[next_logical].first_line <= number)
+            {
+              const Line &l = logical[next_logical++];
+              if (starts_with_keyword(l.text, "subsection"))
+                path.push_back(normalized(l.text.substr(10)));
+              else if (l.text == "end" && !path.empty())
+                path.pop_back();
+              else if (starts_with_keyword(l.text, "set"))
+                {
+                  const auto eq = l.text.find('=');
+                  if (eq == std::string::npos)
+                    continue;
+                  std::string key;
+                  for (const auto &p : path)
+                    key += p + "/";
+                  key += normalized(l.text.substr(3, eq - 3));
+                  const std::string value = InputParsing::trim(l.text.substr(eq + 1));
+                  const auto [it, inserted] =
+                    seen.emplace(key, std::make_pair(l.first_line, value));
+                  if (!inserted)
+                    {
+                      result.warnings.push_back(
+                        "Parameter file <" + filename + ">: '" + key + "' is set twice, line " +
+                        std::to_string(it->second.first) + " <" + it->second.second +
+                        "> and line " + std::to_string(l.first_line) + " <" + value +
+                        ">; the last one is used.");
+                      it->second = {l.first_line, value};
+                    }
+                }
+            }
+
+          const std::string trimmed = InputParsing::trim(raw);
+          if (starts_with_keyword(trimmed, "include"))
+            {
+              std::string target = InputParsing::trim(trimmed.substr(7));
+              const auto  hash   = target.find('#');
+              if (hash != std::string::npos)
+                target = InputParsing::trim(target.substr(0, hash));
+              const auto beside = std::filesystem::path(filename).parent_path() / target;
+              if (std::filesystem::exists(beside))
+                target = beside.string();
+              const std::string target_canonical =
+                std::filesystem::weakly_canonical(target, error).string();
+              for (const auto &open : stack)
+                if (open == target_canonical)
+                  throw InputError("Parameter file <" + filename + ">, line " +
+                                   std::to_string(number) + ": 'include " + target +
+                                   "' names a file that is being read already (an include "
+                                   "cycle).");
+              require(stack.size() < 32,
+                      "Parameter file <" + filename + ">: includes nested more than 32 deep.");
+              expand(target, stack, result);
+              continue;
+            }
+          result.text += raw + "\n";
+          result.origin.emplace_back(filename, number);
+        }
+      stack.pop_back();
+    }
+  } // namespace
+
+  void
+  check_text_file(const std::string &file, const std::string &what)
+  {
+    require(!std::filesystem::is_directory(file),
+            "The " + what + " <" + file + "> is a folder, not a file.");
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      return; // the caller names a missing file
+    std::string head(4096, '\0');
+    in.read(head.data(), head.size());
+    head.resize(in.gcount());
+    const auto starts = [&](const std::string &bytes) {
+      return head.compare(0, bytes.size(), bytes) == 0;
+    };
+    require(!starts("\xEF\xBB\xBF"),
+            "The " + what + " <" + file +
+              "> starts with a UTF-8 byte-order mark: save it as plain UTF-8 or ASCII text "
+              "without one.");
+    require(!starts("\xFF\xFE") && !starts("\xFE\xFF"),
+            "The " + what + " <" + file +
+              "> is UTF-16 text (it starts with a UTF-16 byte-order mark): save it as UTF-8 or "
+              "ASCII text.");
+    const auto nul = head.find('\0');
+    require(nul == std::string::npos,
+            "The " + what + " <" + file + "> contains a NUL byte at offset " + std::to_string(nul) +
+              ": it is not 8-bit text (UTF-16 without a byte-order mark, or a binary file).");
+  }
+
+  ParameterFileText
+  ParameterFileText::read(const std::string &filename)
+  {
+    ParameterFileText        result;
+    std::vector<std::string> stack;
+    expand(filename, stack, result);
+    return result;
+  }
+
+  std::string
+  ParameterFileText::last_value(const std::string &text,
+                                const std::string &subsection_path,
+                                const std::string &entry,
+                                const std::string &fallback)
+  {
+    std::string              value = fallback;
+    std::vector<std::string> path;
+    for (const auto &l : logical_lines(text))
+      if (starts_with_keyword(l.text, "subsection"))
+        path.push_back(normalized(l.text.substr(10)));
+      else if (l.text == "end" && !path.empty())
+        path.pop_back();
+      else if (starts_with_keyword(l.text, "set"))
+        {
+          const auto eq = l.text.find('=');
+          if (eq == std::string::npos)
+            continue;
+          std::string joined;
+          for (const auto &p : path)
+            joined += (joined.empty() ? "" : "/") + p;
+          if (joined == subsection_path && normalized(l.text.substr(3, eq - 3)) == entry)
+            value = InputParsing::trim(l.text.substr(eq + 1));
+        }
+    return value;
+  }
+} // namespace FetiContact::Parameters

@@ -73,6 +73,39 @@ namespace FetiContact::Parameters
              (line[word.size()] == ' ' || line[word.size()] == '\t');
     }
 
+    /** A `set` line: the entry's subsection path and name joined by '/', its value, its line. */
+    struct Entry
+    {
+      std::string  key, value;
+      unsigned int line;
+    };
+
+    /** Every `set` line of @p text with the subsections it is in; malformed lines are skipped. */
+    std::vector<Entry>
+    entries(const std::string &text)
+    {
+      std::vector<Entry>       found;
+      std::vector<std::string> path;
+      for (const auto &l : logical_lines(text))
+        if (starts_with_keyword(l.text, "subsection"))
+          path.push_back(normalized(l.text.substr(10)));
+        else if (l.text == "end" && !path.empty())
+          path.pop_back();
+        else if (starts_with_keyword(l.text, "set"))
+          {
+            const auto eq = l.text.find('=');
+            if (eq == std::string::npos)
+              continue;
+            std::string key;
+            for (const auto &p : path)
+              key += p + "/";
+            found.push_back({key + normalized(l.text.substr(3, eq - 3)),
+                             InputParsing::trim(l.text.substr(eq + 1)),
+                             l.first_line});
+          }
+      return found;
+    }
+
     void
     expand(const std::string &filename, std::vector<std::string> &stack, ParameterFileText &result)
     {
@@ -86,49 +119,27 @@ namespace FetiContact::Parameters
       const std::string canonical = std::filesystem::weakly_canonical(filename, error).string();
       stack.push_back(canonical);
 
-      // Entries set in this file, by subsection path and name: (line, value).
+      // Entries set twice in this file: by subsection path and name, (line, value).
       std::map<std::string, std::pair<unsigned int, std::string>> seen;
-      std::vector<std::string>                                    path;
-      std::istringstream                                          lines(buffer.str());
-      std::string                                                 raw;
-      unsigned int                                                number = 0;
-      const auto  logical      = logical_lines(buffer.str());
-      std::size_t next_logical = 0;
+      for (const auto &e : entries(buffer.str()))
+        {
+          const auto [it, inserted] = seen.emplace(e.key, std::make_pair(e.line, e.value));
+          if (!inserted)
+            {
+              result.warnings.push_back(
+                "Parameter file <" + filename + ">: '" + e.key + "' is set twice, line " +
+                std::to_string(it->second.first) + " <" + it->second.second + "> and line " +
+                std::to_string(e.line) + " <" + e.value + ">; the last one is used.");
+              it->second = {e.line, e.value};
+            }
+        }
+
+      std::istringstream lines(buffer.str());
+      std::string        raw;
+      unsigned int       number = 0;
       while (std::getline(lines, raw))
         {
           ++number;
-          // Subsections and entries, for the duplicate check (by logical line).
-          while (next_logical < logical.size() && logical[next_logical].first_line <= number)
-            {
-              const Line &l = logical[next_logical++];
-              if (starts_with_keyword(l.text, "subsection"))
-                path.push_back(normalized(l.text.substr(10)));
-              else if (l.text == "end" && !path.empty())
-                path.pop_back();
-              else if (starts_with_keyword(l.text, "set"))
-                {
-                  const auto eq = l.text.find('=');
-                  if (eq == std::string::npos)
-                    continue;
-                  std::string key;
-                  for (const auto &p : path)
-                    key += p + "/";
-                  key += normalized(l.text.substr(3, eq - 3));
-                  const std::string value = InputParsing::trim(l.text.substr(eq + 1));
-                  const auto [it, inserted] =
-                    seen.emplace(key, std::make_pair(l.first_line, value));
-                  if (!inserted)
-                    {
-                      result.warnings.push_back(
-                        "Parameter file <" + filename + ">: '" + key + "' is set twice, line " +
-                        std::to_string(it->second.first) + " <" + it->second.second +
-                        "> and line " + std::to_string(l.first_line) + " <" + value +
-                        ">; the last one is used.");
-                      it->second = {l.first_line, value};
-                    }
-                }
-            }
-
           const std::string trimmed = InputParsing::trim(raw);
           if (starts_with_keyword(trimmed, "include"))
             {
@@ -202,24 +213,10 @@ namespace FetiContact::Parameters
                                 const std::string &entry,
                                 const std::string &fallback)
   {
-    std::string              value = fallback;
-    std::vector<std::string> path;
-    for (const auto &l : logical_lines(text))
-      if (starts_with_keyword(l.text, "subsection"))
-        path.push_back(normalized(l.text.substr(10)));
-      else if (l.text == "end" && !path.empty())
-        path.pop_back();
-      else if (starts_with_keyword(l.text, "set"))
-        {
-          const auto eq = l.text.find('=');
-          if (eq == std::string::npos)
-            continue;
-          std::string joined;
-          for (const auto &p : path)
-            joined += (joined.empty() ? "" : "/") + p;
-          if (joined == subsection_path && normalized(l.text.substr(3, eq - 3)) == entry)
-            value = InputParsing::trim(l.text.substr(eq + 1));
-        }
+    std::string value = fallback;
+    for (const auto &e : entries(text))
+      if (e.key == subsection_path + "/" + entry)
+        value = e.value;
     return value;
   }
 } // namespace FetiContact::Parameters

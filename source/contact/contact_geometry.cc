@@ -112,6 +112,68 @@ namespace FetiContact
                 ". The plane normal must point out of the obstacle, towards the body (here " +
                 point_text(-zone.plane_normal) + "?).");
     }
+
+    /**
+     * The vertices that lie on the surfaces of several zones (an edge or corner where two
+     * obstacles meet, a body pair beside a plane). Every zone keeps its normal row, so the
+     * vertex stays out of every obstacle; of rigid planes with the same normal only the one
+     * with the smallest gap stays (it alone can bind: their gaps differ by a constant). The
+     * tangential rows would repeat the normal rows of the other zones (the tangent plane of one
+     * plane contains the normal of the other), and the multipliers would not be unique: the first
+     * zone of the vertex keeps the tangential directions orthogonal to every normal of the vertex
+     * (the edge's direction at an edge, none at a corner) and the others keep none (t1 = t2 = 0:
+     * rows without entries, whose multipliers stay 0).
+     */
+    void
+    combine_shared_vertices(std::vector<ContactNode> &nodes)
+    {
+      std::map<std::pair<unsigned int, unsigned int>, std::vector<unsigned int>> of_vertex;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        of_vertex[{nodes[k].body, nodes[k].vertex}].push_back(k);
+      std::vector<bool> dropped(nodes.size(), false);
+      for (const auto &[vertex, ks] : of_vertex)
+        {
+          if (ks.size() < 2)
+            continue;
+          for (unsigned int a = 0; a < ks.size(); ++a)
+            for (unsigned int b = a + 1; b < ks.size(); ++b)
+              if (!dropped[ks[a]] && !dropped[ks[b]] && !nodes[ks[a]].master &&
+                  !nodes[ks[b]].master && nodes[ks[a]].n * nodes[ks[b]].n > 1 - 1e-8)
+                dropped[nodes[ks[a]].gap <= nodes[ks[b]].gap ? ks[b] : ks[a]] = true;
+          // An orthonormal basis of the span of the normals kept at the vertex.
+          std::vector<Tensor<1, 3>> basis;
+          for (const unsigned int k : ks)
+            if (!dropped[k])
+              {
+                Tensor<1, 3> v = nodes[k].n;
+                for (const auto &e : basis)
+                  v -= (v * e) * e;
+                if (v.norm() > 1e-8)
+                  basis.push_back(v / v.norm());
+              }
+          bool first = true;
+          for (const unsigned int k : ks)
+            {
+              if (dropped[k])
+                continue;
+              ContactNode &node = nodes[k];
+              if (!first || basis.size() == 3)
+                node.t1 = node.t2 = Tensor<1, 3>();
+              else if (basis.size() == 2)
+                {
+                  node.t1 = cross_product_3d(basis[0], basis[1]);
+                  node.t1 /= node.t1.norm();
+                  node.t2 = Tensor<1, 3>();
+                }
+              first = false;
+            }
+        }
+      unsigned int kept = 0;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        if (!dropped[k])
+          nodes[kept++] = nodes[k];
+      nodes.resize(kept);
+    }
   } // namespace
 
   std::vector<ContactNode>
@@ -119,8 +181,7 @@ namespace FetiContact
                      const Parameters::Contact                &contact,
                      std::vector<ContactTriangle>             *triangles)
   {
-    std::vector<ContactNode>                        nodes;
-    std::set<std::pair<unsigned int, unsigned int>> taken; // (body, vertex)
+    std::vector<ContactNode> nodes;
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       {
         const auto       &zone  = contact.zones[z];
@@ -157,10 +218,9 @@ namespace FetiContact
         for (const auto &[vertex, normal_sum] : slave.normal_sum)
           {
             const auto prescribed = body.prescribed.find(vertex);
-            if (taken.count({zone.body, vertex}) > 0 ||
-                (prescribed != body.prescribed.end() && prescribed->second[0] &&
-                 prescribed->second[1] && prescribed->second[2]))
-              continue; // taken by an earlier zone, or clamped
+            if (prescribed != body.prescribed.end() && prescribed->second[0] &&
+                prescribed->second[1] && prescribed->second[2])
+              continue; // clamped
             ContactNode node;
             node.zone                = z;
             node.body                = zone.body;
@@ -264,16 +324,15 @@ namespace FetiContact
                     node.t1 = cross_product_3d(node.t2, node.n);
                   }
               }
-            taken.insert({zone.body, vertex});
             nodes.push_back(node);
             ++n_in_zone;
           }
         require(n_in_zone > 0,
                 where + "the surface <" + zone.surface.name() + "> of body '" +
                   body.parameters.name +
-                  "' has no contact node (all its vertices are Dirichlet "
-                  "vertices or belong to an earlier zone).");
+                  "' has no contact node (all its vertices are Dirichlet vertices).");
       }
+    combine_shared_vertices(nodes);
     return nodes;
   }
 } // namespace FetiContact

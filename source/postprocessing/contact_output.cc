@@ -2,6 +2,7 @@
 
 #include <feticontact/postprocessing/contact_output.h>
 
+#include <array>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -18,17 +19,20 @@ namespace FetiContact
                             const std::vector<ContactNodeResult>     &results,
                             const std::vector<ContactTriangle>       &triangles)
   {
-    // Points: the distinct (body, vertex) of the triangles.
-    std::map<std::pair<unsigned int, unsigned int>, unsigned int> point_of;
-    std::vector<std::pair<unsigned int, unsigned int>>            points;
+    // Points: the distinct (zone, body, vertex) of the triangles; a vertex on the surfaces of
+    // two zones (an edge where two obstacles meet) is a point of each zone's patch, with that
+    // zone's contact data.
+    using PointKey = std::array<unsigned int, 3>;
+    std::map<PointKey, unsigned int> point_of;
+    std::vector<PointKey>            points;
     for (const auto &t : triangles)
       for (const unsigned int v : t.vertices)
-        if (point_of.emplace(std::make_pair(t.body, v), points.size()).second)
-          points.emplace_back(t.body, v);
+        if (point_of.emplace(PointKey{{t.zone, t.body, v}}, points.size()).second)
+          points.push_back({{t.zone, t.body, v}});
     std::vector<int> node_of(points.size(), -1);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const auto it = point_of.find({nodes[k].body, nodes[k].vertex});
+        const auto it = point_of.find({{nodes[k].zone, nodes[k].body, nodes[k].vertex}});
         if (it != point_of.end())
           node_of[it->second] = k;
       }
@@ -39,7 +43,7 @@ namespace FetiContact
            "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
         << points.size() << "\" NumberOfCells=\"" << triangles.size() << "\">\n";
     out << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto &[b, v] : points)
+    for (const auto &[z, b, v] : points)
       {
         const auto &x = bodies[b]->mesh.get_vertices()[v];
         out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
@@ -47,8 +51,9 @@ namespace FetiContact
     out << "</DataArray></Points>\n<Cells>\n"
            "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const auto &t : triangles)
-      out << point_of[{t.body, t.vertices[0]}] << ' ' << point_of[{t.body, t.vertices[1]}] << ' '
-          << point_of[{t.body, t.vertices[2]}] << '\n';
+      out << point_of[{{t.zone, t.body, t.vertices[0]}}] << ' '
+          << point_of[{{t.zone, t.body, t.vertices[1]}}] << ' '
+          << point_of[{{t.zone, t.body, t.vertices[2]}}] << '\n';
     out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
     for (unsigned int c = 0; c < triangles.size(); ++c)
       out << 3 * (c + 1) << '\n';

@@ -49,14 +49,15 @@ namespace FetiContact
    * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
    * displacement component, or only components orthogonal to the node's normal, such as a
    * symmetry plane's roller condition (then t2 is the last prescribed axis, whose tangential row
-   * acts on no free DoF; a vertex in two zones belongs to the first), in zone order and by vertex
-   * number. Rigid plane: χ(x_k) is the orthogonal projection of
-   * x_k on the plane and n_k the plane's normal pointing into the obstacle. Body pair: n_k is from
-   * x_k towards χ(x_k) when the gap is positive and the outer unit normal of Γ_c (the area-weighted
-   * mean of the adjacent face normals) when it is zero. For a body pair every slave node must have
-   * a master vertex opposite it along its normal; otherwise the surfaces do not match and
-   * InputError names the node. If @p triangles is given, the triangles of every zone's surface are
-   * appended to it (for the contact-surface output).
+   * acts on no free DoF), in zone order and by vertex number. A vertex on the surfaces of several
+   * zones is a node of each (see combine_shared_vertices in contact_geometry.cc: the first keeps
+   * the tangents orthogonal to all normals of the vertex, the others none). Rigid plane: χ(x_k) is
+   * the orthogonal projection of x_k on the plane and n_k the plane's normal pointing into the
+   * obstacle. Body pair: n_k is from x_k towards χ(x_k) when the gap is positive and the outer unit
+   * normal of Γ_c (the area-weighted mean of the adjacent face normals) when it is zero. For a body
+   * pair every slave node must have a master vertex opposite it along its normal; otherwise the
+   * surfaces do not match and InputError names the node. If @p triangles is given, the triangles of
+   * every zone's surface are appended to it (for the contact-surface output).
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,

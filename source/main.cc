@@ -191,7 +191,7 @@ main(int argc, char **argv)
                              "summary.json has \"converged\": false)."
                           << std::endl;
             }
-          return 2;
+          return simulator.no_equilibrium() ? 4 : 2;
         }
     }
   catch (const InputError &e)

@@ -20,7 +20,7 @@ displacements of that run by S first (the same scene in other units or with scal
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
 PVD, CSV) in OUTDIR. With --no-equilibrium the input is valid but the solver proves that no
-equilibrium exists: exit status 2 within TIME_LIMIT, TEXT on stderr, summary.json with
+equilibrium exists: exit status 4 within TIME_LIMIT, TEXT on stderr, summary.json with
 "converged": false and "no_equilibrium": true, and besides it only the iteration history
 (history.csv): no displacement, contact or VTU files.
 Standard library only, so that any python3 runs it.
@@ -92,6 +92,8 @@ def check_expectation(summary, expectation):
     target = target.strip()
     if target in ("true", "false"):
         ok = value == (target == "true")
+    elif isinstance(value, str):
+        ok = op == "=" and value == target
     else:
         t = float(target)
         v = float(value)
@@ -268,7 +270,7 @@ def bad(args):
         elif args[i] == "--np":
             np = int(args[i + 1])
         i += 2
-    limit, status = (TIME_LIMIT, 2) if no_equilibrium else (BAD_INPUT_TIME_LIMIT, 1)
+    limit, status = (TIME_LIMIT, 4) if no_equilibrium else (BAD_INPUT_TIME_LIMIT, 1)
     try:
         p = run(exe, prm, outdir, np, sets, limit)
     except subprocess.TimeoutExpired:

@@ -7,6 +7,7 @@
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
+#include <feticontact/contact/load_balance.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/fclib_export.h>
@@ -139,6 +140,69 @@ namespace FetiContact
   }
 
   void
+  Simulator::setup_contact()
+  {
+    TimerOutput::Scope scope(timer, "setup");
+    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
+    require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
+            "Verification/Hertz: the scene has no contact nodes.");
+    require(!contact_nodes.empty() || !parameters.output.write_fclib,
+            "Output/Write FCLIB problem: the scene has no contact nodes.");
+    if (contact_nodes.empty())
+      return;
+    const bool tresca =
+      parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
+    const LoadBalance balance =
+      test_load_balance(bodies, contact_nodes, tresca ? parameters.contact_solver.slip_bound : -1);
+    const char *outcome[] = {"balanced", "impossible", "undecided"};
+    summary.set("load_balance",
+                JsonObject()
+                  .set("outcome", outcome[static_cast<int>(balance.outcome)])
+                  .set("relative_residual", balance.relative_residual)
+                  .set("iterations", balance.iterations));
+    if (balance.outcome == LoadBalance::Outcome::undecided)
+      pcout << "Load balance: undecided after " << balance.iterations
+            << " iterations (relative residual " << balance.relative_residual
+            << "); the solve decides" << std::endl;
+    if (balance.outcome != LoadBalance::Outcome::impossible)
+      return;
+    std::ostringstream text;
+    text << "no equilibrium: the loads cannot be balanced by contact forces within "
+         << (tresca ? "the bounds λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca)" : "the friction cones ‖λ_T‖ ≤ F λ_N")
+         << ". On the rigid motion with " << balance.motion << " the loads do the work "
+         << InputParsing::number_text(balance.load_work) << " J per metre of that motion, and ";
+    if (std::isfinite(balance.force_bound))
+      text << "only contact forces whose magnitudes sum to more than "
+           << InputParsing::number_text(balance.force_bound) << " N (" << std::setprecision(2)
+           << balance.force_bound / balance.load_resultant << std::setprecision(6)
+           << " times the loads' resultant) could oppose it";
+    else
+      text << "no contact force within them can oppose it";
+    text << ". A body held only by contact is pulled off its obstacle, or its tangential loads "
+            "exceed what friction can hold (full sliding)";
+    message                = text.str();
+    equilibrium_impossible = true;
+    converged              = false;
+    pcout << "Load balance: " << message << std::endl;
+    summary.set("solver_message", message).set("no_equilibrium", true);
+  }
+
+  void
+  Simulator::write_no_equilibrium_summary()
+  {
+    JsonObject s;
+    s.set("converged", false)
+      .set("n_subdomains", first_subdomain.back())
+      .set("n_contact_nodes", static_cast<unsigned int>(contact_nodes.size()))
+      .set("n_mpi_ranks", n_ranks)
+      .append(summary);
+    on_all_ranks([&]() {
+      if (rank == 0)
+        summary_file.open(parameters.output.directory + "/summary.json") << s.str() << '\n';
+    });
+  }
+
+  void
   Simulator::distribute_subdomains()
   {
     // Contiguous ranges of subdomains, balanced by their numbers of cells (each rank at most
@@ -177,11 +241,6 @@ namespace FetiContact
       for (const auto &s : subdomains)
         owned.push_back(s.get());
       // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
-      contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
-      require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
-              "Verification/Hertz: the scene has no contact nodes.");
-      require(!contact_nodes.empty() || !parameters.output.write_fclib,
-              "Output/Write FCLIB problem: the scene has no contact nodes.");
       const bool polygonal =
         parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
       rows                    = build_contact_rows(contact_nodes,
@@ -688,6 +747,14 @@ namespace FetiContact
   {
     prepare_output_directory();
     setup_bodies();
+    setup_contact();
+    if (equilibrium_impossible)
+      {
+        write_no_equilibrium_summary();
+        timer.print_summary();
+        commit_results();
+        return false;
+      }
     distribute_subdomains();
     build_subdomains();
     factorize();

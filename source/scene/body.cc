@@ -3,7 +3,9 @@
 #include <feticontact/scene/mesh_generation.h>
 #include <feticontact/subdomain/rigid_body_modes.h>
 
+#include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace FetiContact
@@ -65,30 +67,135 @@ namespace FetiContact
       cells_of_part[partition.part_of_cell[cell->active_cell_index()]].push_back(cell);
   }
 
-  void
-  Body::check_held() const
+  Tensor<1, 3>
+  FreeRigidMotions::value(const unsigned int j, const Point<3> &x) const
   {
-    std::vector<Point<3>>     points;
-    std::vector<unsigned int> components;
-    std::vector<bool>         fixed;
-    // The motion is determined by the vertices; use all of them (a large body has enough
-    // independent points; the check needs only that the fixed DoFs remove every motion).
+    const Tensor<1, 3> r = (x - centre) / length;
+    Tensor<1, 3>       v;
+    for (unsigned int i = 0; i < 3; ++i)
+      {
+        Tensor<1, 3> e;
+        e[i] = 1;
+        v += coefficients(i, j) * e + coefficients(i + 3, j) * cross_product_3d(e, r);
+      }
+    return v;
+  }
+
+  FreeRigidMotions
+  Body::free_rigid_motions() const
+  {
+    FreeRigidMotions motions;
+    Point<3>         lower, upper;
+    unsigned int     n = 0;
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      if (mesh.get_used_vertices()[v])
+        {
+          const Point<3> &x = mesh.get_vertices()[v];
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              lower[d] = n == 0 ? x[d] : std::min(lower[d], x[d]);
+              upper[d] = n == 0 ? x[d] : std::max(upper[d], x[d]);
+            }
+          motions.centre += x;
+          ++n;
+        }
+    motions.centre /= std::max(n, 1u);
+    motions.length = std::max(lower.distance(upper), std::numeric_limits<double>::min());
+
+    // M = Σ φᵀφ over all DoFs, P = the same over the prescribed DoFs (6 × 6 each); the free
+    // motions are the eigenvectors of M^{-1/2} P M^{-1/2} with eigenvalues below 1e-10 (their
+    // norm on the prescribed DoFs is below 1e-5 of their norm).
+    FullMatrix<double> M(6, 6), P(6, 6);
+    FreeRigidMotions   unit;
+    unit.centre       = motions.centre;
+    unit.length       = motions.length;
+    unit.coefficients = IdentityMatrix(6);
     for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
       {
         if (!mesh.get_used_vertices()[v])
           continue;
+        std::array<Tensor<1, 3>, 6> phi;
+        for (unsigned int i = 0; i < 6; ++i)
+          phi[i] = unit.value(i, mesh.get_vertices()[v]);
         const auto it = prescribed.find(v);
         for (unsigned int c = 0; c < 3; ++c)
           {
-            points.push_back(mesh.get_vertices()[v]);
-            components.push_back(c);
-            fixed.push_back(it != prescribed.end() && it->second[c].has_value());
+            const bool fixed = it != prescribed.end() && it->second[c].has_value();
+            for (unsigned int i = 0; i < 6; ++i)
+              for (unsigned int j = 0; j < 6; ++j)
+                {
+                  M(i, j) += phi[i][c] * phi[j][c];
+                  if (fixed)
+                    P(i, j) += phi[i][c] * phi[j][c];
+                }
           }
       }
-    const auto R = rigid_body_modes(points, components, fixed);
-    require(R.n() == 0,
+    std::vector<double> w;
+    FullMatrix<double>  V;
+    symmetric_eigen(M, w, V);
+    FullMatrix<double> M_inverse_root(6, 6); // M^{-1/2}
+    for (unsigned int i = 0; i < 6; ++i)
+      for (unsigned int j = 0; j < 6; ++j)
+        for (unsigned int k = 0; k < 6; ++k)
+          M_inverse_root(i, j) += V(i, k) * V(j, k) / std::sqrt(w[k]);
+    FullMatrix<double> A(6, 6), tmp(6, 6);
+    M_inverse_root.mmult(tmp, P);
+    tmp.mmult(A, M_inverse_root);
+    symmetric_eigen(A, w, V);
+    std::vector<Vector<double>> free;
+    for (unsigned int k = 0; k < 6; ++k)
+      if (w[k] < 1e-10)
+        {
+          Vector<double> c(6), u(6);
+          for (unsigned int i = 0; i < 6; ++i)
+            u[i] = V(i, k);
+          M_inverse_root.vmult(c, u);
+          for (const auto &f : free) // orthonormal in the coefficients
+            c.add(-(c * f), f);
+          c /= c.l2_norm();
+          free.push_back(c);
+        }
+    motions.coefficients.reinit(6, free.size());
+    for (unsigned int j = 0; j < free.size(); ++j)
+      for (unsigned int i = 0; i < 6; ++i)
+        motions.coefficients(i, j) = free[j][i];
+    return motions;
+  }
+
+  Vector<double>
+  Body::load_work(const FreeRigidMotions &motions) const
+  {
+    Vector<double> work(motions.n());
+    const auto    &bc = parameters.boundary_conditions;
+    // The motions are linear: the integral of a constant load times v_j over a simplex is the
+    // load times v_j at its centroid times its measure.
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        if (bc.volume_force.norm() > 0)
+          for (unsigned int j = 0; j < motions.n(); ++j)
+            work[j] += bc.volume_force * motions.value(j, cell->center()) * cell->measure();
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            for (const auto &traction : bc.tractions)
+              if (traction.boundary.contains(*face))
+                {
+                  const double area = 0.5 * cross_product_3d(face->vertex(1) - face->vertex(0),
+                                                             face->vertex(2) - face->vertex(0))
+                                              .norm();
+                  for (unsigned int j = 0; j < motions.n(); ++j)
+                    work[j] += traction.value * motions.value(j, face->center()) * area;
+                }
+      }
+    return work;
+  }
+
+  void
+  Body::check_held() const
+  {
+    const unsigned int n_free = free_rigid_motions().n();
+    require(n_free == 0,
             "Body '" + parameters.name + "' is not held: its prescribed displacements leave " +
-              std::to_string(R.n()) +
+              std::to_string(n_free) +
               " rigid body motion(s) free and the scene has no contact, so the linear elastic "
               "problem has no unique solution (equilibrium of the loads is not guaranteed). "
               "Clamp or prescribe displacements on a larger part of its boundary.");

@@ -56,8 +56,9 @@ namespace FetiContact
 
     /**
      * The contact solver's closing message ("converged", or why it stopped). When it proved
-     * that no equilibrium exists (no_equilibrium()), run() writes no result files, only log.txt,
-     * history.csv and summary.json with "converged": false.
+     * that no equilibrium exists (no_equilibrium(), before the solve by the load-balance test
+     * or in it by SMALBE's certificate), run() writes no result files, only log.txt, summary.json
+     * with "converged": false and (after a solve) history.csv.
      */
     const std::string &
     solver_message() const
@@ -94,6 +95,16 @@ namespace FetiContact
     prepare_output_directory();
     void
     setup_bodies();
+    /**
+     * The contact nodes of every zone, and the test that contact forces within the friction
+     * law's sets can balance the loads on the free rigid motions (test_load_balance): a proof
+     * of the contrary sets no_equilibrium() before any subdomain is built.
+     */
+    void
+    setup_contact();
+    /** summary.json of a run that stops in setup_contact() without equilibrium. */
+    void
+    write_no_equilibrium_summary();
     void
     distribute_subdomains();
     void

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
 
 #include <feticontact/scene/body_parameters.h>
 #include <feticontact/scene/decomposition.h>
@@ -11,6 +13,30 @@
 
 namespace FetiContact
 {
+  /**
+   * The rigid motions of a body that its prescribed displacements leave free, as combinations
+   * of the six motions φ_i(x) = e_i (i < 3) and e_{i−3} × (x − x̄)/L (i ≥ 3), x̄ the centroid of
+   * the vertices and L the diagonal of their bounding box: the columns of @p coefficients
+   * (6 × r, orthonormal), r = 0 for a held body.
+   */
+  struct FreeRigidMotions
+  {
+    dealii::Point<3>           centre;
+    double                     length = 1;
+    dealii::FullMatrix<double> coefficients;
+
+    /** r: the number of free motions. */
+    unsigned int
+    n() const
+    {
+      return coefficients.n();
+    }
+
+    /** v_j(x), the free motion @p j at @p x. */
+    dealii::Tensor<1, 3>
+    value(const unsigned int j, const dealii::Point<3> &x) const;
+  };
+
   /**
    * One elastic body of the scene: its parameters (with boundary selectors resolved against its
    * mesh), the undecomposed tetrahedral mesh, the prescribed displacements per mesh vertex (Γ_u)
@@ -34,6 +60,21 @@ namespace FetiContact
      */
     void
     check_held() const;
+
+    /**
+     * The rigid motions left free by the prescribed displacements: the motions whose norm on
+     * the prescribed DoFs is below 1e-5 of their norm on all DoFs (the kernel of the stiffness
+     * matrix with those DoFs eliminated).
+     */
+    FreeRigidMotions
+    free_rigid_motions() const;
+
+    /**
+     * The work of the body's loads (tractions and volume force) on each free rigid motion:
+     * ∫_Γ t·v_j + ∫_Ω b·v_j, exact for the linear motions.
+     */
+    dealii::Vector<double>
+    load_work(const FreeRigidMotions &motions) const;
 
     /** The number of unknowns of the undecomposed body without prescribed DoFs. */
     unsigned int

@@ -1,0 +1,338 @@
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/load_balance.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /**
+     * The columns of W of one contact node: the work of a unit force along n, t1, t2 on the
+     * free motions of the (at most two) floating bodies it touches, −v_j(x) on the slave and
+     * +v_j(χ(x)) on the master.
+     */
+    struct NodeColumns
+    {
+      struct Side
+      {
+        unsigned int           offset = 0, count = 0;
+        std::array<double, 18> work{}; ///< [3 j + c]
+      };
+      std::array<Side, 2> sides;
+      double              friction = 0;
+      double              g        = -1; ///< Tresca: the slip bound; Coulomb: −1
+    };
+
+    /** The test's data: W by node, e, and the admissible set of every node. */
+    struct BalanceProblem
+    {
+      std::vector<NodeColumns>      columns;
+      Vector<double>                e;
+      std::vector<FreeRigidMotions> motions;  ///< by body
+      std::vector<unsigned int>     offset;   ///< of each body's motions in e
+      std::vector<std::string>      names;    ///< by body
+
+      unsigned int
+      n_unknowns() const
+      {
+        return 3 * columns.size();
+      }
+
+      /** r = W p. */
+      void
+      apply_W(const Vector<double> &p, Vector<double> &r) const
+      {
+        r = 0;
+        for (unsigned int k = 0; k < columns.size(); ++k)
+          for (const auto &side : columns[k].sides)
+            for (unsigned int j = 0; j < side.count; ++j)
+              for (unsigned int c = 0; c < 3; ++c)
+                r[side.offset + j] += side.work[3 * j + c] * p[3 * k + c];
+      }
+
+      /** y = Wᵀ α. */
+      void
+      apply_Wt(const Vector<double> &alpha, Vector<double> &y) const
+      {
+        y = 0;
+        for (unsigned int k = 0; k < columns.size(); ++k)
+          for (const auto &side : columns[k].sides)
+            for (unsigned int j = 0; j < side.count; ++j)
+              for (unsigned int c = 0; c < 3; ++c)
+                y[3 * k + c] += side.work[3 * j + c] * alpha[side.offset + j];
+      }
+
+      /** The projection of (p_N, p_T) of node @p k on its set (a cone, or a bound × a disc). */
+      void
+      project(const unsigned int k, double *p) const
+      {
+        const auto  &node = columns[k];
+        const double t    = std::hypot(p[1], p[2]);
+        if (node.g >= 0)
+          {
+            p[0] = std::max(p[0], 0.0);
+            if (t > node.g)
+              for (unsigned int c = 1; c < 3; ++c)
+                p[c] *= node.g / t;
+            return;
+          }
+        const double F = node.friction;
+        if (t <= F * p[0])
+          return;
+        if (F * t <= -p[0])
+          {
+            p[0] = p[1] = p[2] = 0;
+            return;
+          }
+        const double normal = (p[0] + F * t) / (1 + F * F);
+        p[0]                = normal;
+        for (unsigned int c = 1; c < 3; ++c)
+          p[c] *= F * normal / t;
+      }
+
+      void
+      project(Vector<double> &p) const
+      {
+        for (unsigned int k = 0; k < columns.size(); ++k)
+          project(k, &p[3 * k]);
+      }
+
+      /**
+       * The certificate test of α: the largest total magnitude of admissible contact forces
+       * that cannot do the work αᵀe on α (infinite if none can: an exact proof), or 0 if α is
+       * no certificate.
+       */
+      double
+      force_bound(const Vector<double> &alpha, Vector<double> &y) const
+      {
+        apply_Wt(alpha, y);
+        double s_max = 0, c_sum = 0;
+        for (unsigned int k = 0; k < columns.size(); ++k)
+          {
+            const double *yk = &y[3 * k];
+            if (columns[k].g >= 0)
+              {
+                s_max = std::max(s_max, std::max(yk[0], 0.0));
+                c_sum += columns[k].g * std::hypot(yk[1], yk[2]);
+              }
+            else
+              {
+                std::array<double, 3> projected{{yk[0], yk[1], yk[2]}};
+                project(k, projected.data());
+                s_max = std::max(s_max,
+                                 std::sqrt(projected[0] * projected[0] +
+                                           projected[1] * projected[1] +
+                                           projected[2] * projected[2]));
+              }
+          }
+        const double margin = alpha * e - c_sum;
+        if (margin <= 0)
+          return 0;
+        return s_max > 0 ? margin / s_max : std::numeric_limits<double>::infinity();
+      }
+    };
+
+    BalanceProblem
+    build_problem(const std::vector<std::unique_ptr<Body>> &bodies,
+                  const std::vector<ContactNode>           &nodes,
+                  const double                              tresca_slip_bound)
+    {
+      BalanceProblem problem;
+      unsigned int   n_motions = 0;
+      for (const auto &body : bodies)
+        {
+          problem.motions.push_back(body->free_rigid_motions());
+          problem.offset.push_back(n_motions);
+          problem.names.push_back(body->parameters.name);
+          n_motions += problem.motions.back().n();
+        }
+      problem.e.reinit(n_motions);
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        {
+          const Vector<double> w = bodies[b]->load_work(problem.motions[b]);
+          for (unsigned int j = 0; j < w.size(); ++j)
+            problem.e[problem.offset[b] + j] = -w[j];
+        }
+      for (const auto &node : nodes)
+        {
+          NodeColumns columns;
+          columns.friction = node.friction;
+          columns.g        = tresca_slip_bound >= 0 ? (node.friction > 0 ? tresca_slip_bound : 0) :
+                                                      -1;
+          const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
+          const auto add_side = [&](NodeColumns::Side &side,
+                                    const unsigned int body,
+                                    const Point<3>    &x,
+                                    const double       sign) {
+            const auto &motions = problem.motions[body];
+            side.offset         = problem.offset[body];
+            side.count          = motions.n();
+            for (unsigned int j = 0; j < motions.n(); ++j)
+              {
+                const Tensor<1, 3> v = motions.value(j, x);
+                for (unsigned int c = 0; c < 3; ++c)
+                  side.work[3 * j + c] = sign * (*frame[c] * v);
+              }
+          };
+          add_side(columns.sides[0], node.body, node.x, -1.0);
+          if (node.master)
+            add_side(columns.sides[1],
+                     node.master->first,
+                     bodies[node.master->first]->mesh.get_vertices()[node.master->second],
+                     1.0);
+          if (columns.sides[0].count + columns.sides[1].count > 0)
+            problem.columns.push_back(columns);
+        }
+      return problem;
+    }
+
+    /** An upper estimate of ‖W‖² (power iteration on W Wᵀ, with a margin). */
+    double
+    norm_squared(const BalanceProblem &problem)
+    {
+      Vector<double> alpha(problem.e.size()), y(problem.n_unknowns()), r(problem.e.size());
+      for (unsigned int i = 0; i < alpha.size(); ++i)
+        alpha[i] = 1.0 + 0.1 * i;
+      double estimate = 0;
+      for (unsigned int it = 0; it < 30; ++it)
+        {
+          alpha /= alpha.l2_norm();
+          problem.apply_Wt(alpha, y);
+          problem.apply_W(y, r);
+          estimate = r.l2_norm();
+          if (estimate == 0)
+            return 1;
+          alpha = r;
+        }
+      return 1.1 * estimate;
+    }
+
+    /** The motion β = −α of the certificate, body by body, for the message. */
+    std::string
+    motion_text(const BalanceProblem &problem, const Vector<double> &alpha)
+    {
+      std::ostringstream text;
+      bool               first = true;
+      for (unsigned int b = 0; b < problem.motions.size(); ++b)
+        {
+          const auto  &motions = problem.motions[b];
+          Tensor<1, 3> translation, rotation;
+          for (unsigned int j = 0; j < motions.n(); ++j)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                translation[i] -= motions.coefficients(i, j) * alpha[problem.offset[b] + j];
+                rotation[i] -= motions.coefficients(i + 3, j) * alpha[problem.offset[b] + j];
+              }
+          if (translation.norm() + rotation.norm() < 1e-3)
+            continue;
+          const auto vector_text = [](const Tensor<1, 3> &v) {
+            const auto number = [](const double x) {
+              return InputParsing::number_text(std::abs(x) < 5e-4 ? 0.0 : std::round(x * 1e3) / 1e3);
+            };
+            return '(' + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + ')';
+          };
+          text << (first ? "" : "; ") << "body '" << problem.names[b] << "' moving by "
+               << vector_text(translation);
+          if (rotation.norm() >= 1e-3)
+            text << " and turning by " << vector_text(rotation) << "/L (L = "
+                 << InputParsing::number_text(motions.length) << ", its size)";
+          first = false;
+        }
+      return text.str();
+    }
+  } // namespace
+
+  LoadBalance
+  test_load_balance(const std::vector<std::unique_ptr<Body>> &bodies,
+                    const std::vector<ContactNode>           &nodes,
+                    const double                              tresca_slip_bound,
+                    const unsigned int                        max_iterations)
+  {
+    LoadBalance          result;
+    const BalanceProblem problem = build_problem(bodies, nodes, tresca_slip_bound);
+    result.load_resultant        = problem.e.l2_norm();
+    if (problem.e.size() == 0 || result.load_resultant == 0)
+      return result; // nothing floats, or nothing loads the floating bodies
+
+    const unsigned int n = problem.n_unknowns();
+    Vector<double>     p(n), z(n), p_new(n), gradient(n), y(n);
+    Vector<double>     r(problem.e.size()), r_new(problem.e.size()), alpha(problem.e.size());
+    double             L = norm_squared(problem), t = 1;
+    const double       enough = 1e4 * result.load_resultant;
+
+    const auto residual = [&](const Vector<double> &x, Vector<double> &res) {
+      problem.apply_W(x, res);
+      res -= problem.e;
+      return 0.5 * (res * res);
+    };
+    const auto certificate = [&](const Vector<double> &res) {
+      alpha = res;
+      alpha *= -1.0 / res.l2_norm();
+      const double bound = problem.force_bound(alpha, y);
+      if (bound >= enough)
+        {
+          result.outcome     = LoadBalance::Outcome::impossible;
+          result.load_work   = alpha * problem.e;
+          result.force_bound = bound;
+          result.motion      = motion_text(problem, alpha);
+          return true;
+        }
+      return false;
+    };
+
+    double f_p = residual(p, r);
+    if (certificate(r))
+      return result;
+    result.outcome = LoadBalance::Outcome::undecided;
+    for (unsigned int it = 1; it <= max_iterations; ++it)
+      {
+        result.iterations = it;
+        // FISTA step from z with backtracking on L.
+        const double f_z = residual(z, r);
+        problem.apply_Wt(r, gradient);
+        double f_new = 0;
+        for (unsigned int attempt = 0; attempt < 60; ++attempt)
+          {
+            p_new = z;
+            p_new.add(-1.0 / L, gradient);
+            problem.project(p_new);
+            Vector<double> d(p_new);
+            d -= z;
+            f_new = residual(p_new, r_new);
+            if (f_new <= f_z + gradient * d + 0.5 * L * (d * d) * (1 + 1e-12))
+              break;
+            L *= 2;
+          }
+        if (f_new > f_p) // restart the momentum
+          {
+            t = 1;
+            z = p;
+            continue;
+          }
+        const double t_new = 0.5 * (1 + std::sqrt(1 + 4 * t * t));
+        z                  = p_new;
+        z.sadd(1 + (t - 1) / t_new, -(t - 1) / t_new, p);
+        t   = t_new;
+        p   = p_new;
+        f_p = f_new;
+        result.relative_residual = std::sqrt(2 * f_p) / result.load_resultant;
+        if (result.relative_residual <= 1e-6)
+          {
+            result.outcome = LoadBalance::Outcome::balanced;
+            return result;
+          }
+        if (it % 10 == 0 && certificate(r_new))
+          return result;
+      }
+    return result;
+  }
+} // namespace FetiContact

@@ -37,9 +37,9 @@ namespace FetiContact
     {
       std::vector<NodeColumns>      columns;
       Vector<double>                e;
-      std::vector<FreeRigidMotions> motions;  ///< by body
-      std::vector<unsigned int>     offset;   ///< of each body's motions in e
-      std::vector<std::string>      names;    ///< by body
+      std::vector<FreeRigidMotions> motions; ///< by body
+      std::vector<unsigned int>     offset;  ///< of each body's motions in e
+      std::vector<std::string>      names;   ///< by body
 
       unsigned int
       n_unknowns() const
@@ -128,10 +128,10 @@ namespace FetiContact
               {
                 std::array<double, 3> projected{{yk[0], yk[1], yk[2]}};
                 project(k, projected.data());
-                s_max = std::max(s_max,
-                                 std::sqrt(projected[0] * projected[0] +
-                                           projected[1] * projected[1] +
-                                           projected[2] * projected[2]));
+                s_max =
+                  std::max(s_max,
+                           std::sqrt(projected[0] * projected[0] + projected[1] * projected[1] +
+                                     projected[2] * projected[2]));
               }
           }
         const double margin = alpha * e - c_sum;
@@ -166,10 +166,9 @@ namespace FetiContact
         {
           NodeColumns columns;
           columns.friction = node.friction;
-          columns.g        = tresca_slip_bound >= 0 ? (node.friction > 0 ? tresca_slip_bound : 0) :
-                                                      -1;
+          columns.g = tresca_slip_bound >= 0 ? (node.friction > 0 ? tresca_slip_bound : 0) : -1;
           const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
-          const auto add_side = [&](NodeColumns::Side &side,
+          const auto                                add_side = [&](NodeColumns::Side &side,
                                     const unsigned int body,
                                     const Point<3>    &x,
                                     const double       sign) {
@@ -236,15 +235,16 @@ namespace FetiContact
             continue;
           const auto vector_text = [](const Tensor<1, 3> &v) {
             const auto number = [](const double x) {
-              return InputParsing::number_text(std::abs(x) < 5e-4 ? 0.0 : std::round(x * 1e3) / 1e3);
+              return InputParsing::number_text(std::abs(x) < 5e-4 ? 0.0 :
+                                                                    std::round(x * 1e3) / 1e3);
             };
             return '(' + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + ')';
           };
           text << (first ? "" : "; ") << "body '" << problem.names[b] << "' moving by "
                << vector_text(translation);
           if (rotation.norm() >= 1e-3)
-            text << " and turning by " << vector_text(rotation) << "/L (L = "
-                 << InputParsing::number_text(motions.length) << ", its size)";
+            text << " and turning by " << vector_text(rotation)
+                 << "/L (L = " << InputParsing::number_text(motions.length) << ", its size)";
           first = false;
         }
       return text.str();
@@ -321,9 +321,9 @@ namespace FetiContact
         const double t_new = 0.5 * (1 + std::sqrt(1 + 4 * t * t));
         z                  = p_new;
         z.sadd(1 + (t - 1) / t_new, -(t - 1) / t_new, p);
-        t   = t_new;
-        p   = p_new;
-        f_p = f_new;
+        t                        = t_new;
+        p                        = p_new;
+        f_p                      = f_new;
         result.relative_residual = std::sqrt(2 * f_p) / result.load_resultant;
         if (result.relative_residual <= 1e-6)
           {

@@ -40,7 +40,7 @@ namespace FetiContact
      */
     double force_bound = 0;
     /** The rigid motion α as text: the bodies it moves and their translation and rotation. */
-    std::string motion;
+    std::string  motion;
     unsigned int iterations = 0;
   };
 

@@ -395,9 +395,54 @@ namespace FetiContact
     return options;
   }
 
+  void
+  ContactSolver::set_equilibrium_test(std::function<LoadBalance(const std::vector<double> &)> test)
+  {
+    equilibrium_test = std::move(test);
+  }
+
+  bool
+  ContactSolver::slip_bounds_cannot_hold(Result &result) const
+  {
+    if (!equilibrium_test || layout.n_tangential == 0 ||
+        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2)
+      return false;
+    // In the units of the forces: the multipliers of a node are its forces / scale_of_node.
+    std::vector<double> g(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        if (!std::isfinite(slip_bound[k]))
+          return false;
+        g[k] = slip_bound[k] * layout.scale_of_node(k);
+      }
+    const LoadBalance balance = equilibrium_test(g);
+    if (balance.outcome != LoadBalance::Outcome::impossible)
+      return false;
+    result.no_equilibrium = true;
+    result.message =
+      "no equilibrium: contact forces within the slip bounds of this step (λ_N ≥ 0, "
+      "‖λ_T‖ ≤ g = F λ_N of the previous one) cannot balance the loads. On the rigid motion "
+      "with " +
+      balance.motion + " the loads do the work " + InputParsing::number_text(balance.load_work) +
+      " J per metre of that motion, and " +
+      (std::isfinite(balance.force_bound) ?
+         "only contact forces whose magnitudes sum to more than " +
+           InputParsing::number_text(balance.force_bound) + " N could oppose it" :
+         std::string("no contact force within them can oppose it")) +
+      ". For a body held only by contact: the tangential loads exceed the friction coefficient "
+      "times the normal force (full sliding)";
+    return true;
+  }
+
   QP::SmalbeReport
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
+    if (slip_bounds_cannot_hold(result))
+      {
+        QP::SmalbeReport report;
+        report.infeasible = true;
+        return report;
+      }
     const auto algorithm = parameters.algorithm;
     using A              = Parameters::ContactSolver::Algorithm;
     QP::SmalbeOptions options;

@@ -36,6 +36,8 @@ namespace FetiContact
     struct BalanceProblem
     {
       std::vector<NodeColumns>      columns;
+      std::vector<unsigned int>     node_of_column; ///< the contact node of every column
+      unsigned int                  n_nodes = 0;    ///< all contact nodes, floating or not
       Vector<double>                e;
       std::vector<FreeRigidMotions> motions; ///< by body
       std::vector<unsigned int>     offset;  ///< of each body's motions in e
@@ -143,8 +145,7 @@ namespace FetiContact
 
     BalanceProblem
     build_problem(const std::vector<std::unique_ptr<Body>> &bodies,
-                  const std::vector<ContactNode>           &nodes,
-                  const double                              tresca_slip_bound)
+                  const std::vector<ContactNode>           &nodes)
     {
       BalanceProblem problem;
       unsigned int   n_motions = 0;
@@ -162,11 +163,12 @@ namespace FetiContact
           for (unsigned int j = 0; j < w.size(); ++j)
             problem.e[problem.offset[b] + j] = -w[j];
         }
-      for (const auto &node : nodes)
+      problem.n_nodes = nodes.size();
+      for (unsigned int k = 0; k < nodes.size(); ++k)
         {
-          NodeColumns columns;
+          const ContactNode &node = nodes[k];
+          NodeColumns        columns;
           columns.friction = node.friction;
-          columns.g = tresca_slip_bound >= 0 ? (node.friction > 0 ? tresca_slip_bound : 0) : -1;
           const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
           const auto                                add_side = [&](NodeColumns::Side &side,
                                     const unsigned int body,
@@ -189,7 +191,10 @@ namespace FetiContact
                      bodies[node.master->first]->mesh.get_vertices()[node.master->second],
                      1.0);
           if (columns.sides[0].count + columns.sides[1].count > 0)
-            problem.columns.push_back(columns);
+            {
+              problem.columns.push_back(columns);
+              problem.node_of_column.push_back(k);
+            }
         }
       return problem;
     }
@@ -251,15 +256,43 @@ namespace FetiContact
     }
   } // namespace
 
-  LoadBalance
-  test_load_balance(const std::vector<std::unique_ptr<Body>> &bodies,
-                    const std::vector<ContactNode>           &nodes,
-                    const double                              tresca_slip_bound,
-                    const unsigned int                        max_iterations)
+  struct LoadBalanceTest::Problem : BalanceProblem
+  {};
+
+  LoadBalanceTest::LoadBalanceTest(const std::vector<std::unique_ptr<Body>> &bodies,
+                                   const std::vector<ContactNode>           &nodes)
+    : problem(std::make_unique<Problem>())
   {
-    LoadBalance          result;
-    const BalanceProblem problem = build_problem(bodies, nodes, tresca_slip_bound);
-    result.load_resultant        = problem.e.l2_norm();
+    static_cast<BalanceProblem &>(*problem) = build_problem(bodies, nodes);
+  }
+
+  LoadBalanceTest::~LoadBalanceTest() = default;
+
+  bool
+  LoadBalanceTest::has_free_motions() const
+  {
+    return problem->e.size() > 0 && problem->e.l2_norm() > 0;
+  }
+
+  LoadBalance
+  LoadBalanceTest::coulomb(const unsigned int max_iterations)
+  {
+    return tresca(std::vector<double>(), max_iterations);
+  }
+
+  LoadBalance
+  LoadBalanceTest::tresca(const std::vector<double> &slip_bounds, const unsigned int max_iterations)
+  {
+    AssertThrow(slip_bounds.empty() || slip_bounds.size() == problem->n_nodes,
+                ExcDimensionMismatch(slip_bounds.size(), problem->n_nodes));
+    for (unsigned int k = 0; k < problem->columns.size(); ++k)
+      problem->columns[k].g = slip_bounds.empty() ? -1 :
+                              problem->columns[k].friction > 0 ?
+                                                    slip_bounds[problem->node_of_column[k]] :
+                                                    0;
+    const BalanceProblem &problem = *this->problem;
+    LoadBalance           result;
+    result.load_resultant = problem.e.l2_norm();
     if (problem.e.size() == 0 || result.load_resultant == 0)
       return result; // nothing floats, or nothing loads the floating bodies
 
@@ -334,5 +367,17 @@ namespace FetiContact
           return result;
       }
     return result;
+  }
+
+  LoadBalance
+  test_load_balance(const std::vector<std::unique_ptr<Body>> &bodies,
+                    const std::vector<ContactNode>           &nodes,
+                    const double                              tresca_slip_bound,
+                    const unsigned int                        max_iterations)
+  {
+    LoadBalanceTest test(bodies, nodes);
+    if (tresca_slip_bound < 0)
+      return test.coulomb(max_iterations);
+    return test.tresca(std::vector<double>(nodes.size(), tresca_slip_bound), max_iterations);
   }
 } // namespace FetiContact

@@ -4,11 +4,13 @@
 
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/contact/contact_solver_parameters.h>
+#include <feticontact/contact/load_balance.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -92,7 +94,25 @@ namespace FetiContact
     Result
     solve();
 
+    /**
+     * The test whether contact forces within Tresca sets (slip bounds by contact node, N) can
+     * balance the loads on the free rigid motions of the bodies (LoadBalanceTest::tresca).
+     * Given, every MSA step with finite slip bounds runs it before SMALBE: its proof of "no
+     * equilibrium" holds for any decomposition, whereas SMALBE's certificate exists only where
+     * the floating subdomains are whole bodies (with more subdomains SMALBE iterates up to its
+     * limit instead). Algorithm 2 moves the radii inside SMALBE and is not tested.
+     */
+    void
+    set_equilibrium_test(std::function<LoadBalance(const std::vector<double> &)> test);
+
   private:
+    /**
+     * Whether the equilibrium test proves that the current slip bounds cannot hold the bodies;
+     * then @p result carries "no equilibrium" and its message.
+     */
+    bool
+    slip_bounds_cannot_hold(Result &result) const;
+
     /** solve() in the homogenized unknown λ̃ (result.lambda), μ of the problem SMALBE solves. */
     Result
     solve_homogenized();
@@ -145,17 +165,18 @@ namespace FetiContact
                 const dealii::Vector<double> &lambda,
                 const unsigned int            inner);
 
-    const DualProblem               &dual;
-    const DualLayout                &layout;
-    const std::vector<ContactNode>  &nodes;
-    const Parameters::ContactSolver &parameters;
-    std::ostream                    &out;
-    std::ostream                    *history;
-    QP::SeparableSet                 set;   ///< Ω for all of λ
-    QP::SeparableSet                 set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
-    QP::SeparableSet                 set_t; ///< tangential part λ_T
-    std::vector<unsigned int>        disc_of_node;
-    std::vector<double>              slip_bound;
+    const DualProblem                                      &dual;
+    const DualLayout                                       &layout;
+    const std::vector<ContactNode>                         &nodes;
+    const Parameters::ContactSolver                        &parameters;
+    std::ostream                                           &out;
+    std::ostream                                           *history;
+    std::function<LoadBalance(const std::vector<double> &)> equilibrium_test;
+    QP::SeparableSet                                        set; ///< Ω for all of λ
+    QP::SeparableSet          set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
+    QP::SeparableSet          set_t; ///< tangential part λ_T
+    std::vector<unsigned int> disc_of_node;
+    std::vector<double>       slip_bound;
     /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */
     double G_norm = 0, rho = 0;
     /**

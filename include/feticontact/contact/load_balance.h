@@ -57,6 +57,37 @@ namespace FetiContact
    * αᵀe > Λ max_k s_k + Σ_k c_k with Λ = 10⁴ ‖e‖ (s_k, c_k from the node's set:
    * s_k = ‖Π_K(W_kᵀα)‖ for a cone, s_k = max(y_N, 0) and c_k = g‖y_T‖ for Tresca).
    */
+  /**
+   * The data of test_load_balance() (the free rigid motions of the bodies, the work of the
+   * loads on them, the work of every contact node's forces), built once, for tests with
+   * different sets: the cones of the friction law, or Tresca sets with one slip bound per node
+   * (the slip bounds of an MSA step, g = F λ_N of the previous one). Knows nothing of the FETI
+   * layer: the contact solver calls it with the bounds it is about to solve for.
+   */
+  class LoadBalanceTest
+  {
+  public:
+    LoadBalanceTest(const std::vector<std::unique_ptr<Body>> &bodies,
+                    const std::vector<ContactNode>           &nodes);
+    ~LoadBalanceTest();
+    /** Whether any body has a free rigid motion on which the loads do work. */
+    bool
+    has_free_motions() const;
+    /** The test with the friction cones ‖λ_T‖ ≤ F λ_N. */
+    LoadBalance
+    coulomb(const unsigned int max_iterations = 2000);
+    /**
+     * The test with λ_N ≥ 0, ‖λ_T‖ ≤ g_k (@p slip_bounds by contact node, forces in N; nodes
+     * without friction get g = 0).
+     */
+    LoadBalance
+    tresca(const std::vector<double> &slip_bounds, const unsigned int max_iterations = 2000);
+
+  private:
+    struct Problem;
+    std::unique_ptr<Problem> problem;
+  };
+
   LoadBalance
   test_load_balance(const std::vector<std::unique_ptr<Body>> &bodies,
                     const std::vector<ContactNode>           &nodes,

@@ -11,6 +11,7 @@
 #include <feticontact/base/tee_stream.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
+#include <feticontact/contact/load_balance.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
@@ -97,7 +98,7 @@ namespace FetiContact
     setup_bodies();
     /**
      * The contact nodes of every zone, and the test that contact forces within the friction
-     * law's sets can balance the loads on the free rigid motions (test_load_balance): a proof
+     * law's sets can balance the loads on the free rigid motions (LoadBalanceTest): a proof
      * of the contrary sets no_equilibrium() before any subdomain is built.
      */
     void
@@ -119,6 +120,16 @@ namespace FetiContact
     solve_contact();
     void
     postprocess();
+    /**
+     * The independent check of a converged run: a solution whose @p value (a quantity of
+     * summary.json, named by @p key) exceeds @p limit is no solution, whatever the solver's
+     * residuals say; the run becomes not converged with a message naming the quantity.
+     */
+    void
+    check_quantity(const std::string &key,
+                   const std::string &description,
+                   double             value,
+                   double             limit);
     void
     write_summary();
     /** Renames every rank's result files to their final names, summary.json last. */
@@ -166,9 +177,11 @@ namespace FetiContact
     std::vector<unsigned int>               mode_offset;
     DualRows                                rows;
     std::vector<ContactNode>                contact_nodes;
-    std::vector<ContactTriangle>            contact_triangles;
-    DualLayout                              layout;
-    std::unique_ptr<DualProblem>            dual;
+    /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
+    std::unique_ptr<LoadBalanceTest> load_balance_test;
+    std::vector<ContactTriangle>     contact_triangles;
+    DualLayout                       layout;
+    std::unique_ptr<DualProblem>     dual;
 
     dealii::Vector<double> lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */

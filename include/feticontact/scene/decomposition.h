@@ -11,8 +11,11 @@ namespace FetiContact
   /**
    * The split of a body's mesh into FETI subdomains: the part of every active cell (by active
    * cell index). Parts are face-connected, so that each subdomain is rigid when floating (its
-   * kernel is exactly the six rigid body modes): a part that the method cuts into pieces is
-   * split into its face-connected components, numbered after the others.
+   * kernel is exactly the six rigid body modes). A part that the method cuts into pieces keeps
+   * its largest piece; every other piece goes to the neighbouring part with which it shares the
+   * most faces (METIS and the block cut of a tetrahedral mesh leave such fragments, often single
+   * cells hanging by an edge, and each would be a subdomain of its own with a nearly singular
+   * coarse problem). A piece that touches no other part stays a subdomain of its own.
    */
   struct CellPartition
   {

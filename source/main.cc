@@ -16,6 +16,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/output_files.h>
 #include <feticontact/contact/contact_geometry.h>
+#include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/scene/scene_parameters.h>
@@ -44,7 +45,8 @@ namespace
          "                       --set \"Body 1/Mesh/Subdivisions=24, 8, 8\"\n"
          "  --print-parameters   print every parameter with its default and documentation\n"
          "  --help               this text\n\n"
-         "Exit status: 0 success, 1 bad input, 2 the solver did not converge, 3 internal error.\n";
+         "Exit status: 0 success, 1 bad input or unwritable output, 2 the solver did not converge\n"
+         "or the independent check refutes its answer, 3 internal error, 4 no equilibrium.\n";
   }
 } // namespace
 
@@ -139,7 +141,9 @@ main(int argc, char **argv)
 
       if (validate_only)
         {
-          // The meshes, boundary parts and contact surfaces are checked too, without solving.
+          // The meshes, boundary parts and contact surfaces are checked too, without solving,
+          // if they fit into memory.
+          MemoryEstimate::of(scene, comm).check(scene);
           std::vector<std::unique_ptr<Body>> bodies;
           for (unsigned int b = 0; b < scene.bodies.size(); ++b)
             {

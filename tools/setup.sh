@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The project's two commands (README.md):
-#   bash tools/setup.sh run    install what is missing, build in Release, run prm/brick.prm
+#   bash tools/setup.sh run    install what is missing, build in Release, run prm/brick_contact.prm
 #   bash tools/setup.sh test   install what is missing, build in Release, run the test suite
 # The build goes to build/ (override with BUILD_DIR=...).
 set -euo pipefail
@@ -18,8 +18,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 case "$mode" in
   run)
     cd "$build"
-    ./feticontact "$here/prm/brick.prm"
-    echo "Output in $build/output/brick (open solution.pvd in ParaView)."
+    ./feticontact "$here/prm/brick_contact.prm"
+    echo "Output in $build/output/brick_contact (open solution.pvd in ParaView)."
     ;;
   test)
     cd "$build"

@@ -3,6 +3,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/json_writer.h>
 #include <feticontact/base/output_files.h>
+#include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
 
@@ -47,45 +48,28 @@ namespace FetiContact
       columns[key].push_back(double(value));
     };
     const auto &factors = base.refinement_study.subdivision_factors;
+    // Every cycle's scene first, so that a study whose finest cycle does not fit into memory
+    // stops before its first solve.
+    std::vector<Cycle> cycles;
     for (unsigned int cycle = 0; cycle < factors.size(); ++cycle)
       {
-        // This cycle's overrides: the subdivisions of every body times the factor, its own
-        // output folder.
-        std::vector<std::string> cycle_overrides = overrides;
-        std::ostringstream       subdivisions;
-        for (unsigned int b = 0; b < base.bodies.size(); ++b)
-          {
-            std::ostringstream entry;
-            entry << "Body " << b + 1 << "/Mesh/Subdivisions=";
-            for (unsigned int d = 0; d < 3; ++d)
-              {
-                const long n =
-                  std::max(1L, std::lround(base.bodies[b].mesh.subdivisions[d] * factors[cycle]));
-                entry << (d > 0 ? ", " : "") << n;
-                subdivisions << (d > 0 ? "×" : (b > 0 ? "; " : "")) << n;
-              }
-            cycle_overrides.push_back(entry.str());
-          }
-        const std::string cycle_directory = directory + "/cycle-" + std::to_string(cycle + 1);
-        cycle_overrides.push_back("Output/Directory=" + cycle_directory);
-
-        ParameterHandler prm;
-        Parameters::Scene::read_parameter_file(prm, filename, cycle_overrides);
-        Parameters::Scene scene;
-        scene.parse_parameters(prm, base_directory);
-        std::ostringstream effective;
-        prm.print_parameters(effective, ParameterHandler::PRM);
+        cycles.push_back(make_cycle(base, cycle));
+        MemoryEstimate::of(cycles.back().scene, comm).check(cycles.back().scene);
+      }
+    for (unsigned int cycle = 0; cycle < factors.size(); ++cycle)
+      {
+        const Cycle &c = cycles[cycle];
         if (root)
           std::cout << "\nRefinement study: cycle " << cycle + 1 << " of " << factors.size()
-                    << ", factor " << factors[cycle] << ", subdivisions " << subdivisions.str()
-                    << ", output in " << cycle_directory << std::endl;
+                    << ", factor " << factors[cycle] << ", subdivisions " << c.subdivisions
+                    << ", output in " << c.directory << std::endl;
 
-        Simulator simulator(comm, scene, effective.str(), input);
+        Simulator simulator(comm, c.scene, c.effective_parameters, input);
         if (!simulator.run())
           {
             failure = "refinement study: cycle " + std::to_string(cycle + 1) + " (factor " +
                       InputParsing::number_text(factors[cycle]) +
-                      "): " + simulator.solver_message() + " (see " + cycle_directory + "/log.txt)";
+                      "): " + simulator.solver_message() + " (see " + c.directory + "/log.txt)";
             break;
           }
         const auto &s = simulator.statistics();
@@ -145,6 +129,38 @@ namespace FetiContact
         OutputFiles::throw_if_any_failed(comm, error);
       }
     return failure.empty();
+  }
+
+  RefinementStudy::Cycle
+  RefinementStudy::make_cycle(const Parameters::Scene &base, const unsigned int cycle) const
+  {
+    const double             factor          = base.refinement_study.subdivision_factors[cycle];
+    std::vector<std::string> cycle_overrides = overrides;
+    std::ostringstream       subdivisions;
+    for (unsigned int b = 0; b < base.bodies.size(); ++b)
+      {
+        std::ostringstream entry;
+        entry << "Body " << b + 1 << "/Mesh/Subdivisions=";
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const long n = std::max(1L, std::lround(base.bodies[b].mesh.subdivisions[d] * factor));
+            entry << (d > 0 ? ", " : "") << n;
+            subdivisions << (d > 0 ? "×" : (b > 0 ? "; " : "")) << n;
+          }
+        cycle_overrides.push_back(entry.str());
+      }
+    Cycle c;
+    c.subdivisions = subdivisions.str();
+    c.directory    = base.output.directory + "/cycle-" + std::to_string(cycle + 1);
+    cycle_overrides.push_back("Output/Directory=" + c.directory);
+
+    ParameterHandler prm;
+    Parameters::Scene::read_parameter_file(prm, filename, cycle_overrides);
+    c.scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
+    std::ostringstream effective;
+    prm.print_parameters(effective, ParameterHandler::PRM);
+    c.effective_parameters = effective.str();
+    return c;
   }
 
   void

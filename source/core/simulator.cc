@@ -116,6 +116,16 @@ namespace FetiContact
   Simulator::setup_bodies()
   {
     TimerOutput::Scope scope(timer, "setup");
+    memory_estimate = MemoryEstimate::of(parameters, comm);
+    pcout << "Memory: estimated peak "
+          << InputParsing::number_text(std::round(memory_estimate.peak_mib)) << " MiB per rank, "
+          << InputParsing::number_text(std::round(memory_estimate.available_mib))
+          << " MiB per rank available" << std::endl;
+    memory_estimate.check(parameters);
+    if (memory_estimate.tight())
+      pcout << "Warning: the estimated peak memory exceeds the memory available by less than the "
+               "model's error; the system may stop this run (doc/performance.md, \"Memory\")."
+            << std::endl;
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
@@ -704,7 +714,10 @@ namespace FetiContact
       Utilities::MPI::all_gather(comm, static_cast<double>(usage.ru_maxrss) / 1024.0);
     JsonObject memory;
     memory.set("peak_rss_mib_max", *std::max_element(peak_mib.begin(), peak_mib.end()))
-      .set("peak_rss_mib_per_rank", peak_mib);
+      .set("peak_rss_mib_per_rank", peak_mib)
+      .set("estimated_peak_mib", memory_estimate.peak_mib)
+      .set("model_cells", memory_estimate.cells)
+      .set("model_factor_units", memory_estimate.factor_units);
     pcout << "Peak resident memory per rank: ";
     for (const double p : peak_mib)
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;

@@ -255,8 +255,9 @@ namespace FetiContact::Parameters
                       Patterns::Selection("blocks|metis"),
                       "How the body is split into FETI subdomains: 'blocks' cuts its bounding "
                       "box into 'Blocks' equal boxes (cells go by their centroid); 'metis' "
-                      "partitions the cells into 'Number of parts'. Parts that are not "
-                      "face-connected are split into their connected components.");
+                      "partitions the cells into 'Number of parts'. A part that the cut leaves in "
+                      "pieces keeps its largest face-connected piece; the others join the "
+                      "neighbouring part with which they share the most faces.");
     prm.declare_entry("Blocks",
                       "1, 1, 1",
                       Patterns::Anything(),

@@ -53,6 +53,17 @@ namespace FetiContact
     const std::string              input;
     std::string                    failure;
 
+    /** One cycle: its scene, the parameters as read, its subdivisions and output folder. */
+    struct Cycle
+    {
+      Parameters::Scene scene;
+      std::string       effective_parameters, subdivisions, directory;
+    };
+
+    /** The scene of cycle @p cycle: @p base with every body's Subdivisions times its factor. */
+    Cycle
+    make_cycle(const Parameters::Scene &base, unsigned int cycle) const;
+
     /** Writes the table files into @p directory (rank 0). */
     void
     write_table(dealii::ConvergenceTable &table,

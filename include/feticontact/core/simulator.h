@@ -12,6 +12,7 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/contact/load_balance.h>
+#include <feticontact/core/memory_estimate.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
@@ -149,6 +150,7 @@ namespace FetiContact
     const unsigned int rank;
     const unsigned int n_ranks;
     Parameters::Scene  parameters;
+    MemoryEstimate     memory_estimate; ///< of the run's peak, made before any mesh is built
     const std::string  effective_parameters, input;
     std::ofstream      log_file;
     /** This rank's result files, renamed to their final names at the end of run(). */

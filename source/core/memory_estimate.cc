@@ -1,0 +1,297 @@
+#include <deal.II/base/mpi.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/core/memory_estimate.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <unistd.h>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // The model's coefficients, least squares fit to the peaks measured by
+    // benchmarks/memory_model.py (doc/performance.md, "Memory").
+    constexpr double baseline_mib        = 182.0;   ///< M₀
+    constexpr double mib_per_cell        = 4.59e-4; ///< a
+    constexpr double mib_per_factor_unit = 2.05e-4; ///< b_f
+    /** The largest relative error of the model on the measured peaks, rounded up. */
+    constexpr double model_error = 0.1;
+
+    constexpr double unlimited = std::numeric_limits<double>::infinity();
+
+    /**
+     * The counts after the $Nodes and $Elements headers of a Gmsh file (MSH 2 or 4), each at
+     * most what the file's size can hold (a node line has at least 8 characters, an element
+     * line 10): a header that promises more belongs to a truncated file, which the mesh reader
+     * names as such.
+     */
+    std::pair<double, double>
+    gmsh_counts(const std::string &file)
+    {
+      std::error_code error;
+      const double    size = static_cast<double>(std::filesystem::file_size(file, error));
+      if (error)
+        return {0, 0}; // the mesh reader names the cause
+      std::ifstream in(file);
+      std::string   line;
+      double        nodes = 0, elements = 0;
+      const auto    count = [&]() {
+        std::getline(in, line);
+        std::istringstream words(line);
+        double             first = 0, second = 0;
+        words >> first;
+        // MSH 4: "numEntityBlocks numNodes minTag maxTag"; MSH 2: "numNodes".
+        return (words >> second) ? second : first;
+      };
+      while (std::getline(in, line))
+        {
+          const std::string word = InputParsing::trim(line);
+          if (word == "$Nodes")
+            nodes = count();
+          else if (word == "$Elements")
+            {
+              elements = count();
+              break;
+            }
+        }
+      return {std::min(nodes, size / 8), std::min(elements, size / 10)};
+    }
+
+    /** Tetrahedra and vertices of a body's mesh, before it is built. */
+    std::pair<double, double>
+    mesh_size(const Parameters::Mesh &mesh)
+    {
+      if (mesh.type == Parameters::Mesh::Type::gmsh)
+        {
+          const auto [nodes, elements] = gmsh_counts(mesh.file);
+          return {elements, nodes};
+        }
+      const auto  &s     = mesh.subdivisions;
+      const double cubes = double(s[0]) * s[1] * s[2];
+      return {mesh.tetrahedra_per_cube * cubes, (s[0] + 1.0) * (s[1] + 1.0) * (s[2] + 1.0)};
+    }
+
+    double
+    n_parts(const Parameters::Decomposition &decomposition)
+    {
+      if (decomposition.method == Parameters::Decomposition::Method::metis)
+        return decomposition.n_parts;
+      const auto &b = decomposition.blocks;
+      return double(b[0]) * b[1] * b[2];
+    }
+
+    /** A number from a line "Key: value kB" of /proc/meminfo, in MiB (infinite if absent). */
+    double
+    meminfo_mib(const std::string &key)
+    {
+      std::ifstream in("/proc/meminfo");
+      std::string   name;
+      double        value = 0;
+      std::string   unit;
+      while (in >> name >> value >> unit)
+        if (name == key + ":")
+          return value / 1024;
+      return unlimited;
+    }
+
+    /** A number of bytes in a cgroup file, in MiB (infinite if absent or "max"). */
+    double
+    cgroup_mib(const std::string &file)
+    {
+      std::ifstream in(file);
+      double        bytes = 0;
+      if (!(in >> bytes))
+        return unlimited;
+      return bytes / (1024.0 * 1024.0);
+    }
+
+    /** What this machine can still give to processes, in MiB. */
+    double
+    available_on_machine()
+    {
+      double available = meminfo_mib("MemAvailable");
+      for (const auto &[limit, usage] :
+           {std::pair<std::string, std::string>{"/sys/fs/cgroup/memory.max",
+                                                "/sys/fs/cgroup/memory.current"},
+            {"/sys/fs/cgroup/memory/memory.limit_in_bytes",
+             "/sys/fs/cgroup/memory/memory.usage_in_bytes"}})
+        {
+          const double max = cgroup_mib(limit);
+          if (std::isfinite(max))
+            available = std::min(available, max - cgroup_mib(usage));
+        }
+      return available;
+    }
+
+    /** The resident memory of this process now, in MiB. */
+    double
+    resident_mib()
+    {
+      std::ifstream in("/proc/self/statm");
+      double        size = 0, resident = 0;
+      in >> size >> resident;
+      return resident * sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0);
+    }
+
+    /** M for the bodies scaled by @p s (subdivisions of boxes, cells of Gmsh meshes). */
+    struct Model
+    {
+      std::vector<double> cells, vertices, parts;
+      std::vector<bool>   box;
+      bool                monolithic = false;
+      unsigned int        n_ranks    = 1;
+
+      double
+      cells_at(const unsigned int b, const double s) const
+      {
+        return cells[b] * (box[b] ? s * s * s : s);
+      }
+
+      double
+      factor_units(const double s) const
+      {
+        double units = 0, whole = 0;
+        for (unsigned int b = 0; b < cells.size(); ++b)
+          {
+            const double v = vertices[b] * (box[b] ? s * s * s : s);
+            // A part's vertices with the copies on its interfaces: the body as a cube of
+            // ∛V vertices a side, cut into P cubes.
+            const double v_part = std::pow((std::cbrt(v) - 1) / std::cbrt(parts[b]) + 1, 3);
+            units += parts[b] * std::pow(3 * v_part, 4.0 / 3.0);
+            whole += std::pow(3 * v, 4.0 / 3.0);
+          }
+        return units / n_ranks + (monolithic ? whole : 0);
+      }
+
+      double
+      peak_mib(const double s) const
+      {
+        double c = 0;
+        for (unsigned int b = 0; b < cells.size(); ++b)
+          c += cells_at(b, s);
+        return baseline_mib + mib_per_cell * c + mib_per_factor_unit * factor_units(s);
+      }
+    };
+
+    Model
+    model_of(const Parameters::Scene &scene, const unsigned int n_ranks)
+    {
+      Model model;
+      model.n_ranks    = n_ranks;
+      model.monolithic = scene.verification.compare_with_monolithic && scene.contact.zones.empty();
+      for (const auto &body : scene.bodies)
+        {
+          const auto [c, v] = mesh_size(body.mesh);
+          model.cells.push_back(c);
+          model.vertices.push_back(v);
+          model.parts.push_back(std::max(1.0, n_parts(body.decomposition)));
+          model.box.push_back(body.mesh.type == Parameters::Mesh::Type::box);
+        }
+      return model;
+    }
+
+    std::string
+    gib_text(const double mib)
+    {
+      std::ostringstream text;
+      text.precision(mib < 10 * 1024 ? 2 : 3);
+      text << mib / 1024 << " GiB";
+      return text.str();
+    }
+  } // namespace
+
+  MemoryEstimate
+  MemoryEstimate::of(const Parameters::Scene &scene, const MPI_Comm comm)
+  {
+    MemoryEstimate estimate;
+    const Model    model  = model_of(scene, Utilities::MPI::n_mpi_processes(comm));
+    estimate.peak_mib     = model.peak_mib(1);
+    estimate.factor_units = model.factor_units(1);
+    for (unsigned int b = 0; b < model.cells.size(); ++b)
+      estimate.cells += model.cells[b];
+
+    MPI_Comm node;
+    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    estimate.ranks_on_node = Utilities::MPI::n_mpi_processes(node);
+    const double resident  = Utilities::MPI::sum(resident_mib(), node);
+    MPI_Comm_free(&node);
+    // Per rank, the least over the nodes: the memory free on the node plus what its ranks
+    // already hold (the program and its libraries, part of M₀).
+    estimate.available_mib =
+      Utilities::MPI::min((available_on_machine() + resident) / estimate.ranks_on_node, comm);
+
+    if (!estimate.fits())
+      {
+        // The scale that fits, by bisection on its logarithm: scales down to 1e-12 of the mesh.
+        double low = -12, high = 0;
+        if (model.peak_mib(std::pow(10.0, low)) > estimate.available_mib)
+          estimate.fitting_scale = 0;
+        else
+          {
+            for (unsigned int it = 0; it < 60; ++it)
+              {
+                const double s = 0.5 * (low + high);
+                (model.peak_mib(std::pow(10.0, s)) <= estimate.available_mib ? low : high) = s;
+              }
+            estimate.fitting_scale = std::pow(10.0, low);
+          }
+      }
+    return estimate;
+  }
+
+  bool
+  MemoryEstimate::fits() const
+  {
+    return !((1 - model_error) * peak_mib > available_mib);
+  }
+
+  bool
+  MemoryEstimate::tight() const
+  {
+    return peak_mib > available_mib;
+  }
+
+  void
+  MemoryEstimate::check(const Parameters::Scene &scene) const
+  {
+    if (fits())
+      return;
+    std::ostringstream text;
+    text << "the estimated peak memory of this run, " << gib_text(peak_mib) << " per rank ("
+         << ranks_on_node << " rank(s) on this machine; "
+         << InputParsing::number_text(std::round(cells))
+         << " tetrahedra), exceeds by more than the model's error of "
+         << InputParsing::number_text(100 * model_error) << " % the " << gib_text(available_mib)
+         << " per rank that the machine has available (MemAvailable and any cgroup limit)";
+    const bool boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const auto &b) {
+      return b.mesh.type == Parameters::Mesh::Type::box;
+    });
+    if (fitting_scale == 0)
+      text << "; not even a mesh of one cell per subdomain fits";
+    else if (boxes)
+      {
+        text << "; with the same decomposition about this fits:";
+        for (unsigned int b = 0; b < scene.bodies.size(); ++b)
+          {
+            const auto &s = scene.bodies[b].mesh.subdivisions;
+            text << (b ? "," : "") << " Body " << b + 1 << "/Mesh/Subdivisions = ";
+            for (unsigned int d = 0; d < 3; ++d)
+              text << (d ? ", " : "")
+                   << InputParsing::number_text(std::max(1.0, std::floor(s[d] * fitting_scale)));
+          }
+      }
+    else
+      text << "; with the same decomposition about "
+           << InputParsing::number_text(100 * fitting_scale) << " % of the cells fit";
+    text << " (the model: doc/performance.md, \"Memory\")";
+    throw InputError(text.str());
+  }
+} // namespace FetiContact

@@ -83,7 +83,20 @@ main(int argc, char **argv)
       if (a == "--validate")
         validate_only = true;
       else if (a == "--set" && i + 1 < args.size())
-        overrides.push_back(args[++i]);
+        {
+          overrides.push_back(args[++i]);
+          // deal.II would read a final backslash as a line continuation and join the next
+          // entry to this one.
+          const std::string value = InputParsing::trim(overrides.back());
+          if (!value.empty() && value.back() == '\\')
+            {
+              if (root)
+                std::cerr << "Error: --set <" << overrides.back()
+                          << ">: a value must not end in a backslash (a parameter file reads it "
+                             "as a line continuation).\n";
+              return 1;
+            }
+        }
       else if (!a.empty() && a[0] == '-')
         {
           if (root)
@@ -121,7 +134,7 @@ main(int argc, char **argv)
               const std::string directory =
                 Parameters::Scene::output_directory(filename, overrides);
               if (root && !directory.empty())
-                OutputFiles::clean(directory);
+                OutputFiles::clean(directory, filename);
             }
           catch (const InputError &e)
             {

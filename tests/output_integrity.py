@@ -12,11 +12,13 @@ CHECK is one of
                never a signal or exit 3.
   clean        a good run, then one that stops on bad input, then a plain one after an FCLIB
                export (if the build has FCLIB) and after a refinement study: each run's folder
-               holds no file of the earlier run, and a file of the user's stays.
+               holds no file of the earlier run, and a file of the user's stays; then runs of
+               the earlier run's input.prm and parameters.prm in that folder, which stay.
   killed       a run killed (SIGKILL) in the middle of its solve leaves no file that looks
                complete; the next run removes what it left.
-  unwritable   an output directory that cannot be created or written: exit 1, the message names
-               the directory and the reason.
+  unwritable   an output directory that cannot be created or written, or that holds a folder
+               with the name of a result file: exit 1, the message names the directory (or the
+               folder) and the reason.
 Standard library only.
 """
 import os
@@ -171,6 +173,17 @@ def clean(exe, prm_dir, work, fclib):
     if not os.path.exists(os.path.join(outdir, "notes of the user.txt")):
         fail("the user's own file was removed")
     check_complete(outdir, "plain run after the refinement study")
+
+    # A run of the earlier run's own input, in its folder: the input is read, not removed.
+    for name in ("input.prm", "parameters.prm"):
+        prm = os.path.join(outdir, name)
+        p = run(exe, prm, outdir)
+        if p.returncode != 0:
+            fail("a run of the earlier run's %s: exit %d: %s" % (name, p.returncode, p.stderr))
+        elif not os.path.exists(prm):
+            fail("a run of the earlier run's %s removed it" % name)
+        else:
+            check_complete(outdir, "run of the earlier run's " + name)
     return 0
 
 
@@ -217,6 +230,18 @@ def unwritable(exe, prm_dir, work):
                                                                    p.stderr))
         elif "Output/Directory" not in p.stderr or outdir not in p.stderr:
             fail("output directory %s: the message does not name it: %s" % (outdir, p.stderr))
+
+    # A folder where a result file goes: refused before the solve, nothing written.
+    outdir = os.path.join(work, "folder in the way")
+    shutil.rmtree(outdir, ignore_errors=True)
+    os.makedirs(os.path.join(outdir, "solution_0001.vtu"))
+    p = run(exe, prm, outdir)
+    if p.returncode != 1 or "solution_0001.vtu" not in p.stderr:
+        fail("a folder named solution_0001.vtu: exit %d, expected 1 naming it (%s)"
+             % (p.returncode, p.stderr))
+    left = [n for n in looks_like_results(outdir) if n != "solution_0001.vtu"]
+    if left:
+        fail("a folder named solution_0001.vtu: files that look like a result: %s" % left)
     return 0
 
 

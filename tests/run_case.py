@@ -48,7 +48,9 @@ def run(exe, prm, outdir, np, extra=(), time_limit=TIME_LIMIT):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
     print("$", " ".join(cmd), flush=True)
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=time_limit, env=env)
+    # The log echoes names as given, which need not be UTF-8; summary.json must be.
+    p = subprocess.run(cmd, capture_output=True, text=True, errors="replace", timeout=time_limit,
+                       env=env)
     sys.stdout.write(p.stdout)
     sys.stderr.write(p.stderr)
     return p
@@ -64,8 +66,8 @@ def unique_keys(pairs):
 
 
 def load_summary(path):
-    """summary.json, parsed strictly: valid JSON, unique keys in every object."""
-    with open(path) as f:
+    """summary.json, parsed strictly: UTF-8, valid JSON, unique keys in every object."""
+    with open(path, encoding="utf-8") as f:
         return json.load(f, object_pairs_hook=unique_keys)
 
 

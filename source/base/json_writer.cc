@@ -18,13 +18,57 @@ namespace FetiContact
       return buffer;
     }
 
+    /**
+     * The length of the well-formed UTF-8 sequence at @p s[i] (RFC 3629: no overlong forms, no
+     * surrogates, at most U+10FFFF), or 0 if the bytes there are not one.
+     */
+    std::size_t
+    utf8_sequence_length(const std::string &s, const std::size_t i)
+    {
+      const auto byte = [&](const std::size_t k) {
+        return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u;
+      };
+      const unsigned int b0   = byte(i);
+      const auto continuation = [&](const std::size_t k) { return (byte(k) & 0xC0) == 0x80; };
+      if (b0 < 0x80)
+        return 1;
+      if (b0 >= 0xC2 && b0 <= 0xDF)
+        return continuation(i + 1) ? 2 : 0;
+      if (b0 >= 0xE0 && b0 <= 0xEF)
+        {
+          const unsigned int b1 = byte(i + 1);
+          if ((b0 == 0xE0 && b1 < 0xA0) || (b0 == 0xED && b1 > 0x9F))
+            return 0;
+          return continuation(i + 1) && continuation(i + 2) ? 3 : 0;
+        }
+      if (b0 >= 0xF0 && b0 <= 0xF4)
+        {
+          const unsigned int b1 = byte(i + 1);
+          if ((b0 == 0xF0 && b1 < 0x90) || (b0 == 0xF4 && b1 > 0x8F))
+            return 0;
+          return continuation(i + 1) && continuation(i + 2) && continuation(i + 3) ? 4 : 0;
+        }
+      return 0;
+    }
+
+    /** @p s as a JSON string; bytes that are not UTF-8 become U+FFFD. */
     std::string
     quoted(const std::string &s)
     {
       std::string out = "\"";
-      for (const char c : s)
+      for (std::size_t i = 0; i < s.size();)
         {
-          if (c == '"' || c == '\\')
+          const char        c      = s[i];
+          const std::size_t length = utf8_sequence_length(s, i);
+          if (length == 0)
+            {
+              out += "\\ufffd";
+              ++i;
+              continue;
+            }
+          if (length > 1)
+            out.append(s, i, length);
+          else if (c == '"' || c == '\\')
             {
               out += '\\';
               out += c;
@@ -33,7 +77,7 @@ namespace FetiContact
             out += "\\n";
           else if (c == '\t')
             out += "\\t";
-          else if (static_cast<unsigned char>(c) < 0x20)
+          else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)
             {
               char code[8];
               std::snprintf(code, sizeof(code), "\\u%04x", static_cast<unsigned int>(c));
@@ -41,6 +85,7 @@ namespace FetiContact
             }
           else
             out += c;
+          i += length;
         }
       return out + "\"";
     }

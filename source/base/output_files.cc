@@ -107,12 +107,34 @@ namespace FetiContact
   ResultFiles::commit()
   {
     complete();
+    try
+      {
+        for (auto &f : files)
+          if (!f.renamed)
+            {
+              OutputFiles::rename(f.path + OutputFiles::partial_suffix, f.path);
+              f.renamed = true;
+            }
+      }
+    catch (const OutputError &)
+      {
+        remove_all();
+        throw;
+      }
+  }
+
+  void
+  ResultFiles::remove_all()
+  {
     for (auto &f : files)
-      if (!f.renamed)
-        {
-          OutputFiles::rename(f.path + OutputFiles::partial_suffix, f.path);
-          f.renamed = true;
-        }
+      {
+        if (f.out && !f.closed)
+          f.out->close();
+        f.closed = true;
+        std::error_code ignored;
+        std::filesystem::remove(f.renamed ? f.path : f.path + OutputFiles::partial_suffix, ignored);
+        f.renamed = true; // nothing left for the destructor
+      }
   }
 
   namespace OutputFiles
@@ -130,10 +152,14 @@ namespace FetiContact
     }
 
     void
-    clean(const std::string &directory)
+    clean(const std::string &directory, const std::string &input)
     {
       namespace fs = std::filesystem;
       std::error_code error;
+      const auto      same_as_input = [&](const fs::path &path) {
+        std::error_code ignored;
+        return !input.empty() && fs::equivalent(path, input, ignored);
+      };
       fs::create_directories(directory, error);
       if (error || !fs::is_directory(directory))
         throw OutputError("Output/Directory: cannot create the output directory <" + directory +
@@ -144,11 +170,16 @@ namespace FetiContact
           const std::string name = entry.path().filename().string();
           if (entry.is_directory() && std::regex_match(name, cycle))
             {
-              clean(entry.path().string());
+              clean(entry.path().string(), input);
               if (fs::is_empty(entry.path()))
                 fs::remove(entry.path(), error);
             }
-          else if (!entry.is_directory() && written_by_this_program(name))
+          else if (entry.is_directory() && written_by_this_program(name))
+            throw OutputError("Output/Directory: <" + entry.path().string() +
+                              "> is a folder where this program writes a result file; remove "
+                              "or rename it.");
+          else if (!entry.is_directory() && written_by_this_program(name) &&
+                   !same_as_input(entry.path()))
             if (!fs::remove(entry.path(), error) || error)
               throw OutputError("Output/Directory: cannot remove the earlier result <" +
                                 entry.path().string() + ">: " + error.message() + ".");

@@ -119,10 +119,14 @@ namespace FetiContact
      * vertex stays out of every obstacle; of rigid planes with the same normal only the one
      * with the smallest gap stays (it alone can bind: their gaps differ by a constant). The
      * tangential rows would repeat the normal rows of the other zones (the tangent plane of one
-     * plane contains the normal of the other), and the multipliers would not be unique: the first
-     * zone of the vertex keeps the tangential directions orthogonal to every normal of the vertex
-     * (the edge's direction at an edge, none at a corner) and the others keep none (t1 = t2 = 0:
-     * rows without entries, whose multipliers stay 0).
+     * plane contains the normal of the other), and the multipliers would not be unique: one node
+     * of the vertex, the keeper (the first with friction), keeps the tangential directions
+     * orthogonal to every normal of the vertex (the edge's direction at an edge, none at a corner)
+     * and the others keep none (t1 = t2 = 0: rows without entries, whose multipliers stay 0). The
+     * friction of a node whose rows would act on the same motion as the keeper's (both on rigid
+     * obstacles, or both against one master vertex) acts through the keeper's rows, whose slip
+     * bound is the sum of those zones' F λ_N (slip_bounds()); where a body pair meets a rigid
+     * plane, only the keeper's zone has friction along the edge.
      */
     void
     combine_shared_vertices(std::vector<ContactNode> &nodes)
@@ -151,13 +155,19 @@ namespace FetiContact
                 if (v.norm() > 1e-8)
                   basis.push_back(v / v.norm());
               }
-          bool first = true;
+          // The keeper of the tangential rows: the first node with friction (only nodes with
+          // F > 0 have tangential rows), else the first.
+          unsigned int keeper = numbers::invalid_unsigned_int;
+          for (const unsigned int k : ks)
+            if (!dropped[k] && (keeper == numbers::invalid_unsigned_int ||
+                                (nodes[keeper].friction == 0 && nodes[k].friction > 0)))
+              keeper = k;
           for (const unsigned int k : ks)
             {
               if (dropped[k])
                 continue;
               ContactNode &node = nodes[k];
-              if (!first || basis.size() == 3)
+              if (k != keeper || basis.size() == 3)
                 node.t1 = node.t2 = Tensor<1, 3>();
               else if (basis.size() == 2)
                 {
@@ -165,14 +175,24 @@ namespace FetiContact
                   node.t1 /= node.t1.norm();
                   node.t2 = Tensor<1, 3>();
                 }
-              first = false;
+              // The keeper's rows carry this node's friction only if they act on the same
+              // motion: both on a rigid obstacle, or both against the same master vertex.
+              if (k != keeper && basis.size() < 3 && node.master == nodes[keeper].master)
+                node.keeper = keeper;
             }
         }
-      unsigned int kept = 0;
+      std::vector<unsigned int> new_index(nodes.size(), numbers::invalid_unsigned_int);
+      unsigned int              kept = 0;
       for (unsigned int k = 0; k < nodes.size(); ++k)
         if (!dropped[k])
-          nodes[kept++] = nodes[k];
+          {
+            new_index[k]  = kept;
+            nodes[kept++] = nodes[k];
+          }
       nodes.resize(kept);
+      for (auto &node : nodes)
+        if (node.keeper)
+          node.keeper = new_index[*node.keeper];
     }
   } // namespace
 
@@ -334,5 +354,17 @@ namespace FetiContact
       }
     combine_shared_vertices(nodes);
     return nodes;
+  }
+
+  std::vector<double>
+  slip_bounds(const std::vector<ContactNode> &nodes, const std::vector<double> &normal_force)
+  {
+    std::vector<double> g(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      g[k] = nodes[k].friction * std::max(normal_force[k], 0.0);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (nodes[k].keeper)
+        g[*nodes[k].keeper] += g[k];
+    return g;
   }
 } // namespace FetiContact

@@ -46,20 +46,27 @@ namespace FetiContact
     for (const auto &body : vertex_u)
       for (const auto &u : body)
         u_max = std::max(u_max, u.norm());
-    double worst = 0;
+    double     worst      = 0;
+    const auto penetrates = [&](const Parameters::ContactZone &zone, const unsigned int v) {
+      const Point<3> &x = bodies[zone.body]->mesh.get_vertices()[v];
+      return -((x + vertex_u[zone.body][v] - zone.plane_point) * zone.plane_normal);
+    };
+    // Every vertex of the zone's surface, also those that start a rounding error behind it.
     for (const auto &t : triangles)
-      {
-        const auto &zone = contact.zones[t.zone];
-        if (zone.type != Parameters::ContactZone::Type::rigid_plane)
-          continue;
+      if (contact.zones[t.zone].type == Parameters::ContactZone::Type::rigid_plane)
         for (const unsigned int v : t.vertices)
-          {
-            const Point<3> x = bodies[t.body]->mesh.get_vertices()[v];
-            const double   distance =
-              (x + vertex_u[t.body][v] - zone.plane_point) * zone.plane_normal;
-            worst = std::max(worst, -distance);
-          }
-      }
+          worst = std::max(worst, penetrates(contact.zones[t.zone], v));
+    // Every other vertex of the body in front of the plane: an obstacle is a half-space, and a
+    // surface chosen too small lets the body through it elsewhere. (A vertex behind the plane
+    // before the load, where the body reaches past the zone's surface, is not counted.)
+    for (const auto &zone : contact.zones)
+      if (zone.type == Parameters::ContactZone::Type::rigid_plane)
+        {
+          const auto &vertices = bodies[zone.body]->mesh.get_vertices();
+          for (unsigned int v = 0; v < vertices.size(); ++v)
+            if ((vertices[v] - zone.plane_point) * zone.plane_normal >= 0)
+              worst = std::max(worst, penetrates(zone, v));
+        }
     return u_max > 0 ? worst / u_max : worst;
   }
 
@@ -71,13 +78,14 @@ namespace FetiContact
                    ContactCheck                                 &check,
                    const double                                  tresca_slip_bound)
   {
-    const auto slip_bound = [&](const ContactNode &node, const double lambda_N) {
-      if (tresca_slip_bound >= 0 && node.friction > 0)
-        return tresca_slip_bound;
-      return node.friction * std::max(lambda_N, 0.0);
-    };
     std::vector<ContactNodeResult> results(nodes.size());
-    double                         u_max = 0, lambda_max = 0, bound_max = 0;
+    std::vector<double>            coulomb_bound;
+    const auto                     slip_bound = [&](const unsigned int k) {
+      if (tresca_slip_bound >= 0 && nodes[k].friction > 0)
+        return tresca_slip_bound;
+      return coulomb_bound[k];
+    };
+    double u_max = 0, lambda_max = 0, bound_max = 0;
     for (const auto &body : vertex_u)
       for (const auto &u : body)
         u_max = std::max(u_max, u.norm());
@@ -107,12 +115,22 @@ namespace FetiContact
         Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
         if (node.master)
           relative -= vertex_u[node.master->first][node.master->second];
-        r.gap      = node.gap - relative * node.n;
-        r.slip[0]  = relative * node.t1;
-        r.slip[1]  = relative * node.t2;
-        lambda_max = std::max(lambda_max, r.lambda_N);
-        bound_max  = std::max(bound_max, slip_bound(node, r.lambda_N));
+        r.gap = node.gap - relative * node.n;
+        // A node whose friction acts through the rows of its vertex's keeper slips along the
+        // keeper's tangents.
+        const ContactNode &frame = node.keeper ? nodes[*node.keeper] : node;
+        r.slip[0]                = relative * frame.t1;
+        r.slip[1]                = relative * frame.t2;
+        lambda_max               = std::max(lambda_max, r.lambda_N);
       }
+    {
+      std::vector<double> normal_force(nodes.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        normal_force[k] = results[k].lambda_N;
+      coulomb_bound = slip_bounds(nodes, normal_force);
+    }
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      bound_max = std::max(bound_max, slip_bound(k));
 
     check = ContactCheck();
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -120,9 +138,18 @@ namespace FetiContact
         const auto  &node       = nodes[k];
         auto        &r          = results[k];
         const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
-        const double bound      = slip_bound(node, r.lambda_N);
+        const double bound      = slip_bound(k);
         if (r.lambda_N <= 1e-8 * lambda_max)
           r.status = ContactStatus::open;
+        else if (node.keeper) // sticks or slips with the keeper's rows
+          {
+            const auto  &keeper = results[*node.keeper];
+            const double force  = std::hypot(keeper.lambda_T[0], keeper.lambda_T[1]);
+            // (An open keeper's bound is rounding: its rows hold no force.)
+            const double keeper_bound = slip_bound(*node.keeper);
+            r.status = force >= (1 - 1e-4) * keeper_bound - 1e-8 * bound_max ? ContactStatus::slip :
+                                                                               ContactStatus::stick;
+          }
         else if (tangential >= (1 - 1e-4) * bound) // F = 0: a pressed node slides freely
           r.status = ContactStatus::slip;
         else

@@ -174,12 +174,17 @@ namespace FetiContact
   std::vector<double>
   ContactSolver::coulomb_bound(const Vector<double> &lambda_tilde) const
   {
-    std::vector<double> g(nodes.size(), 0.0);
+    // In the units of the forces (a node's multipliers are its forces / scale_of_node), so that
+    // the nodes of one vertex in several zones add up (slip_bounds()).
+    std::vector<double> normal_force(nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = layout.normal_row[k];
-        g[k] = friction_scale * nodes[k].friction * std::max(lambda_tilde[r] + lambda0[r], 0.0);
+        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
       }
+    std::vector<double> g = slip_bounds(nodes, normal_force);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      g[k] *= friction_scale / layout.scale_of_node(k);
     return g;
   }
 

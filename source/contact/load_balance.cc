@@ -30,6 +30,13 @@ namespace FetiContact
       std::array<Side, 2> sides;
       double              friction = 0;
       double              g        = -1; ///< Tresca: the slip bound; Coulomb: −1
+      /**
+       * A node whose friction acts through its vertex's keeper (ContactNode::keeper): its
+       * tangential columns are the keeper's directions with its own cone (Coulomb: the cones
+       * add up, as the slip bounds do); a Tresca bound is the keeper's alone, which holds the
+       * sum already.
+       */
+      bool has_keeper = false;
     };
 
     /** The test's data: W by node, e, and the admissible set of every node. */
@@ -168,8 +175,10 @@ namespace FetiContact
         {
           const ContactNode &node = nodes[k];
           NodeColumns        columns;
-          columns.friction = node.friction;
-          const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
+          columns.friction            = node.friction;
+          columns.has_keeper          = node.keeper.has_value();
+          const ContactNode &tangents = node.keeper ? nodes[*node.keeper] : node;
+          const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &tangents.t1, &tangents.t2}};
           const auto                                add_side = [&](NodeColumns::Side &side,
                                     const unsigned int body,
                                     const Point<3>    &x,
@@ -287,7 +296,7 @@ namespace FetiContact
                 ExcDimensionMismatch(slip_bounds.size(), problem->n_nodes));
     for (unsigned int k = 0; k < problem->columns.size(); ++k)
       problem->columns[k].g = slip_bounds.empty() ? -1 :
-                              problem->columns[k].friction > 0 ?
+                              problem->columns[k].friction > 0 && !problem->columns[k].has_keeper ?
                                                     slip_bounds[problem->node_of_column[k]] :
                                                     0;
     const BalanceProblem &problem = *this->problem;

@@ -192,7 +192,8 @@ namespace FetiContact
           const auto [c, v] = mesh_size(body.mesh);
           model.cells.push_back(c);
           model.vertices.push_back(v);
-          model.parts.push_back(std::max(1.0, n_parts(body.decomposition)));
+          // More parts than cells is refused when the body is built, with its own message.
+          model.parts.push_back(std::clamp(n_parts(body.decomposition), 1.0, std::max(1.0, c)));
           model.box.push_back(body.mesh.type == Parameters::Mesh::Type::box);
         }
       return model;

@@ -108,7 +108,16 @@ namespace FetiContact
       summary_file.complete();
     });
     check_log();
-    on_all_ranks([this]() { result_files.commit(); });
+    try
+      {
+        on_all_ranks([this]() { result_files.commit(); });
+      }
+    catch (const OutputError &)
+      {
+        // Also the ranks whose files were renamed: no set of result files stays incomplete.
+        result_files.remove_all();
+        throw;
+      }
     on_all_ranks([this]() { summary_file.commit(); });
   }
 
@@ -427,6 +436,20 @@ namespace FetiContact
     for (unsigned int r = layout.first_equality(); r < residual.size(); ++r)
       jump = std::max(jump, std::abs(residual[r]));
     summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
+    // Overflow (a Young's modulus tiny against the loads) gives infinities and NaNs, which
+    // every comparison below would let pass.
+    unsigned int n_not_finite = 0;
+    for (const auto &b : vertex_u)
+      for (const auto &v : b)
+        for (unsigned int d = 0; d < 3; ++d)
+          n_not_finite += !std::isfinite(v[d]);
+    for (const double l : lambda)
+      n_not_finite += !std::isfinite(l);
+    summary.set("values_not_finite", n_not_finite);
+    check_quantity("values_not_finite",
+                   "displacements or multipliers that are not finite numbers (overflow?), count",
+                   n_not_finite,
+                   0);
 
     std::vector<Tensor<1, 3>> contact_forces(bodies.size());
     if (!contact_nodes.empty())
@@ -440,7 +463,7 @@ namespace FetiContact
                                               vertex_u,
                                               check,
                                               tresca ? parameters.contact_solver.slip_bound : -1.0);
-        // The independent check counts every vertex of every rigid-plane surface too.
+        // The independent check counts every vertex of the bodies in front of a rigid plane too.
         check.penetration =
           std::max(check.penetration,
                    surface_penetration(parameters.contact, contact_triangles, bodies, vertex_u));
@@ -461,7 +484,15 @@ namespace FetiContact
                 results[k].lambda_T[1] * node.t2);
             contact_forces[node.body] += force;
             if (node.master)
-              contact_forces[node.master->first] -= force;
+              {
+                // At a prescribed component of the master vertex the force goes to the support
+                // (and K u − f there, the support force, holds it already).
+                const auto &[master, vertex] = *node.master;
+                const auto prescribed        = bodies[master]->prescribed.find(vertex);
+                for (unsigned int c = 0; c < 3; ++c)
+                  if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
+                    contact_forces[master][c] -= force[c];
+              }
           }
         on_all_ranks([&]() {
           if (rank != 0)

@@ -60,9 +60,16 @@ namespace FetiContact
     void
     complete();
 
-    /** complete(), then renames every file to its final name. */
+    /**
+     * complete(), then renames every file to its final name; if a rename fails, removes every
+     * file of this set (renamed or not) and throws OutputError naming the file and the reason.
+     */
     void
     commit();
+
+    /** Removes every file of this set, renamed or not (a commit failed on another rank). */
+    void
+    remove_all();
 
   private:
     struct File
@@ -94,11 +101,13 @@ namespace FetiContact
     /**
      * Creates @p directory if needed and removes from it every file this program writes
      * (written_by_this_program()) and every refinement-study folder `cycle-N` (cleaned the same
-     * way, and removed when nothing else is left in it). Files of other programs stay. Throws
-     * OutputError if the directory cannot be created or written into.
+     * way, and removed when nothing else is left in it). Files of other programs stay, and so
+     * does @p input (the parameter file of the run, which may be an earlier run's input.prm or
+     * parameters.prm). Throws OutputError if the directory cannot be created or written into, or
+     * holds a folder with the name of a result file.
      */
     void
-    clean(const std::string &directory);
+    clean(const std::string &directory, const std::string &input = "");
 
     /**
      * The system's reason why writing @p path failed: the text of @p error (an errno value) if

@@ -35,6 +35,12 @@ namespace FetiContact
      * λ_N / area is the mean contact pressure around the node.
      */
     double area = 0;
+    /**
+     * For a node at a vertex shared with other zones whose tangential rows another node of the
+     * vertex carries (combine_shared_vertices): that node's index. This node's F λ_N adds to
+     * that node's slip bound (slip_bounds()).
+     */
+    std::optional<unsigned int> keeper;
   };
 
   /** A triangle of a zone's slave surface (body-mesh vertices), for output. */
@@ -67,4 +73,12 @@ namespace FetiContact
   /** Unit vectors t1, t2 completing the unit vector n to a right-handed orthonormal basis. */
   std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
   tangent_basis(const dealii::Tensor<1, 3> &n);
+  /**
+   * The Coulomb slip bounds of the nodes in the units of the forces, from their normal forces
+   * @p normal_force: g_k = F_k (λ_N,k)⁺ plus, at a vertex shared by several zones, F_j (λ_N,j)⁺
+   * of every node j whose keeper is k (the friction of every zone acts along the directions
+   * that the keeper's tangential rows span).
+   */
+  std::vector<double>
+  slip_bounds(const std::vector<ContactNode> &nodes, const std::vector<double> &normal_force);
 } // namespace FetiContact

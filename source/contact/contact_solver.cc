@@ -768,7 +768,8 @@ namespace FetiContact
         if (!report.converged)
           {
             result.message =
-              "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration);
+              "SMALBE did not converge in MSA iteration " + std::to_string(msa_iteration) +
+              (report.inner_stalled ? " (its inner solves stalled at their iteration limit)" : "");
             return;
           }
         if (last_change <= msa_tolerance && final_precision)

@@ -207,6 +207,10 @@ namespace FetiContact::QP
     double       norm_gP          = 0;
     // Whether a relaxed start at η has made no step (then the rule is used from there on).
     bool eta_exhausted = false;
+    // Inner solves at their iteration limit in a row without progress
+    // (SmalbeReport::inner_stalled).
+    unsigned int capped_without_progress = 0;
+    double       best_capped_gP          = std::numeric_limits<double>::infinity();
     linear_term();
     for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
       {
@@ -226,6 +230,7 @@ namespace FetiContact::QP
         //    every one (k = 0: one subdomain held by Dirichlet conditions) the start would
         //    otherwise be relaxed, and stuck, forever.
         bool relaxed_start = feasibility == 0 && !eta_exhausted;
+        bool capped        = false; // the last inner solve ended at its iteration limit
         while (true)
           {
             const double tolerance =
@@ -252,11 +257,26 @@ namespace FetiContact::QP
             if (stuck_at_eta && norm_gP > inner_target(lambda) &&
                 step.inner_calls < options.max_inner_calls)
               continue;
+            capped =
+              !inner_report.converged && inner_report.iterations >= options.inner.max_iterations;
             if (norm_gP <= inner_target(lambda) || !inner_report.converged ||
                 inner_report.iterations == 0 || step.inner_calls >= options.max_inner_calls)
               break;
           }
         report.inner_iterations += step.inner_iterations;
+        if (!capped)
+          capped_without_progress = 0;
+        else if (norm_gP < 0.99 * best_capped_gP)
+          {
+            best_capped_gP          = norm_gP;
+            capped_without_progress = 0;
+          }
+        else if (++capped_without_progress >= 3)
+          {
+            report.inner_stalled = true;
+            report.iterations    = outer + 1;
+            break;
+          }
         // Stall: ‖Gλ − e‖ has not reached a new minimum for stall_iterations outer iterations.
         // The inner solves then stop at the floor c ε_g ref_g before they move λ enough for the
         // multiplier updates to reduce ‖Gλ − e‖ (seen with no contact at all, and on the Hertz

@@ -150,6 +150,13 @@ namespace FetiContact::QP
   {
     /** How often the floor of the inner precision was lowered (SmalbeOptions::stall_iterations). */
     unsigned int floor_reductions = 0;
+    /**
+     * Whether SMALBE stopped, not converged, because its inner solves stalled: three outer
+     * iterations in a row whose inner solve ended at its iteration limit without bringing
+     * ‖g^P‖ 1 % below the least value of the previous such solves (the limit would otherwise
+     * be spent again in every one of up to Maximum SMALBE iterations).
+     */
+    bool inner_stalled = false;
     /** Inner solver steps and calls summed over all outer iterations. */
     unsigned int inner_iterations = 0, inner_calls = 0;
     /** Multiplications by F spent on the estimate of ‖F‖ (not in hessian_multiplications). */

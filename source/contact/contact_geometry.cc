@@ -102,6 +102,16 @@ namespace FetiContact
               worst_vertex = vertex;
             }
         }
+      // Nearly perpendicular (within about 6°): the plane cannot face this surface.
+      const double cosine = total.norm() > 0 ? total * zone.plane_normal / total.norm() : 0;
+      require(std::abs(cosine) > 0.1,
+              where + "the plane normal " + point_text(zone.plane_normal) +
+                " is (nearly) perpendicular to the surface <" + zone.surface.name() +
+                "> of body '" + body.parameters.name + "', whose mean outer normal is " +
+                point_text(total / std::max(total.norm(), 1e-300)) + " (cosine " +
+                InputParsing::number_text(cosine) +
+                "): a rigid plane must face the surface it is paired with (a plane normal "
+                "against that outer normal, or the surface that faces the plane).");
       require(total * zone.plane_normal < 0,
               where + "the plane normal " + point_text(zone.plane_normal) + " points into body '" +
                 body.parameters.name + "': the outer normal of its surface <" +

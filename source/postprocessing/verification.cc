@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -123,6 +124,8 @@ namespace FetiContact
   read_reference_displacements(const std::string                        &file,
                                const std::vector<std::unique_ptr<Body>> &bodies)
   {
+    require(!std::filesystem::is_directory(file),
+            "Verification/Reference displacements: '" + file + "' is a folder, not a file.");
     std::ifstream in(file);
     require(in.good(), "Cannot open the reference displacements '" + file + "'.");
     std::string line;

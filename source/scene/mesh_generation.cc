@@ -29,8 +29,9 @@ namespace FetiContact::MeshGeneration
 
     /**
      * A more precise cause for a Gmsh file that deal.II could not read, from its node list:
-     * "node line N: <text> is not a finite coordinate", "the file ends inside its node list", or
-     * an empty string when the node list looks sound (the cause is elsewhere).
+     * "node line N: <text> is not a finite coordinate", "the file ends inside its node list",
+     * "its $Nodes header announces N nodes, but the node list has M lines" (MSH 2), or an empty
+     * string when the node list looks sound (the cause is elsewhere).
      */
     std::string
     diagnose_gmsh_nodes(const std::string &file)
@@ -42,12 +43,26 @@ namespace FetiContact::MeshGeneration
       if (!in)
         return "";
       unsigned int line_number = 0;
+      double       announced   = -1; // the node count of an MSH 2 header
       while (std::getline(in, line))
         {
           const std::string trimmed = InputParsing::trim(line);
           if (trimmed == "$EndNodes")
-            return "";
+            {
+              if (announced >= 0 && announced != line_number - 1)
+                return "its $Nodes header announces " + InputParsing::number_text(announced) +
+                       " nodes, but the node list has " + std::to_string(line_number - 1) +
+                       " lines";
+              return "";
+            }
           ++line_number;
+          if (line_number == 1)
+            {
+              std::istringstream header(trimmed);
+              double             count = 0, more = 0;
+              if (header >> count && !(header >> more))
+                announced = count;
+            }
           std::istringstream words(trimmed);
           std::string        word;
           // The first line is the node count (MSH 2) or a block header (MSH 4): integers.

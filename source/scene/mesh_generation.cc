@@ -246,6 +246,15 @@ namespace FetiContact::MeshGeneration
                 ": a ratio above 1e9 leaves the cells to rounding (a stray node far from the "
                 "others?).");
 
+      // A flat mesh (a box of no thickness) would pass for coincident vertices below.
+      for (unsigned int d = 0; d < 3; ++d)
+        require(upper[d] - lower[d] > 1e-9 * diameter,
+                where + "the mesh is flat: it extends over " +
+                  InputParsing::number_text(upper[d] - lower[d]) + " along " +
+                  std::string(1, char('x' + d)) + " against " +
+                  InputParsing::number_text(diameter) +
+                  " in all (a body needs a thickness; a corner given twice?).");
+
       // Coincident vertices: equal after rounding to 1e-12 of the mesh's size, sorted.
       const double quantum = 1e-12 * diameter;
       using Key            = std::array<long long, 3>;

@@ -92,9 +92,11 @@ namespace FetiContact
       Tensor<1, 3> total;
       double       worst        = -2;
       unsigned int worst_vertex = 0;
+      double       magnitude    = 0; // Σ |area normals|: |total| below it is a curved surface
       for (const auto &[vertex, normal_sum] : slave.normal_sum)
         {
           total += normal_sum;
+          magnitude += normal_sum.norm();
           const double c = normal_sum * zone.plane_normal / normal_sum.norm();
           if (c > worst)
             {
@@ -102,9 +104,11 @@ namespace FetiContact
               worst_vertex = vertex;
             }
         }
-      // Nearly perpendicular (within about 6°): the plane cannot face this surface.
+      // Nearly perpendicular (within about 6°): the plane cannot face this surface. Only for a
+      // surface whose normals point one way (|Σ n| ≥ 0.7 Σ|n|, arcs below about 160°): the mean
+      // normal of a half cylinder or a closed surface says nothing about where it faces.
       const double cosine = total.norm() > 0 ? total * zone.plane_normal / total.norm() : 0;
-      require(std::abs(cosine) > 0.1,
+      require(total.norm() < 0.7 * magnitude || std::abs(cosine) > 0.1,
               where + "the plane normal " + point_text(zone.plane_normal) +
                 " is (nearly) perpendicular to the surface <" + zone.surface.name() +
                 "> of body '" + body.parameters.name + "', whose mean outer normal is " +

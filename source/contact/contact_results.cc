@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 
 namespace FetiContact
 {
@@ -56,17 +57,37 @@ namespace FetiContact
       if (contact.zones[t.zone].type == Parameters::ContactZone::Type::rigid_plane)
         for (const unsigned int v : t.vertices)
           worst = std::max(worst, penetrates(contact.zones[t.zone], v));
-    // Every other vertex of the body in front of the plane: an obstacle is a half-space, and a
-    // surface chosen too small lets the body through it elsewhere. (A vertex behind the plane
-    // before the load, where the body reaches past the zone's surface, is not counted.)
-    for (const auto &zone : contact.zones)
-      if (zone.type == Parameters::ContactZone::Type::rigid_plane)
-        {
-          const auto &vertices = bodies[zone.body]->mesh.get_vertices();
-          for (unsigned int v = 0; v < vertices.size(); ++v)
-            if ((vertices[v] - zone.plane_point) * zone.plane_normal >= 0)
-              worst = std::max(worst, penetrates(zone, v));
-        }
+    // Every other vertex of a body that starts in front of its rigid planes: a surface chosen
+    // too small lets the body through a plane elsewhere. Such a vertex counts by the least of
+    // its depths behind the body's planes, so that it must end behind all of them: several
+    // planes may form one convex obstacle (a ridge), whose planes extend beyond it, and a vertex
+    // behind one plane's extension but in front of another is outside the obstacle. (A vertex
+    // behind a plane before the load, where the body reaches past the zone's surface, is not
+    // counted.)
+    for (unsigned int b = 0; b < bodies.size(); ++b)
+      {
+        std::vector<const Parameters::ContactZone *> planes;
+        for (const auto &zone : contact.zones)
+          if (zone.type == Parameters::ContactZone::Type::rigid_plane && zone.body == b)
+            planes.push_back(&zone);
+        if (planes.empty())
+          continue;
+        const auto &vertices = bodies[b]->mesh.get_vertices();
+        for (unsigned int v = 0; v < vertices.size(); ++v)
+          {
+            double depth = std::numeric_limits<double>::infinity();
+            for (const auto *zone : planes)
+              {
+                if ((vertices[v] - zone->plane_point) * zone->plane_normal < 0)
+                  {
+                    depth = 0;
+                    break;
+                  }
+                depth = std::min(depth, penetrates(*zone, v));
+              }
+            worst = std::max(worst, depth);
+          }
+      }
     return u_max > 0 ? worst / u_max : worst;
   }
 
@@ -132,6 +153,14 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       bound_max = std::max(bound_max, slip_bound(k));
 
+    // A keeper is pressed when any node of its vertex is: its rows carry their friction.
+    std::vector<bool> pressed(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      pressed[k] = results[k].lambda_N > 1e-8 * lambda_max;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (nodes[k].keeper && pressed[k])
+        pressed[*nodes[k].keeper] = true;
+
     check = ContactCheck();
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
@@ -139,13 +168,12 @@ namespace FetiContact
         auto        &r          = results[k];
         const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
         const double bound      = slip_bound(k);
-        if (r.lambda_N <= 1e-8 * lambda_max)
+        if (!pressed[k])
           r.status = ContactStatus::open;
         else if (node.keeper) // sticks or slips with the keeper's rows
           {
-            const auto  &keeper = results[*node.keeper];
-            const double force  = std::hypot(keeper.lambda_T[0], keeper.lambda_T[1]);
-            // (An open keeper's bound is rounding: its rows hold no force.)
+            const auto  &keeper       = results[*node.keeper];
+            const double force        = std::hypot(keeper.lambda_T[0], keeper.lambda_T[1]);
             const double keeper_bound = slip_bound(*node.keeper);
             r.status = force >= (1 - 1e-4) * keeper_bound - 1e-8 * bound_max ? ContactStatus::slip :
                                                                                ContactStatus::stick;

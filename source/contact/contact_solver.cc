@@ -606,7 +606,12 @@ namespace FetiContact
         result.outer_iterations = 1;
         result.converged        = report.converged;
         if (!report.infeasible)
-          result.message = report.converged ? "converged" : "SMALBE did not converge";
+          result.message =
+            report.converged ?
+              "converged" :
+              std::string("SMALBE did not converge") +
+                (report.inner_stalled ? " (its inner solves stalled at their iteration limit)" :
+                                        "");
         return result;
       }
 

@@ -33,8 +33,8 @@ namespace FetiContact
       /**
        * A node whose friction acts through its vertex's keeper (ContactNode::keeper): its
        * tangential columns are the keeper's directions with its own cone (Coulomb: the cones
-       * add up, as the slip bounds do); a Tresca bound is the keeper's alone, which holds the
-       * sum already.
+       * add up, as the slip bounds do); with Tresca's law the vertex has the keeper's bound
+       * alone (the companions' columns get 0), as in the solver.
        */
       bool has_keeper = false;
     };

@@ -118,15 +118,30 @@ namespace FetiContact
     available_on_machine()
     {
       double available = meminfo_mib("MemAvailable");
-      for (const auto &[limit, usage] :
-           {std::pair<std::string, std::string>{"/sys/fs/cgroup/memory.max",
-                                                "/sys/fs/cgroup/memory.current"},
-            {"/sys/fs/cgroup/memory/memory.limit_in_bytes",
-             "/sys/fs/cgroup/memory/memory.usage_in_bytes"}})
+      // A cgroup's usage counts the page cache, whose inactive part the kernel reclaims.
+      struct Cgroup
+      {
+        std::string limit, usage, stat, inactive_key;
+      };
+      for (const Cgroup &c : {Cgroup{"/sys/fs/cgroup/memory.max",
+                                     "/sys/fs/cgroup/memory.current",
+                                     "/sys/fs/cgroup/memory.stat",
+                                     "inactive_file"},
+                              Cgroup{"/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                     "/sys/fs/cgroup/memory/memory.usage_in_bytes",
+                                     "/sys/fs/cgroup/memory/memory.stat",
+                                     "total_inactive_file"}})
         {
-          const double max = cgroup_mib(limit);
-          if (std::isfinite(max))
-            available = std::min(available, max - cgroup_mib(usage));
+          const double max = cgroup_mib(c.limit);
+          if (!std::isfinite(max))
+            continue;
+          double        reclaimable = 0, bytes = 0;
+          std::ifstream stat(c.stat);
+          std::string   key;
+          while (stat >> key >> bytes)
+            if (key == c.inactive_key)
+              reclaimable = bytes / (1024.0 * 1024.0);
+          available = std::min(available, max - cgroup_mib(c.usage) + reclaimable);
         }
       return available;
     }
@@ -146,8 +161,9 @@ namespace FetiContact
     {
       std::vector<double> cells, vertices, parts;
       std::vector<bool>   box;
-      bool                monolithic = false;
-      unsigned int        n_ranks    = 1;
+      bool                monolithic    = false;
+      unsigned int        n_ranks       = 1;
+      unsigned int        ranks_on_node = 1; ///< the least over the machines of the run
 
       double
       cells_at(const unsigned int b, const double s) const
@@ -168,7 +184,13 @@ namespace FetiContact
             units += parts[b] * std::pow(3 * v_part, 4.0 / 3.0);
             whole += std::pow(3 * v, 4.0 / 3.0);
           }
-        return units / n_ranks + (monolithic ? whole : 0);
+        // The largest rank's share of the parts; the monolithic solve (rank 0 alone) shared
+        // among the ranks of its machine, whose memory they share.
+        double n_parts = 0;
+        for (const double p : parts)
+          n_parts += p;
+        const double share = std::ceil(n_parts / n_ranks) / n_parts;
+        return units * share + (monolithic ? whole / ranks_on_node : 0);
       }
 
       double
@@ -213,17 +235,19 @@ namespace FetiContact
   MemoryEstimate::of(const Parameters::Scene &scene, const MPI_Comm comm)
   {
     MemoryEstimate estimate;
-    const Model    model  = model_of(scene, Utilities::MPI::n_mpi_processes(comm));
+    MPI_Comm       node;
+    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    estimate.ranks_on_node = Utilities::MPI::n_mpi_processes(node);
+    const double resident  = Utilities::MPI::sum(resident_mib(), node);
+    MPI_Comm_free(&node);
+
+    Model model           = model_of(scene, Utilities::MPI::n_mpi_processes(comm));
+    model.ranks_on_node   = Utilities::MPI::min(estimate.ranks_on_node, comm);
     estimate.peak_mib     = model.peak_mib(1);
     estimate.factor_units = model.factor_units(1);
     for (unsigned int b = 0; b < model.cells.size(); ++b)
       estimate.cells += model.cells[b];
 
-    MPI_Comm node;
-    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-    estimate.ranks_on_node = Utilities::MPI::n_mpi_processes(node);
-    const double resident  = Utilities::MPI::sum(resident_mib(), node);
-    MPI_Comm_free(&node);
     // Per rank, the least over the nodes: the memory free on the node plus what its ranks
     // already hold (the program and its libraries, part of M₀).
     estimate.available_mib =

@@ -169,6 +169,14 @@ namespace FetiContact
             "Output/Write FCLIB problem: the scene has no contact nodes.");
     if (contact_nodes.empty())
       return;
+    for (const auto &node : contact_nodes)
+      require(!parameters.output.write_fclib || !node.keeper || node.friction == 0,
+              "Output/Write FCLIB problem: the node at " + InputParsing::number_text(node.x[0]) +
+                ", " + InputParsing::number_text(node.x[1]) + ", " +
+                InputParsing::number_text(node.x[2]) +
+                " lies on the surfaces of several zones "
+                "with friction, whose friction adds up along their edge; FCLIB's problems have "
+                "one friction cone per contact and cannot express it.");
     const bool tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
     load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes);

@@ -211,6 +211,7 @@ namespace FetiContact::QP
     // (SmalbeReport::inner_stalled).
     unsigned int capped_without_progress = 0;
     double       best_capped_gP          = std::numeric_limits<double>::infinity();
+    double       capped_feasibility      = std::numeric_limits<double>::infinity();
     linear_term();
     for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
       {
@@ -257,8 +258,8 @@ namespace FetiContact::QP
             if (stuck_at_eta && norm_gP > inner_target(lambda) &&
                 step.inner_calls < options.max_inner_calls)
               continue;
-            capped =
-              !inner_report.converged && inner_report.iterations >= options.inner.max_iterations;
+            capped = !options.inner_solver && !inner_report.converged &&
+                     inner_report.iterations >= options.inner.max_iterations;
             if (norm_gP <= inner_target(lambda) || !inner_report.converged ||
                 inner_report.iterations == 0 || step.inner_calls >= options.max_inner_calls)
               break;
@@ -266,9 +267,10 @@ namespace FetiContact::QP
         report.inner_iterations += step.inner_iterations;
         if (!capped)
           capped_without_progress = 0;
-        else if (norm_gP < 0.99 * best_capped_gP)
+        else if (norm_gP < 0.99 * best_capped_gP || feasibility < 0.99 * capped_feasibility)
           {
-            best_capped_gP          = norm_gP;
+            best_capped_gP          = std::min(best_capped_gP, norm_gP);
+            capped_feasibility      = feasibility;
             capped_without_progress = 0;
           }
         else if (++capped_without_progress >= 3)

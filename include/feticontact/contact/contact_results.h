@@ -65,11 +65,12 @@ namespace FetiContact
   /**
    * The penetration of the bodies into the rigid-plane obstacles, from the displacements alone:
    * max over the zones z and the vertices x of (−(x + u(x) − p_z)·n_z)⁺, relative to max |u|,
-   * for every vertex of zone z's surface (@p triangles) and every other vertex of the zone's body
-   * that lies in front of the plane before the load. It counts also the vertices that are no
-   * contact nodes of the zone, those that are contact nodes of another zone (a node on the edge
-   * of two obstacles is checked against both), and those off the surface that a surface chosen
-   * too small lets through the obstacle.
+   * for every vertex of zone z's surface (@p triangles); and for every other vertex of a body
+   * that lies in front of all the body's rigid planes before the load, the least of its depths
+   * behind them (inside all of them: several planes may form one convex obstacle). It counts
+   * also the vertices that are no contact nodes of the zone, those that are contact nodes of
+   * another zone (a node on the edge of two obstacles is checked against both), and those off
+   * the surface that a surface chosen too small lets through the obstacle.
    */
   double
   surface_penetration(const Parameters::Contact                            &contact,

@@ -14,15 +14,16 @@ namespace FetiContact
    *
    * For body b with C_b tetrahedra, V_b vertices and P_b parts (blocks or METIS), and np ranks:
    *
-   *   M = M₀ + a Σ_b C_b + b_f Σ_b P_b (3 v_b)^(4/3) / np  [+ b_f Σ_b (3 V_b)^(4/3)],
-   *   v_b = ((∛V_b − 1) / ∛P_b + 1)³,
+   *   M = M₀ + a Σ_b C_b + b_f s Σ_b P_b (3 v_b)^(4/3)  [+ b_f Σ_b (3 V_b)^(4/3) / r],
+   *   v_b = ((∛V_b − 1) / ∛P_b + 1)³,  s = ⌈P / np⌉ / P,  P = Σ_b P_b,
    *
    * M₀: the program and its libraries; a: a cell of the replicated body meshes, the subdomain
    * meshes, DoF handlers, stiffness matrices and B rows; b_f: a unit of the Cholesky factors,
    * whose size grows like n^(4/3) for a subdomain of n unknowns (nested dissection in 3D), with
    * v_b the vertices of a part including the copies on its interfaces (the body as a cube cut
-   * into P_b cubes); the bracket
-   * is the monolithic verification solve, made for scenes without contact. The coefficients are
+   * into P_b cubes) and s the largest rank's share of the parts; the bracket is the monolithic
+   * verification solve, made by rank 0 for scenes without contact and shared among the r ranks
+   * of its machine (the least number of ranks on a machine of the run). The coefficients are
    * fitted to measured peaks, which the model meets within 10 % (benchmarks/memory_model.py,
    * doc/performance.md, "Memory"); a run is refused only when even the estimate less 10 % exceeds
    * the memory available. Box meshes give C and V from their subdivisions, Gmsh files from the

@@ -152,9 +152,10 @@ namespace FetiContact::QP
     unsigned int floor_reductions = 0;
     /**
      * Whether SMALBE stopped, not converged, because its inner solves stalled: three outer
-     * iterations in a row whose inner solve ended at its iteration limit without bringing
-     * ‖g^P‖ 1 % below the least value of the previous such solves (the limit would otherwise
-     * be spent again in every one of up to Maximum SMALBE iterations).
+     * iterations in a row whose inner MPGP solve (the default inner solver) ended at its
+     * iteration limit without bringing ‖g^P‖ 1 % below the least value of the previous such
+     * solves or ‖Gλ − e‖ 1 % below its value at the previous one (the limit would otherwise be
+     * spent again in every one of up to Maximum SMALBE iterations).
      */
     bool inner_stalled = false;
     /** Inner solver steps and calls summed over all outer iterations. */

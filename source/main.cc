@@ -48,6 +48,17 @@ namespace
          "Exit status: 0 success, 1 bad input or unwritable output, 2 the solver did not converge\n"
          "or the independent check refutes its answer, 3 internal error, 4 no equilibrium.\n";
   }
+
+  /**
+   * Whether a --set entry ends in a backslash, which deal.II would read as a line continuation,
+   * joining the next entry to this one.
+   */
+  bool
+  ends_in_backslash(const std::string &entry)
+  {
+    const std::string value = FetiContact::InputParsing::trim(entry);
+    return !value.empty() && value.back() == '\\';
+  }
 } // namespace
 
 int
@@ -85,10 +96,7 @@ main(int argc, char **argv)
       else if (a == "--set" && i + 1 < args.size())
         {
           overrides.push_back(args[++i]);
-          // deal.II would read a final backslash as a line continuation and join the next
-          // entry to this one.
-          const std::string value = InputParsing::trim(overrides.back());
-          if (!value.empty() && value.back() == '\\')
+          if (ends_in_backslash(overrides.back()))
             {
               if (root)
                 std::cerr << "Error: --set <" << overrides.back()

@@ -10,6 +10,44 @@ namespace FetiContact
 {
   using namespace dealii;
 
+  namespace
+  {
+    /**
+     * Open, stick or slip of every node from its forces and slip bounds @p bound. A node whose
+     * friction acts through its vertex's keeper sticks or slips with the keeper's rows, and a
+     * keeper is pressed when any node of its vertex is, since its rows carry their friction.
+     */
+    std::vector<ContactStatus>
+    node_statuses(const std::vector<ContactNode>       &nodes,
+                  const std::vector<ContactNodeResult> &results,
+                  const std::vector<double>            &bound,
+                  const double                          lambda_max,
+                  const double                          bound_max)
+    {
+      std::vector<bool> pressed(nodes.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        pressed[k] = results[k].lambda_N > 1e-8 * lambda_max;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        if (nodes[k].keeper && pressed[k])
+          pressed[*nodes[k].keeper] = true;
+
+      std::vector<ContactStatus> status(nodes.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        {
+          const unsigned int rows = nodes[k].keeper ? *nodes[k].keeper : k;
+          const double force = std::hypot(results[rows].lambda_T[0], results[rows].lambda_T[1]);
+          // F = 0: a pressed node slides freely; a companion's keeper may hold only rounding.
+          const double slack = nodes[k].keeper ? 1e-8 * bound_max : 0;
+          if (!pressed[k])
+            status[k] = ContactStatus::open;
+          else
+            status[k] = force >= (1 - 1e-4) * bound[rows] - slack ? ContactStatus::slip :
+                                                                    ContactStatus::stick;
+        }
+      return status;
+    }
+  } // namespace
+
   std::string
   to_string(const ContactStatus status)
   {
@@ -100,13 +138,7 @@ namespace FetiContact
                    const double                                  tresca_slip_bound)
   {
     std::vector<ContactNodeResult> results(nodes.size());
-    std::vector<double>            coulomb_bound;
-    const auto                     slip_bound = [&](const unsigned int k) {
-      if (tresca_slip_bound >= 0 && nodes[k].friction > 0)
-        return tresca_slip_bound;
-      return coulomb_bound[k];
-    };
-    double u_max = 0, lambda_max = 0, bound_max = 0;
+    double                         u_max = 0, lambda_max = 0, bound_max = 0;
     for (const auto &body : vertex_u)
       for (const auto &u : body)
         u_max = std::max(u_max, u.norm());
@@ -144,22 +176,18 @@ namespace FetiContact
         r.slip[1]                = relative * frame.t2;
         lambda_max               = std::max(lambda_max, r.lambda_N);
       }
-    {
-      std::vector<double> normal_force(nodes.size());
-      for (unsigned int k = 0; k < nodes.size(); ++k)
-        normal_force[k] = results[k].lambda_N;
-      coulomb_bound = slip_bounds(nodes, normal_force);
-    }
+    // The slip bounds in the units of the forces: Tresca's, or F λ_N summed over each vertex.
+    std::vector<double> normal_force(nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      bound_max = std::max(bound_max, slip_bound(k));
-
-    // A keeper is pressed when any node of its vertex is: its rows carry their friction.
-    std::vector<bool> pressed(nodes.size());
+      normal_force[k] = results[k].lambda_N;
+    std::vector<double> bounds = slip_bounds(nodes, normal_force);
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      pressed[k] = results[k].lambda_N > 1e-8 * lambda_max;
-    for (unsigned int k = 0; k < nodes.size(); ++k)
-      if (nodes[k].keeper && pressed[k])
-        pressed[*nodes[k].keeper] = true;
+      {
+        if (tresca_slip_bound >= 0 && nodes[k].friction > 0)
+          bounds[k] = tresca_slip_bound;
+        bound_max = std::max(bound_max, bounds[k]);
+      }
+    const auto status = node_statuses(nodes, results, bounds, lambda_max, bound_max);
 
     check = ContactCheck();
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -167,21 +195,8 @@ namespace FetiContact
         const auto  &node       = nodes[k];
         auto        &r          = results[k];
         const double tangential = std::hypot(r.lambda_T[0], r.lambda_T[1]);
-        const double bound      = slip_bound(k);
-        if (!pressed[k])
-          r.status = ContactStatus::open;
-        else if (node.keeper) // sticks or slips with the keeper's rows
-          {
-            const auto  &keeper       = results[*node.keeper];
-            const double force        = std::hypot(keeper.lambda_T[0], keeper.lambda_T[1]);
-            const double keeper_bound = slip_bound(*node.keeper);
-            r.status = force >= (1 - 1e-4) * keeper_bound - 1e-8 * bound_max ? ContactStatus::slip :
-                                                                               ContactStatus::stick;
-          }
-        else if (tangential >= (1 - 1e-4) * bound) // F = 0: a pressed node slides freely
-          r.status = ContactStatus::slip;
-        else
-          r.status = ContactStatus::stick;
+        const double bound      = bounds[k];
+        r.status                = status[k];
 
         check.penetration = std::max(check.penetration, std::max(-r.gap, 0.0) / u_max);
         if (bound_max > 0)

@@ -88,18 +88,24 @@ namespace FetiContact
       return double(b[0]) * b[1] * b[2];
     }
 
-    /** A number from a line "Key: value kB" of /proc/meminfo, in MiB (infinite if absent). */
+    /**
+     * The number after @p key (or "key:") at the start of a line of @p file, as in /proc/meminfo
+     * and a cgroup's memory.stat; NaN if there is none.
+     */
     double
-    meminfo_mib(const std::string &key)
+    keyed_number(const std::string &file, const std::string &key)
     {
-      std::ifstream in("/proc/meminfo");
-      std::string   name;
-      double        value = 0;
-      std::string   unit;
-      while (in >> name >> value >> unit)
-        if (name == key + ":")
-          return value / 1024;
-      return unlimited;
+      std::ifstream in(file);
+      std::string   line;
+      while (std::getline(in, line))
+        {
+          std::istringstream words(line);
+          std::string        name;
+          double             value = 0;
+          if (words >> name >> value && (name == key || name == key + ":"))
+            return value;
+        }
+      return std::numeric_limits<double>::quiet_NaN();
     }
 
     /** A number of bytes in a cgroup file, in MiB (infinite if absent or "max"). */
@@ -117,7 +123,8 @@ namespace FetiContact
     double
     available_on_machine()
     {
-      double available = meminfo_mib("MemAvailable");
+      const double mem_available = keyed_number("/proc/meminfo", "MemAvailable"); // kB
+      double       available     = std::isnan(mem_available) ? unlimited : mem_available / 1024;
       // A cgroup's usage counts the page cache, whose inactive part the kernel reclaims.
       struct Cgroup
       {
@@ -135,13 +142,10 @@ namespace FetiContact
           const double max = cgroup_mib(c.limit);
           if (!std::isfinite(max))
             continue;
-          double        reclaimable = 0, bytes = 0;
-          std::ifstream stat(c.stat);
-          std::string   key;
-          while (stat >> key >> bytes)
-            if (key == c.inactive_key)
-              reclaimable = bytes / (1024.0 * 1024.0);
-          available = std::min(available, max - cgroup_mib(c.usage) + reclaimable);
+          const double reclaimable = keyed_number(c.stat, c.inactive_key); // bytes
+          available                = std::min(available,
+                               max - cgroup_mib(c.usage) +
+                                 (std::isnan(reclaimable) ? 0 : reclaimable / (1024.0 * 1024.0)));
         }
       return available;
     }

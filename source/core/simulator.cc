@@ -29,6 +29,53 @@ namespace FetiContact
 {
   using namespace dealii;
 
+  namespace
+  {
+    /** The entries of the displacements and the multipliers that are not finite numbers. */
+    unsigned int
+    count_not_finite(const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                     const Vector<double>                         &lambda)
+    {
+      unsigned int n = 0;
+      for (const auto &body : vertex_u)
+        for (const auto &v : body)
+          for (unsigned int d = 0; d < 3; ++d)
+            n += !std::isfinite(v[d]);
+      for (const double l : lambda)
+        n += !std::isfinite(l);
+      return n;
+    }
+
+    /**
+     * The total contact force on every body: −(λ_N n + λ_T1 t1 + λ_T2 t2) on the slave, its
+     * opposite on the master, except at a prescribed component of the master vertex, where the
+     * force goes to the support (and K u − f there, the support force, holds it already).
+     */
+    std::vector<Tensor<1, 3>>
+    contact_forces_on_bodies(const std::vector<ContactNode>           &nodes,
+                             const std::vector<ContactNodeResult>     &results,
+                             const std::vector<std::unique_ptr<Body>> &bodies)
+    {
+      std::vector<Tensor<1, 3>> forces(bodies.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        {
+          const auto        &node = nodes[k];
+          const Tensor<1, 3> force =
+            -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
+              results[k].lambda_T[1] * node.t2);
+          forces[node.body] += force;
+          if (!node.master)
+            continue;
+          const auto &[master, vertex] = *node.master;
+          const auto prescribed        = bodies[master]->prescribed.find(vertex);
+          for (unsigned int c = 0; c < 3; ++c)
+            if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
+              forces[master][c] -= force[c];
+        }
+      return forces;
+    }
+  } // namespace
+
   Simulator::Simulator(const MPI_Comm           comm,
                        const Parameters::Scene &parameters,
                        const std::string       &effective_parameters,
@@ -446,13 +493,7 @@ namespace FetiContact
     summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
     // Overflow (a Young's modulus tiny against the loads) gives infinities and NaNs, which
     // every comparison below would let pass.
-    unsigned int n_not_finite = 0;
-    for (const auto &b : vertex_u)
-      for (const auto &v : b)
-        for (unsigned int d = 0; d < 3; ++d)
-          n_not_finite += !std::isfinite(v[d]);
-    for (const double l : lambda)
-      n_not_finite += !std::isfinite(l);
+    const unsigned int n_not_finite = count_not_finite(vertex_u, lambda);
     summary.set("values_not_finite", n_not_finite);
     check_quantity("values_not_finite",
                    "displacements or multipliers that are not finite numbers (overflow?), count",
@@ -484,24 +525,7 @@ namespace FetiContact
         // without result files.
         if (parameters.verification.hertz.enabled)
           run_statistics.hertz = compare_with_hertz(parameters, contact_nodes, results);
-        for (unsigned int k = 0; k < contact_nodes.size(); ++k)
-          {
-            const auto        &node = contact_nodes[k];
-            const Tensor<1, 3> force =
-              -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
-                results[k].lambda_T[1] * node.t2);
-            contact_forces[node.body] += force;
-            if (node.master)
-              {
-                // At a prescribed component of the master vertex the force goes to the support
-                // (and K u − f there, the support force, holds it already).
-                const auto &[master, vertex] = *node.master;
-                const auto prescribed        = bodies[master]->prescribed.find(vertex);
-                for (unsigned int c = 0; c < 3; ++c)
-                  if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
-                    contact_forces[master][c] -= force[c];
-              }
-          }
+        contact_forces = contact_forces_on_bodies(contact_nodes, results, bodies);
         on_all_ranks([&]() {
           if (rank != 0)
             return;

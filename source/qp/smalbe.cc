@@ -20,6 +20,37 @@ namespace FetiContact::QP
         return a / reference;
       return a > 0 ? std::numeric_limits<double>::infinity() : 0.;
     }
+
+    /**
+     * Inner solves at their iteration limit in a row without progress (SmalbeReport::
+     * inner_stalled): neither ‖g^P‖ 1 % below its least value at such a solve nor ‖Gλ − e‖ 1 %
+     * below its value at the previous one.
+     */
+    class InnerStallGuard
+    {
+    public:
+      /** After an outer iteration; true once three capped ones in a row made no progress. */
+      bool
+      stalled(const bool capped, const double norm_gP, const double feasibility)
+      {
+        if (!capped)
+          without_progress = 0;
+        else if (norm_gP < 0.99 * best_gP || feasibility < 0.99 * last_feasibility)
+          {
+            best_gP          = std::min(best_gP, norm_gP);
+            last_feasibility = feasibility;
+            without_progress = 0;
+          }
+        else
+          ++without_progress;
+        return without_progress >= 3;
+      }
+
+    private:
+      unsigned int without_progress = 0;
+      double       best_gP          = std::numeric_limits<double>::infinity();
+      double       last_feasibility = std::numeric_limits<double>::infinity();
+    };
   } // namespace
 
   SmalbeReport
@@ -206,12 +237,8 @@ namespace FetiContact::QP
     unsigned int since_best       = 0;
     double       norm_gP          = 0;
     // Whether a relaxed start at η has made no step (then the rule is used from there on).
-    bool eta_exhausted = false;
-    // Inner solves at their iteration limit in a row without progress
-    // (SmalbeReport::inner_stalled).
-    unsigned int capped_without_progress = 0;
-    double       best_capped_gP          = std::numeric_limits<double>::infinity();
-    double       capped_feasibility      = std::numeric_limits<double>::infinity();
+    bool            eta_exhausted = false;
+    InnerStallGuard stall_guard;
     linear_term();
     for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
       {
@@ -265,15 +292,7 @@ namespace FetiContact::QP
               break;
           }
         report.inner_iterations += step.inner_iterations;
-        if (!capped)
-          capped_without_progress = 0;
-        else if (norm_gP < 0.99 * best_capped_gP || feasibility < 0.99 * capped_feasibility)
-          {
-            best_capped_gP          = std::min(best_capped_gP, norm_gP);
-            capped_feasibility      = feasibility;
-            capped_without_progress = 0;
-          }
-        else if (++capped_without_progress >= 3)
+        if (stall_guard.stalled(capped, norm_gP, feasibility))
           {
             report.inner_stalled = true;
             report.iterations    = outer + 1;

@@ -12,9 +12,10 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
-#include <feticontact/base/huge_pages.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_start.h>
 #include <feticontact/base/output_files.h>
+#include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/refinement_study.h>
@@ -65,10 +66,12 @@ int
 main(int argc, char **argv)
 {
   using namespace FetiContact;
-  HugePages::enable_on_request(argv);
+  MPIStart::prepare_singleton();
+  // deal.II's own threads stay off (SubdomainThreads: the subdomains' local work is threaded).
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                           comm = MPI_COMM_WORLD;
   const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  SubdomainThreads::initialize(comm);
 
   std::vector<std::string> args(argv + 1, argv + argc);
   bool                     validate_only = false;

@@ -5,6 +5,7 @@
 #include <feticontact/base/block_partition.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/contact/load_balance.h>
@@ -334,8 +335,8 @@ namespace FetiContact
               << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
     }
     TimerOutput::Scope scope(timer, "assembly");
-    for (auto *s : owned)
-      s->assemble(mapping);
+    SubdomainThreads::for_each(owned.size(),
+                               [&](const unsigned int i) { owned[i]->assemble(mapping); });
   }
 
   void
@@ -348,14 +349,20 @@ namespace FetiContact
     // The reserve whose factors go to shared memory: the last subdomains of this rank's range.
     const std::size_t n_own =
       owned.size() - std::lround(parameters.feti.shared_local_work * owned.size());
-    for (std::size_t i = 0; i < owned.size(); ++i)
-      {
-        owned[i]->factorize(parameters.feti.local_solver);
-        // The factor moves to shared memory at once, so that the next factorization reuses
-        // the memory CHOLMOD frees.
-        if (shared_work && i >= n_own)
-          shared_work->take_factor(*owned[i]);
-      }
+    if (shared_work)
+      for (std::size_t i = 0; i < owned.size(); ++i)
+        {
+          owned[i]->factorize(parameters.feti.local_solver);
+          // The factor moves to shared memory at once, so that the next factorization reuses
+          // the memory CHOLMOD frees.
+          if (i >= n_own)
+            shared_work->take_factor(*owned[i]);
+        }
+    else
+      SubdomainThreads::for_each(
+        owned.size(),
+        [&](const unsigned int i) { owned[i]->factorize(parameters.feti.local_solver); },
+        LocalSolver::create(parameters.feti.local_solver)->thread_safe());
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
       n_modes[s->global_index] = s->R.n();

@@ -1,4 +1,5 @@
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/base/subdomain_threads.h>
 #include <feticontact/feti/dual_problem.h>
 
 #include <algorithm>
@@ -78,6 +79,9 @@ namespace FetiContact
     for (unsigned int i = 0; i < owned.size(); ++i)
       if (!shared || !shared->holds(owned[i]->global_index))
         own_work.push_back(i);
+    threaded = std::all_of(owned.begin(), owned.end(), [](Subdomain *s) {
+      return s->local_solver()->thread_safe();
+    });
 
     // G = RᵀBᵀ, e = Rᵀf, h = BK⁺f − c.
     first_mode = mode_offset;
@@ -110,10 +114,16 @@ namespace FetiContact
               if (std::abs(s.R(B[i].dof[k], j)) > 1e-13 * R_max)
                 G_entries.push_back({first + j, B[i].row[k], B[i].value[k] * s.R(B[i].dof[k], j)});
           }
-        Vector<double> x(s.f);
-        s.apply_generalized_inverse(x);
-        set_B_slots(i, x);
       }
+    // h: the slots of B K⁺ f, subdomain by subdomain.
+    SubdomainThreads::for_each(
+      owned.size(),
+      [&](const unsigned int i) {
+        Vector<double> x(owned[i]->f);
+        owned[i]->apply_generalized_inverse(x);
+        set_B_slots(i, x);
+      },
+      threaded);
     MPITools::sum_in_place(comm, e.begin(), e.size());
     sum_slots(h);
     h -= c;
@@ -290,12 +300,15 @@ namespace FetiContact
   {
     const auto start = std::chrono::steady_clock::now();
     // This rank's own subdomains, then (if the node's ranks share work) the reserves.
-    for (const unsigned int i : own_work)
-      {
+    SubdomainThreads::for_each(
+      own_work.size(),
+      [&](const unsigned int j) {
+        const unsigned int i = own_work[j];
         set_Bt(i, x, work[i]);
         owned[i]->apply_generalized_inverse(work[i]);
         set_B_slots(i, work[i]);
-      }
+      },
+      threaded);
     n_subdomain_solves += own_work.size();
     if (shared)
       n_subdomain_solves += shared->apply(x);
@@ -325,13 +338,12 @@ namespace FetiContact
     lumped_Dx = x;
     lumped_Dx.scale(lumped_row_scale);
     lumped_Ku.resize(owned.size());
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        set_Bt(i, lumped_Dx, work[i]);
-        lumped_Ku[i].reinit(work[i].size(), true);
-        owned[i]->K.vmult(lumped_Ku[i], work[i]);
-        set_B_slots(i, lumped_Ku[i]);
-      }
+    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
+      set_Bt(i, lumped_Dx, work[i]);
+      lumped_Ku[i].reinit(work[i].size(), true);
+      owned[i]->K.vmult(lumped_Ku[i], work[i]);
+      set_B_slots(i, lumped_Ku[i]);
+    });
     sum_slots(y);
     y.scale(lumped_row_scale);
     ++n_lumped_applications;
@@ -351,8 +363,9 @@ namespace FetiContact
   DualProblem::recover_primal(const Vector<double> &lambda, const Vector<double> &alpha) const
   {
     std::vector<Vector<double>> u(owned.size());
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      {
+    SubdomainThreads::for_each(
+      owned.size(),
+      [&](const unsigned int i) {
         const Subdomain &s = *owned[i];
         set_Bt(i, lambda, work[i]);
         u[i] = s.f;
@@ -361,7 +374,8 @@ namespace FetiContact
         for (unsigned int j = 0; j < s.R.n(); ++j)
           for (unsigned int d = 0; d < s.R.m(); ++d)
             u[i][d] += s.R(d, j) * alpha[first_mode[s.global_index] + j];
-      }
+      },
+      threaded);
     return u;
   }
 

@@ -26,6 +26,11 @@ namespace FetiContact
         if (x.size() > 0)
           const_cast<SparseDirectUMFPACK &>(solver).solve(x);
       }
+      bool
+      thread_safe() const override
+      {
+        return true;
+      }
       std::string
       name() const override
       {

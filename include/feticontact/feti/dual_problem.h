@@ -142,6 +142,11 @@ namespace FetiContact
     SharedLocalWork *shared = nullptr;
     /** slots.data(), or the shared slots. */
     double *slot_values = nullptr;
+    /**
+     * Whether the subdomains' local work runs on threads (SubdomainThreads): if every local
+     * solver may solve on several threads at once.
+     */
+    bool threaded = false;
     /** The owned subdomains (indices into owned) that only this rank solves. */
     std::vector<unsigned int> own_work;
     /**

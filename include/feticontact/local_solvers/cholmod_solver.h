@@ -87,6 +87,12 @@ namespace FetiContact
     {
       return *factor;
     }
+    /** Each object has its own cholmod_common and work arrays. */
+    bool
+    thread_safe() const override
+    {
+      return true;
+    }
     std::string
     name() const override
     {

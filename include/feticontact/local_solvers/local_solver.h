@@ -27,6 +27,16 @@ namespace FetiContact
     virtual void
     solve(dealii::Vector<double> &x) const = 0;
 
+    /**
+     * Whether objects of this backend may factorize and solve on several threads at once, each
+     * object on one thread (no state shared between the objects).
+     */
+    virtual bool
+    thread_safe() const
+    {
+      return false;
+    }
+
     /** The backend's name as in the parameter file. */
     virtual std::string
     name() const = 0;

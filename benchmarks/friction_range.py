@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The solver across the range of the friction coefficient on the seed's brick (DESIGN.md §5),
 and the effect of the two parameters meant for large F: relaxation of the slip-bound update
-(`Contact solver/Relaxation` ω) and continuation in F (`Contact solver/Friction continuation
+(`Contact solver/Expert/Relaxation` ω) and continuation in F (`Contact solver/Friction continuation
 steps` n).
 
     python3 benchmarks/friction_range.py [--exe build/feticontact] [--k 4,8] [--repeats 3]
@@ -24,7 +24,7 @@ import tempfile
 
 from cli import arguments, option
 
-PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "brick_contact.prm")
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "seed_table_2.prm")
 ALGORITHMS = ["algorithm 2", "algorithm 1", "mpgp"]
 
 
@@ -97,8 +97,8 @@ def main():
                 for omega in ["1", "0.5"]:
                     for stages in ["1", "4"]:
                         r = run(exe, k, friction, algorithm, repeats, single_above,
-                                [f"Contact solver/Relaxation={omega}",
-                                 f"Contact solver/Friction continuation steps={stages}"])
+                                [f"Contact solver/Expert/Relaxation={omega}",
+                                 f"Contact solver/Expert/Friction continuation steps={stages}"])
                         line = (f"| {k} | {friction} | {algorithm} | {omega} | {stages} | "
                                 f"{r['status']} | {r.get('iter', '')} | {r.get('n_A', '')} | "
                                 f"{r.get('time', '')} |")

@@ -7,7 +7,7 @@ Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 
 
   - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
     `FETI/Preconditioner = none | lumped`: iterations (one application of F each);
-  - contact: prm/brick_contact.prm with the six options of doc/performance.md (MPGP, projected
+  - contact: prm/seed_table_2.prm with the six options of doc/performance.md (MPGP, projected
     cg expansion, Hessian norm bound max, Inexact MSA factor 0.001, Recursive gradient
     tolerance 0.1, Arc preconditioner scale mean diagonal, Penalty norm projected F), for each
     friction coefficient F: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
@@ -67,7 +67,7 @@ def contact(exe, a, friction):
     sets = settings(k, (3 * a, a, a), SIX_OPTIONS)
     sets = [s if not s.startswith("Contact/Zone 1/Friction coefficient=")
             else f"Contact/Zone 1/Friction coefficient={friction}" for s in sets]
-    s = run(exe, os.path.join(PRM, "brick_contact.prm"), sets)
+    s = run(exe, os.path.join(PRM, "seed_table_2.prm"), sets)
     return row("contact", friction, a, k, "none", s)
 
 

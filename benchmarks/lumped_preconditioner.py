@@ -7,8 +7,8 @@ the other (never two at a time: paired runs on the two cores slow each other):
 
   - linear: prm/brick.prm (no contact), projected CG, `FETI/Preconditioner = none | lumped`:
     iterations and solve time;
-  - contact: prm/brick_contact.prm, Algorithm = mpgp, projected cg expansion, Hessian norm
-    bound max, `Contact solver/Preconditioner = none | lumped`, friction coefficients F:
+  - contact: prm/seed_table_2.prm, Algorithm = mpgp, projected cg expansion, Hessian norm
+    bound max, `Contact solver/Expert/Preconditioner = none | lumped`, friction coefficients F:
     n_A (Hessian multiplications), SMALBE iterations, MPGP steps, solve time and the time in
     the preconditioner.
 
@@ -96,11 +96,11 @@ def main():
                 k, sets = geometry(a)
                 sets += [f"Contact/Zone 1/Friction coefficient={friction}",
                          "Contact solver/Algorithm=mpgp",
-                         "Contact solver/Expansion step=projected cg",
-                         "Contact solver/Hessian norm bound=max"]
+                         "Contact solver/Expert/Expansion step=projected cg",
+                         "Contact solver/Expert/Hessian norm bound=max"]
                 for pc in ("none", "lumped"):
-                    s = run(exe, os.path.join(PRM, "brick_contact.prm"),
-                            sets + [f"Contact solver/Preconditioner={pc}"])
+                    s = run(exe, os.path.join(PRM, "seed_table_2.prm"),
+                            sets + [f"Contact solver/Expert/Preconditioner={pc}"])
                     rows.append(row("contact", friction, a, k, pc, s))
                     print(rows[-1], flush=True)
     with open(csv_path, "w", newline="") as f:
@@ -120,7 +120,7 @@ def main():
             f.write(f"| {r0['k']} | {r0['n_subdomains']} | {r0['n']} | {r0['m']} | "
                     f"{r0['iterations']} | {r1['iterations']} | {r0['solve']} | {r1['solve']} | "
                     f"{r1['preconditioner_time']} |\n")
-        f.write("\n## Contact: MPGP preconditioned in face (`Contact solver/Preconditioner`)\n\n"
+        f.write("\n## Contact: MPGP preconditioned in face (`Contact solver/Expert/Preconditioner`)\n\n"
                 "Algorithm = mpgp, Expansion step = projected cg, Hessian norm bound = max.\n\n"
                 "| F | k | n_A, none | n_A, lumped | SMALBE, none | SMALBE, lumped | "
                 "CG / expansion / proportioning steps, none | the same, lumped | "

@@ -161,8 +161,7 @@ def clean(exe, prm_dir, work, fclib):
         if os.path.exists(os.path.join(outdir, "fclib_problem.hdf5")):
             fail("a plain run after an FCLIB export left fclib_problem.hdf5")
 
-    p = run(exe, hertz, outdir, ["Refinement study/Subdivision factors=0.5, 0.6",
-                                 "Contact solver/Accuracy=draft"])
+    p = run(exe, hertz, outdir, ["Refinement study/Subdivision factors=0.5, 0.6"])
     if p.returncode != 0 or not os.path.isdir(os.path.join(outdir, "cycle-2")):
         fail("the refinement study failed: %s" % p.stderr[-2000:])
     p = run(exe, contact, outdir)

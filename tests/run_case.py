@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Runs feticontact on one parameter file for ctest and checks the outcome.
 
-  run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--set PATH=VALUE]...
+  run_case.py scene EXE PRM OUTDIR [--np N[,N...]] [--threads N[,N...]] [--set PATH=VALUE]...
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
       [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts] [--fewer-multiplications]
@@ -11,7 +11,8 @@
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
 every run is checked, and with --same-displacements the nodal displacements of all runs must
-agree to TOL relative (max norm). --alt-set adds one more run with further overrides, compared
+agree to TOL relative (max norm); --threads runs each rank count once per number of threads
+(DEAL_II_NUM_THREADS, the limit of the threads per rank). --alt-set adds one more run with further overrides, compared
 the same way (e.g. F = 0 against Tresca with slip bound 0); --alt-scale S divides the
 displacements of that run by S first (the same scene in other units or with scaled loads).
 --same-counts requires every run to take the same MSA iterations and Hessian multiplications;
@@ -39,7 +40,7 @@ BAD_INPUT_TIME_LIMIT = 60
 RESULT_SUFFIXES = (".json", ".vtu", ".pvtu", ".pvd", ".csv")
 
 
-def run(exe, prm, outdir, np, extra=(), time_limit=TIME_LIMIT):
+def run(exe, prm, outdir, np, extra=(), time_limit=TIME_LIMIT, threads=None):
     if os.path.isdir(outdir):
         shutil.rmtree(outdir)
     cmd = [exe, "--set", "Output/Directory=" + outdir, *extra, prm]
@@ -47,7 +48,9 @@ def run(exe, prm, outdir, np, extra=(), time_limit=TIME_LIMIT):
         cmd = ["mpirun", "--oversubscribe", "-np", str(np)] + cmd
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
-    print("$", " ".join(cmd), flush=True)
+    if threads is not None:
+        env["DEAL_II_NUM_THREADS"] = str(threads)
+    print("$", ("DEAL_II_NUM_THREADS=%s " % threads if threads else "") + " ".join(cmd), flush=True)
     # The log echoes names as given, which need not be UTF-8; summary.json must be.
     p = subprocess.run(cmd, capture_output=True, text=True, errors="replace", timeout=time_limit,
                        env=env)
@@ -171,6 +174,7 @@ def check_contact_area(directory, zone, area):
 def scene(args):
     exe, prm, outdir = args[:3]
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
+    threads = [None]
     check_vtu, areas, alt_scale, same_counts, counts = False, [], 1.0, False, []
     fewer = False
     i = 3
@@ -179,6 +183,8 @@ def scene(args):
             sets += ["--set", args[i + 1]]
         elif args[i] == "--np":
             nps = [int(n) for n in args[i + 1].split(",")]
+        elif args[i] == "--threads":
+            threads = [int(n) for n in args[i + 1].split(",")]
         elif args[i] == "--expect":
             expectations.append(args[i + 1])
         elif args[i] == "--check-contact-vtu":
@@ -208,12 +214,13 @@ def scene(args):
     ok = True
     displacements = []
     # With --alt-set, a second run with those entries overridden too (same ranks as the first).
-    runs = [(np, []) for np in nps] + ([(nps[0], alt_sets)] if alt_sets else [])
-    for run_index, (np, more) in enumerate(runs):
+    runs = [(np, t, []) for np in nps for t in threads]
+    runs += [(nps[0], threads[0], alt_sets)] if alt_sets else []
+    for run_index, (np, t, more) in enumerate(runs):
         d = outdir + (f"_run{run_index}" if len(runs) > 1 else "")
         want_csv = same_tol is not None or reference is not None
         extra = sets + more + (["--set", "Output/Write displacement csv=true"] if want_csv else [])
-        p = run(exe, prm, d, np, extra)
+        p = run(exe, prm, d, np, extra, threads=t)
         if p.returncode != 0:
             print(f"FAILED: exit status {p.returncode} with {np} rank(s)")
             return 1
@@ -236,10 +243,10 @@ def scene(args):
     if same_tol is not None:
         ref = displacements[0]
         scale = max(abs(c) for row in ref for c in row)
-        for (np, more), other in zip(runs[1:], displacements[1:]):
+        for (np, t, more), other in zip(runs[1:], displacements[1:]):
             diff = max(abs(a - b) for ra, rb in zip(ref, other) for a, b in zip(ra, rb))
             good = len(other) == len(ref) and diff <= same_tol * scale
-            what = " ".join(more[1::2]) if more else f"-np {np}"
+            what = " ".join(more[1::2]) if more else f"-np {np}" + (f", {t} thread(s)" if t else "")
             print(f"  {what} against the first run: max difference {diff / scale:.3e} relative"
                   f" -> {'ok' if good else 'FAILED'}")
             ok &= good

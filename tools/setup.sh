@@ -19,7 +19,7 @@ case "$mode" in
   run)
     cd "$build"
     ./feticontact "$here/prm/brick_contact.prm"
-    echo "Output in $build/output/brick_contact (open solution.pvd in ParaView)."
+    echo "Output in $build/output/brick_contact: open solution.pvd and contact_surface.pvd in ParaView."
     ;;
   test)
     cd "$build"

@@ -10,8 +10,12 @@ namespace FetiContact::MPIStart
   {
     // Variables that Open MPI's, MPICH's, PMIx's and Slurm's launchers set in every process
     // they start.
-    constexpr std::array<const char *, 6> launched_markers = {{
-      "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "SLURM_PROCID", "MPI_LOCALRANKID"}};
+    constexpr std::array<const char *, 6> launched_markers = {{"OMPI_COMM_WORLD_SIZE",
+                                                               "PMIX_RANK",
+                                                               "PMI_RANK",
+                                                               "PMI_SIZE",
+                                                               "SLURM_PROCID",
+                                                               "MPI_LOCALRANKID"}};
     for (const char *marker : launched_markers)
       if (std::getenv(marker) != nullptr)
         return;

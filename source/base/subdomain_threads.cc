@@ -1,15 +1,14 @@
 #include <feticontact/base/subdomain_threads.h>
 
-#include <dlfcn.h>
-#include <sched.h>
-
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <sched.h>
 #include <string>
 #include <thread>
 #include <vector>

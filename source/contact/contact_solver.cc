@@ -361,42 +361,6 @@ namespace FetiContact
     options.expansion                    = parameters.expansion;
     options.recursive_gradient_tolerance = parameters.recursive_gradient_tolerance;
     options.arc_scale                    = arc_scale;
-    if (parameters.lumped_preconditioner)
-      // M = P D B K Bᵀ D P + Q/ρ: the lumped preconditioner on ker G̃, where the Hessian is PFP,
-      // and the inverse of ρQ on range G̃ᵀ (Q = G̃ᵀG̃ = I − P). With the penalty variant the same
-      // M is used for F + ρG̃ᵀG̃.
-      {
-        // Work vectors kept between the applications (one per MPGP step).
-        struct Work
-        {
-          Vector<double> Gv, Qx, Px, MPx, QMPx;
-        };
-        const auto work        = std::make_shared<Work>();
-        options.preconditioner = [this, work](const Vector<double> &x, Vector<double> &y) {
-          if (dual.coarse.n_modes() == 0)
-            {
-              dual.apply_lumped(x, y);
-              return;
-            }
-          Work &w = *work;
-          w.Gv.reinit(dual.coarse.n_modes(), true);
-          for (Vector<double> *v : {&w.Qx, &w.MPx, &w.QMPx})
-            v->reinit(x.size(), true);
-          // Q v = G̃ᵀG̃ v, the same operator as in the Hessian's ρQ.
-          const auto apply_Q = [&](const Vector<double> &v, Vector<double> &Qv) {
-            dual.coarse.apply_G_orthonormal(v, w.Gv);
-            dual.coarse.apply_Gt_orthonormal(w.Gv, Qv);
-          };
-          apply_Q(x, w.Qx);
-          w.Px = x;
-          w.Px -= w.Qx;
-          dual.apply_lumped(w.Px, w.MPx);
-          apply_Q(w.MPx, w.QMPx);
-          y = w.MPx;
-          y -= w.QMPx;
-          y.add(1. / rho, w.Qx);
-        };
-      }
     return options;
   }
 

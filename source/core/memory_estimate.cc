@@ -79,15 +79,6 @@ namespace FetiContact
       return {mesh.tetrahedra_per_cube * cubes, (s[0] + 1.0) * (s[1] + 1.0) * (s[2] + 1.0)};
     }
 
-    double
-    n_parts(const Parameters::Decomposition &decomposition)
-    {
-      if (decomposition.method == Parameters::Decomposition::Method::metis)
-        return decomposition.n_parts;
-      const auto &b = decomposition.blocks;
-      return double(b[0]) * b[1] * b[2];
-    }
-
     /**
      * The number after @p key (or "key:") at the start of a line of @p file, as in /proc/meminfo
      * and a cgroup's memory.stat; NaN if there is none.
@@ -219,7 +210,9 @@ namespace FetiContact
           model.cells.push_back(c);
           model.vertices.push_back(v);
           // More parts than cells is refused when the body is built, with its own message.
-          model.parts.push_back(std::clamp(n_parts(body.decomposition), 1.0, std::max(1.0, c)));
+          model.parts.push_back(std::clamp<double>(body.decomposition.n_parts_for(body.mesh, v),
+                                                   1.0,
+                                                   std::max(1.0, c)));
           model.box.push_back(body.mesh.type == Parameters::Mesh::Type::box);
         }
       return model;

@@ -837,6 +837,7 @@ namespace FetiContact
              .set("total", contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc)
              .set("F_applications", dual->n_F_applications))
       .set("n_mpi_ranks", n_ranks)
+      .set("threads_per_rank", SubdomainThreads::n_threads())
       .set("dirichlet_treatment",
            parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal ?
              "primal" :
@@ -869,9 +870,9 @@ namespace FetiContact
     build_subdomains();
     factorize();
     build_dual_problem();
-    pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s), "
-          << mode_offset.back() << " rigid body modes, " << dual->size() << " dual unknowns"
-          << std::endl;
+    pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
+          << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
+          << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
     check_log();
     solve();
     check_log();

@@ -17,8 +17,7 @@ namespace FetiContact::Parameters
                       "floats (robust: the default). 'primal': Dirichlet conditions are "
                       "eliminated in the subdomains (the seed paper's way: subdomains touching a "
                       "clamped face are anchored); subdomains that touch Γ_u in a few vertices "
-                      "only are then nearly floating and limit the attainable accuracy "
-                      "(doc/feti.md).");
+                      "only are then nearly floating and limit the attainable accuracy.");
     prm.declare_entry("Local solver",
                       "cholmod",
                       Patterns::Selection(LocalSolver::available_backends()),
@@ -73,8 +72,8 @@ namespace FetiContact::Parameters
                       "(the default): the lumped FETI preconditioner P D B K Bᵀ D P with "
                       "D = diag(B Bᵀ)⁻¹, one sparse multiplication by every K_i per iteration, "
                       "no solve; about 3 times fewer iterations, nearly independent of the "
-                      "number of subdomains. 'none': plain projected CG. For contact see "
-                      "Contact solver/Preconditioner. Measured in doc/feti.md.");
+                      "number of subdomains. 'none': plain projected CG. The contact "
+                      "solvers do not use it.");
     prm.leave_subsection();
   }
 

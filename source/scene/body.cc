@@ -61,7 +61,7 @@ namespace FetiContact
                       }
                 }
 
-    partition = partition_cells(mesh, parameters.decomposition, parameters.name);
+    partition = partition_cells(mesh, parameters.decomposition, parameters.mesh, parameters.name);
     cells_of_part.assign(partition.n_parts, {});
     for (const auto &cell : mesh.active_cell_iterators())
       cells_of_part[partition.part_of_cell[cell->active_cell_index()]].push_back(cell);

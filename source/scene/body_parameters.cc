@@ -1,6 +1,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/body_parameters.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -246,18 +247,55 @@ namespace FetiContact::Parameters
     prm.leave_subsection();
   }
 
+  std::array<unsigned int, 3>
+  Decomposition::automatic_blocks(const std::array<unsigned int, 3> &subdivisions)
+  {
+    // A block of c × c × c cubes has about 3 (c + 1)³ unknowns.
+    const double edge = std::max(1.0, std::cbrt(automatic_subdomain_unknowns / 3.0) - 1);
+    std::array<unsigned int, 3> blocks;
+    for (unsigned int d = 0; d < 3; ++d)
+      blocks[d] = std::clamp<unsigned int>(std::lround(subdivisions[d] / edge), 1, subdivisions[d]);
+    return blocks;
+  }
+
+  unsigned int
+  Decomposition::n_parts_for(const Mesh &mesh, const double n_vertices) const
+  {
+    switch (method)
+      {
+        case Method::automatic:
+          if (mesh.type == Mesh::Type::box)
+            {
+              const auto b = automatic_blocks(mesh.subdivisions);
+              return b[0] * b[1] * b[2];
+            }
+          return static_cast<unsigned int>(
+            std::max(1.0, std::round(3 * n_vertices / automatic_subdomain_unknowns)));
+        case Method::blocks:
+          return blocks[0] * blocks[1] * blocks[2];
+        case Method::metis:
+          return n_parts;
+      }
+    return 1;
+  }
+
   void
   Decomposition::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Decomposition");
     prm.declare_entry("Method",
-                      "blocks",
-                      Patterns::Selection("blocks|metis"),
-                      "How the body is split into FETI subdomains: 'blocks' cuts its bounding "
-                      "box into 'Blocks' equal boxes (cells go by their centroid); 'metis' "
-                      "partitions the cells into 'Number of parts'. A part that the cut leaves in "
-                      "pieces keeps its largest face-connected piece; the others join the "
-                      "neighbouring part with which they share the most faces.");
+                      "automatic",
+                      Patterns::Selection("automatic|blocks|metis"),
+                      "How the body is split into FETI subdomains: 'automatic' makes subdomains "
+                      "of about " +
+                        std::to_string(automatic_subdomain_unknowns) +
+                        " unknowns each (one for a smaller body): blocks of equally many cubes of "
+                        "a generated box (graded or bent alike), METIS parts of a Gmsh mesh; "
+                        "'blocks' cuts its "
+                        "bounding box into 'Blocks' equal boxes (cells go by their centroid); "
+                        "'metis' partitions the cells into 'Number of parts'. A part that the cut "
+                        "leaves in pieces keeps its largest face-connected piece; the others join "
+                        "the neighbouring part with which they share the most faces.");
     prm.declare_entry("Blocks",
                       "1, 1, 1",
                       Patterns::Anything(),
@@ -270,7 +308,8 @@ namespace FetiContact::Parameters
   Decomposition::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Decomposition");
-    method = prm.get("Method") == "blocks" ? Method::blocks : Method::metis;
+    const std::string m = prm.get("Method");
+    method = m == "automatic" ? Method::automatic : m == "blocks" ? Method::blocks : Method::metis;
     const auto b =
       InputParsing::parse_positive_integers(prm.get("Blocks"), 3, "Decomposition/Blocks");
     blocks  = {{b[0], b[1], b[2]}};

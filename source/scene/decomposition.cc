@@ -158,13 +158,57 @@ namespace FetiContact
     return parts;
   }
 
+  namespace
+  {
+    /**
+     * The parts of the cells of a generated box of @p n cubes cut into @p blocks blocks of
+     * (nearly) equally many cubes. The cube of a cell comes from its vertices' indices, which
+     * the box keeps in lexicographic order (i + (n_x + 1)(j + (n_y + 1) k)): per axis the
+     * smallest lattice index of the cell's vertices (a tetrahedron of a cube never lies in one
+     * of its faces). So the cut follows the cubes, also where grading or bending moved them.
+     */
+    std::vector<unsigned int>
+    lattice_blocks(const Triangulation<3>            &mesh,
+                   const std::array<unsigned int, 3> &n,
+                   const std::array<unsigned int, 3> &blocks)
+    {
+      std::vector<unsigned int> part(mesh.n_active_cells(), 0);
+      for (const auto &cell : mesh.active_cell_iterators())
+        {
+          std::array<unsigned int, 3> cube{{n[0], n[1], n[2]}};
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              const unsigned int index      = cell->vertex_index(v);
+              const unsigned int lattice[3] = {index % (n[0] + 1),
+                                               (index / (n[0] + 1)) % (n[1] + 1),
+                                               index / ((n[0] + 1) * (n[1] + 1))};
+              for (unsigned int d = 0; d < 3; ++d)
+                cube[d] = std::min(cube[d], lattice[d]);
+            }
+          unsigned int b[3];
+          for (unsigned int d = 0; d < 3; ++d)
+            b[d] = std::min(blocks[d] - 1, cube[d] * blocks[d] / n[d]);
+          part[cell->active_cell_index()] = b[0] + blocks[0] * (b[1] + blocks[1] * b[2]);
+        }
+      return part;
+    }
+  } // namespace
+
   CellPartition
   partition_cells(const Triangulation<3>          &mesh,
                   const Parameters::Decomposition &parameters,
+                  const Parameters::Mesh          &mesh_parameters,
                   const std::string               &body_name)
   {
+    using Method = Parameters::Decomposition::Method;
     std::vector<unsigned int> part(mesh.n_active_cells(), 0);
-    if (parameters.method == Parameters::Decomposition::Method::blocks)
+    if (parameters.method == Method::automatic &&
+        mesh_parameters.type == Parameters::Mesh::Type::box)
+      part =
+        lattice_blocks(mesh,
+                       mesh_parameters.subdivisions,
+                       Parameters::Decomposition::automatic_blocks(mesh_parameters.subdivisions));
+    else if (parameters.method == Method::blocks)
       {
         const auto  box   = GridTools::compute_bounding_box(mesh);
         const auto  lower = box.get_boundary_points().first;
@@ -190,16 +234,17 @@ namespace FetiContact
       }
     else
       {
-        require(parameters.n_parts <= mesh.n_active_cells(),
+        unsigned int n_parts = parameters.n_parts_for(mesh_parameters, mesh.n_used_vertices());
+        if (parameters.method == Method::automatic)
+          n_parts = std::min(n_parts, mesh.n_active_cells());
+        require(n_parts <= mesh.n_active_cells(),
                 "Body '" + body_name + "': Decomposition/Number of parts (" +
-                  std::to_string(parameters.n_parts) + ") exceeds the number of cells (" +
+                  std::to_string(n_parts) + ") exceeds the number of cells (" +
                   std::to_string(mesh.n_active_cells()) + ").");
-        if (parameters.n_parts > 1)
+        if (n_parts > 1)
           {
             Triangulation<3> &m = const_cast<Triangulation<3> &>(mesh);
-            GridTools::partition_triangulation(parameters.n_parts,
-                                               m,
-                                               SparsityTools::Partitioner::metis);
+            GridTools::partition_triangulation(n_parts, m, SparsityTools::Partitioner::metis);
             for (const auto &cell : mesh.active_cell_iterators())
               part[cell->active_cell_index()] = cell->subdomain_id();
           }

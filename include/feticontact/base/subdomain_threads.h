@@ -1,8 +1,7 @@
 #pragma once
 
-#include <mpi.h>
-
 #include <functional>
+#include <mpi.h>
 
 namespace FetiContact::SubdomainThreads
 {

@@ -9,9 +9,14 @@
 namespace FetiContact::Parameters
 {
   /**
-   * `subsection Contact solver`: how the contact problem with friction is solved (DESIGN.md §3).
-   * Frictionless zones (F = 0) need no tangential multipliers; with Coulomb friction the slip
-   * bound g = F λ_N is found by the method of successive approximations (MSA).
+   * `subsection Contact solver`: how the contact problem with friction is solved. Frictionless
+   * zones (F = 0) need no tangential multipliers; with Coulomb friction the slip bound g = F λ_N
+   * is found by the method of successive approximations (MSA). The entries a user decides (law,
+   * algorithm, accuracy, limits) are in the subsection itself; the research switches of the
+   * solvers in `subsection Expert`, whose 'auto' values resolve by the algorithm: the best
+   * measured configuration for mpgp (the default), the published one for the seed's algorithms.
+   * The in-class defaults are those of the declared defaults (Algorithm = mpgp, every Expert
+   * entry 'auto').
    */
   struct ContactSolver
   {
@@ -32,7 +37,7 @@ namespace FetiContact::Parameters
       mpgp,        ///< MSA outer loop, SMALBE with one MPGP over bounds × discs
       polygonal    ///< MSA outer loop, the disc replaced by a 2s-gon: bounds only (MPRGP)
     };
-    Algorithm algorithm = Algorithm::algorithm_2;
+    Algorithm algorithm = Algorithm::mpgp;
     /** Polygonal baseline: s tangential multipliers per node (a regular 2s-gon). */
     unsigned int polygon_directions = 4;
 
@@ -45,7 +50,7 @@ namespace FetiContact::Parameters
      * Inexact MSA: MSA step j solves its Tresca problem to max(qp_tolerance, c · change_{j−1})
      * (change_0 = 1); 0: every step to qp_tolerance.
      */
-    double inexact_msa_factor = 1e-2;
+    double inexact_msa_factor = 1e-3;
     /** QP::SmalbeOptions::inner_floor. */
     double inner_tolerance_floor = 1;
     /** SMALBE outer iterations per QP solve ("auto": 200 for algorithm 2, 2000 otherwise). */
@@ -58,14 +63,15 @@ namespace FetiContact::Parameters
     /** Continuation in F: stages F/n, 2F/n, …, F (1: none). */
     unsigned int continuation_steps = 1;
     /** SMALBE penalty ρ as a multiple of ‖F‖, or of ‖PFP‖ with penalty_projected_norm. */
-    double penalty_factor = 1;
+    double penalty_factor = 5;
     /** s of SMALBE's multiplier update μ ← μ + sρ(Gλ − e) (QP::SmalbeOptions). */
     double multiplier_step = 1;
     /**
-     * "Penalty norm": false ‖F‖, true ‖PFP‖ (the projector variant) as the norm that
-     * penalty_factor multiplies and that bounds the FETI part of the Hessian in MPGP's step.
+     * The norm that penalty_factor multiplies and that bounds the FETI part of the Hessian in
+     * MPGP's step: true ‖PFP‖ (mpgp with the projector), false ‖F‖ (the seed's algorithms, the
+     * polygonal baseline and the penalty variant).
      */
-    bool penalty_projected_norm = false;
+    bool penalty_projected_norm = true;
 
     /** How SMALBE treats Gλ = e (QP::SmalbeOptions::projector). */
     enum class EqualityConstraint
@@ -77,31 +83,33 @@ namespace FetiContact::Parameters
     /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
     bool disc_rotations = true;
     /** MPGP's expansion step ("Expansion step": fixed or projected cg). */
-    QP::MpgpOptions::Expansion expansion = QP::MpgpOptions::Expansion::fixed_step;
+    QP::MpgpOptions::Expansion expansion = QP::MpgpOptions::Expansion::projected_cg;
     /**
      * The bound of ‖A‖ for MPGP's fixed step: false ‖F‖ + ρ; true max(‖F‖, ρ), exact for the
      * projector variant (PFP and ρQ act on complementary orthogonal subspaces).
      */
-    bool hessian_norm_max = false;
+    bool hessian_norm_max = true;
     /** QP::MpgpOptions::recursive_gradient_tolerance ("Recursive gradient tolerance"; 0:
      * recompute). */
-    double recursive_gradient_tolerance = 0;
+    double recursive_gradient_tolerance = 0.1;
     /**
      * The scale of the Hessian in the preconditioner of MPGP's steps along the circles
      * ("Arc preconditioner scale"): false its norm bound, true its mean diagonal
      * (QP::MpgpOptions::arc_scale).
      */
-    bool arc_scale_mean_diagonal = false;
-    /**
-     * Preconditioning of MPGP's conjugate gradient steps in face ("Preconditioner"): none, or
-     * the lumped FETI preconditioner P D B K Bᵀ D P + Q/ρ (DualProblem::apply_lumped,
-     * QP::MpgpOptions::preconditioner).
-     */
-    bool lumped_preconditioner = false;
+    bool arc_scale_mean_diagonal = true;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
     void
     parse_parameters(dealii::ParameterHandler &prm);
+
+  private:
+    /** `subsection Contact solver / Expert`, entered. */
+    static void
+    declare_expert_parameters(dealii::ParameterHandler &prm);
+    /** The same; after the algorithm is known ('auto' values depend on it). */
+    void
+    parse_expert_parameters(dealii::ParameterHandler &prm);
   };
 } // namespace FetiContact::Parameters

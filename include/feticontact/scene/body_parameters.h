@@ -109,14 +109,40 @@ namespace FetiContact::Parameters
   {
     enum class Method
     {
-      blocks,
-      metis
+      automatic, ///< subdomains of about automatic_subdomain_unknowns unknowns
+      blocks,    ///< equal boxes of the bounding box
+      metis      ///< METIS with a given number of parts
     };
-    Method method = Method::blocks;
+    Method method = Method::automatic;
     /** Structured blocks of the bounding box along x, y, z (cells go by their centroid). */
     std::array<unsigned int, 3> blocks{{1, 1, 1}};
     /** METIS: the number of parts. */
     unsigned int n_parts = 1;
+    /**
+     * The size of the subdomains of Method::automatic, in unknowns of the subdomain (3 per
+     * vertex, its copies of the interface vertices included): on a generated box, cubes of
+     * 6 × 6 × 6 cells. The cost of a contact solve is about n_A × the cost of one multiplication
+     * by F plus the QP bookkeeping and the factorization: larger subdomains make the local solves
+     * dearer per unknown, smaller ones make the dual and the coarse problem larger and n_A grow.
+     * On the brick (F = 0.1 and 0.3, k = 8, 16, 24; benchmarks/subdomain_size.py) cubes of 6
+     * cells gave the shortest solves, cubes of 4 and 8 cells up to 1.1–1.8 times longer ones;
+     * METIS parts of the same size needed 2–4 times as many multiplications as the cubes.
+     */
+    static constexpr unsigned int automatic_subdomain_unknowns = 1000;
+    /**
+     * Method::automatic on a generated box of @p subdivisions cubes: the number of blocks of
+     * cubes along x, y, z, so that a block of about cubic shape holds about
+     * automatic_subdomain_unknowns unknowns.
+     */
+    static std::array<unsigned int, 3>
+    automatic_blocks(const std::array<unsigned int, 3> &subdivisions);
+    /**
+     * The number of parts that the method asks for on a body with the mesh @p mesh of
+     * @p n_vertices vertices (before fragments are merged and before it is capped by the number
+     * of cells).
+     */
+    unsigned int
+    n_parts_for(const Mesh &mesh, const double n_vertices) const;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

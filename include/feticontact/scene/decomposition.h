@@ -30,9 +30,13 @@ namespace FetiContact
   std::vector<std::vector<unsigned int>>
   parts_of_vertices(const dealii::Triangulation<3> &mesh, const CellPartition &partition);
 
-  /** Partitions @p mesh as @p parameters asks (structured blocks or METIS). */
+  /**
+   * Partitions @p mesh, made as @p mesh_parameters say, as @p parameters asks (automatic,
+   * structured blocks or METIS).
+   */
   CellPartition
   partition_cells(const dealii::Triangulation<3>  &mesh,
                   const Parameters::Decomposition &parameters,
+                  const Parameters::Mesh          &mesh_parameters,
                   const std::string               &body_name);
 } // namespace FetiContact

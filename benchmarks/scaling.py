@@ -86,8 +86,6 @@ def settings(k, blocks, variant=DEFAULT_VARIANT):
               if recursive else []),
             *(["--set", f"Contact solver/Expert/Arc preconditioner scale={arc_scale}"]
               if arc_scale != "norm" else []),
-            *(["--set", f"Contact solver/Expert/Penalty norm={penalty_norm}"]
-              if penalty_norm != "F" else []),
             *(["--set", f"Contact solver/Expert/Penalty factor={factor}"] if factor else []),
             *(["--set", f"Contact solver/Expert/Multiplier step factor={step}"] if step else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
@@ -497,9 +495,10 @@ def main():
     arc_scale = option("--arc-scale", "norm")
     if arc_scale not in ("norm", "mean diagonal"):
         raise SystemExit(f"--arc-scale: unknown '{arc_scale}' (norm, mean diagonal)")
-    penalty_norm = option("--penalty-norm", "F")
-    if penalty_norm not in ("F", "projected F"):
-        raise SystemExit(f"--penalty-norm: unknown '{penalty_norm}' (F, projected F)")
+    penalty_norm = option("--penalty-norm", "projected F")
+    if penalty_norm != "projected F":
+        raise SystemExit("--penalty-norm: MPGP's penalty is always a multiple of ‖PFP‖ now "
+                         "(the penalty against ‖F‖ was removed: doc/performance.md, \"Defaults\")")
     factor = option("--penalty-factor", "")
     step = option("--multiplier-step", "")
     variant = (expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor, step)

@@ -131,6 +131,47 @@ namespace FetiContact::Parameters
 
   namespace
   {
+    /**
+     * A hint for deal.II's message about an undeclared entry @p message ("No entry with name
+     * <X> was declared in the current subsection") when X is a research switch of the contact
+     * solver, which lives in `subsection Contact solver / Expert`, or one that was removed
+     * because it lost on every measured scene; empty otherwise.
+     */
+    std::string
+    hint_for_unknown_entry(const std::string &message)
+    {
+      const std::string marker = "No entry with name <";
+      const auto        start  = message.find(marker);
+      if (start == std::string::npos)
+        return "";
+      const auto        end   = message.find('>', start + marker.size());
+      const std::string entry = message.substr(start + marker.size(), end - start - marker.size());
+      if (entry == "Penalty norm")
+        return " (MPGP's penalty is always a multiple of ‖PFP‖ and the seed's algorithms' of ‖F‖: "
+               "the entry was removed)";
+      if (entry == "Preconditioner")
+        return " (preconditioning MPGP in face was removed from the contact solver; 'subsection "
+               "FETI' has the preconditioner of problems without contact)";
+      ParameterHandler expert;
+      ContactSolver::declare_parameters(expert);
+      std::ostringstream listing;
+      expert.print_parameters(listing, ParameterHandler::ShortPRM);
+      std::istringstream lines(listing.str());
+      for (std::string line; std::getline(lines, line);)
+        {
+          // The entries of the Expert subsection, two levels deep: indented by four spaces.
+          if (line.compare(0, 8, "    set ") != 0)
+            continue;
+          const std::string text = InputParsing::trim(line);
+          const std::string head = "set " + entry;
+          if (text.compare(0, head.size(), head) == 0 &&
+              InputParsing::trim(text.substr(head.size())).compare(0, 1, "=") == 0)
+            return " (the solver's research switches, " + entry +
+                   " among them, are in 'subsection Contact solver', 'subsection Expert')";
+        }
+      return "";
+    }
+
     /** The --set options as parameter-file text, to be appended to the file. */
     std::string
     overrides_text(const std::vector<std::string> &overrides)
@@ -252,7 +293,7 @@ namespace FetiContact::Parameters
       }
     catch (const std::exception &e)
       {
-        throw InputError(describe(e));
+        throw InputError(describe(e) + hint_for_unknown_entry(e.what()));
       }
   }
 

@@ -250,11 +250,42 @@ namespace FetiContact::Parameters
   std::array<unsigned int, 3>
   Decomposition::automatic_blocks(const std::array<unsigned int, 3> &subdivisions)
   {
-    // A block of c × c × c cubes has about 3 (c + 1)³ unknowns.
-    const double edge = std::max(1.0, std::cbrt(automatic_subdomain_unknowns / 3.0) - 1);
+    // A cube of c × c × c cells holds about 3 (c + 1)³ unknowns: the target edge c, and the
+    // number of parts of that volume.
+    const double edge  = std::max(1.0, std::cbrt(automatic_subdomain_unknowns / 3.0) - 1);
+    const double cells = double(subdivisions[0]) * subdivisions[1] * subdivisions[2];
+    const double parts = std::max(1.0, cells / (edge * edge * edge));
+    // Axes shorter than the block edge get one block; the parts go to the others, whose edge
+    // is then the root of their cross-section per part (a thin plate is cut across its plane,
+    // not into slabs).
+    std::array<bool, 3> whole{{false, false, false}};
+    double              free_edge = edge;
+    for (unsigned int round = 0; round < 3; ++round)
+      {
+        double       free_cells = 1;
+        unsigned int n_free     = 0;
+        for (unsigned int d = 0; d < 3; ++d)
+          if (!whole[d])
+            {
+              free_cells *= subdivisions[d];
+              ++n_free;
+            }
+        if (n_free == 0)
+          break;
+        free_edge    = std::pow(free_cells / parts, 1.0 / n_free);
+        bool changed = false;
+        for (unsigned int d = 0; d < 3; ++d)
+          if (!whole[d] && subdivisions[d] <= free_edge)
+            whole[d] = changed = true;
+        if (!changed)
+          break;
+      }
     std::array<unsigned int, 3> blocks;
     for (unsigned int d = 0; d < 3; ++d)
-      blocks[d] = std::clamp<unsigned int>(std::lround(subdivisions[d] / edge), 1, subdivisions[d]);
+      blocks[d] =
+        whole[d] ?
+          1 :
+          std::clamp<unsigned int>(std::lround(subdivisions[d] / free_edge), 1, subdivisions[d]);
     return blocks;
   }
 

@@ -131,8 +131,10 @@ namespace FetiContact::Parameters
     static constexpr unsigned int automatic_subdomain_unknowns = 1000;
     /**
      * Method::automatic on a generated box of @p subdivisions cubes: the number of blocks of
-     * cubes along x, y, z, so that a block of about cubic shape holds about
-     * automatic_subdomain_unknowns unknowns.
+     * cubes along x, y, z. Their number is the box's volume over that of a cube holding
+     * automatic_subdomain_unknowns unknowns; an axis with fewer cells than that cube's edge
+     * keeps one block, and the blocks go to the other axes (a thin plate is cut across its
+     * plane, not into slabs).
      */
     static std::array<unsigned int, 3>
     automatic_blocks(const std::array<unsigned int, 3> &subdivisions);

@@ -309,13 +309,18 @@ namespace FetiContact
       parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
     {
       TimerOutput::Scope scope(timer, "setup");
+      // The sub-meshes and their DoFs, one subdomain per call on the subdomain threads.
+      std::vector<std::pair<const Body *, unsigned int>> parts;
       for (const auto &body : bodies)
         for (unsigned int p = 0; p < body->partition.n_parts; ++p)
-          {
-            const unsigned int s = first_subdomain[body->index] + p;
-            if (owner[s] == rank)
-              subdomains.push_back(std::make_unique<Subdomain>(*body, p, s, primal, fe));
-          }
+          if (owner[first_subdomain[body->index] + p] == rank)
+            parts.emplace_back(body.get(), p);
+      subdomains.resize(parts.size());
+      SubdomainThreads::for_each(parts.size(), [&](const unsigned int i) {
+        const auto &[body, p] = parts[i];
+        subdomains[i] =
+          std::make_unique<Subdomain>(*body, p, first_subdomain[body->index] + p, primal, fe);
+      });
       for (const auto &s : subdomains)
         owned.push_back(s.get());
       // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.

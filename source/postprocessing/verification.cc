@@ -2,6 +2,7 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/base/subdomain_threads.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/subdomain/elasticity_assembly.h>
@@ -83,24 +84,31 @@ namespace FetiContact
                         const Mapping<3>                  &mapping,
                         const std::vector<Tensor<1, 3>>   &contact_forces)
   {
+    // Per subdomain (on the subdomain threads) the applied forces f and the support forces
+    // Ku − f on the prescribed DoFs, then added in the order of the subdomains.
+    std::vector<std::array<double, 6>> of_subdomain(owned.size());
+    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
+      const Subdomain       &s = *owned[i];
+      SparsityPattern        sparsity;
+      SparseMatrix<double>   K;
+      Vector<double>         f, r(s.dof_handler.n_dofs());
+      std::array<double, 6> &local = of_subdomain[i];
+      local.fill(0.0);
+      assemble_elasticity(s.dof_handler, mapping, s.body.parameters, sparsity, K, f);
+      K.vmult(r, u[i]);
+      r -= f;
+      for (unsigned int d = 0; d < f.size(); ++d)
+        {
+          const unsigned int c = s.dof_component[d];
+          local[c] += f[d];
+          if (s.prescribed[d])
+            local[3 + c] += r[d];
+        }
+    });
     std::vector<double> sums(6 * n_bodies, 0.0);
     for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        const Subdomain     &s = *owned[i];
-        SparsityPattern      sparsity;
-        SparseMatrix<double> K;
-        Vector<double>       f, r(s.dof_handler.n_dofs());
-        assemble_elasticity(s.dof_handler, mapping, s.body.parameters, sparsity, K, f);
-        K.vmult(r, u[i]);
-        r -= f;
-        for (unsigned int d = 0; d < f.size(); ++d)
-          {
-            const unsigned int c = s.dof_component[d];
-            sums[6 * s.body.index + c] += f[d];
-            if (s.prescribed[d])
-              sums[6 * s.body.index + 3 + c] += r[d];
-          }
-      }
+      for (unsigned int j = 0; j < 6; ++j)
+        sums[6 * owned[i]->body.index + j] += of_subdomain[i][j];
     MPITools::sum_in_place(comm, sums.data(), sums.size());
     std::vector<ForceBalance> balance(n_bodies);
     for (unsigned int b = 0; b < n_bodies; ++b)

@@ -23,8 +23,9 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMPI_MCA_rmaps_base_oversubscribe="1", OPENBLAS_NUM_THREADS="1")
 
 decompositions = [
-    ("1 subdomain", ["Body 1/Decomposition/Blocks=1,1,1"]),
-    ("3 blocks (seed)", ["Body 1/Decomposition/Blocks=3,1,1"]),
+    ("1 subdomain", ["Body 1/Decomposition/Method=blocks", "Body 1/Decomposition/Blocks=1,1,1"]),
+    ("3 blocks (seed)", ["Body 1/Decomposition/Method=blocks",
+                         "Body 1/Decomposition/Blocks=3,1,1"]),
     ("METIS 8", ["Body 1/Decomposition/Method=metis", "Body 1/Decomposition/Number of parts=8"]),
     ("METIS 27", ["Body 1/Decomposition/Method=metis", "Body 1/Decomposition/Number of parts=27"]),
 ]

@@ -1,16 +1,17 @@
 #!/usr/bin/env python3
 """How the iteration counts grow with the number of subdomains at fixed H/h, from the linear
-problem to Coulomb friction (goal 2 of issue 5: n_A within 1.5x from the smallest to the largest).
+problem to Coulomb friction.
 
 Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
 3a x a x a subdomains. For each a, on the same decomposition:
 
   - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
     `FETI/Preconditioner = none | lumped`: iterations (one application of F each);
-  - contact: prm/seed_table_2.prm with the six options of doc/performance.md (MPGP, projected
-    cg expansion, Hessian norm bound max, Inexact MSA factor 0.001, Recursive gradient
-    tolerance 0.1, Arc preconditioner scale mean diagonal, Penalty norm projected F), for each
-    friction coefficient F: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
+  - contact: prm/seed_table_2.prm with `Contact solver/Algorithm = mpgp` and the values that
+    `auto` gives for it in `Contact solver / Expert` (projected cg expansion, Hessian norm bound
+    max, Inexact MSA factor 0.001, Recursive gradient tolerance 0.1, Arc preconditioner scale
+    mean diagonal, the penalty factor 5), that is the solver's defaults, for each friction
+    coefficient F: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
 
 F = 0 is the frictionless problem (one bound-constrained QP), the Coulomb problem without its
 fixed point. The counts do not depend on the machine's speed, so runs may share the cores
@@ -38,7 +39,8 @@ from scaling import env, read_summary, settings
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PRM = os.path.join(HERE, "..", "prm")
-SIX_OPTIONS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "projected F", "", "")
+# The Expert values of the defaults (the penalty norm field of scaling.settings is unused).
+MPGP_DEFAULTS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "", "", "")
 FIELDS = ["problem", "F", "a", "k", "n_subdomains", "n", "m", "preconditioner", "iterations",
           "n_A", "smalbe", "msa", "cg", "expansion", "proportioning", "converged"]
 
@@ -53,6 +55,7 @@ def run(exe, prm, sets):
 def linear(exe, a, preconditioner):
     k = 8 * a
     sets = ["--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+            "--set", "Body 1/Decomposition/Method=blocks",
             "--set", f"Body 1/Decomposition/Blocks={3 * a}, {a}, {a}",
             "--set", "FETI/Dirichlet treatment=total",
             "--set", f"FETI/Preconditioner={preconditioner}",
@@ -64,7 +67,7 @@ def linear(exe, a, preconditioner):
 
 def contact(exe, a, friction):
     k = 8 * a
-    sets = settings(k, (3 * a, a, a), SIX_OPTIONS)
+    sets = settings(k, (3 * a, a, a), MPGP_DEFAULTS)
     sets = [s if not s.startswith("Contact/Zone 1/Friction coefficient=")
             else f"Contact/Zone 1/Friction coefficient={friction}" for s in sets]
     s = run(exe, os.path.join(PRM, "seed_table_2.prm"), sets)
@@ -95,7 +98,7 @@ def write_markdown(path, rows, a_list, frictions, command):
                 f"Written by `{command}`. H/h = 8, TFETI, k cubes across the brick's width, "
                 "3a × a × a subdomains, one run per cell. Linear: projected CG iterations to "
                 "‖P(Fλ − h)‖ ≤ 1e-10 ‖Ph‖ (one application of F each). Contact: n_A with the "
-                "six options of doc/performance.md, SMALBE and MSA iterations in parentheses; "
+                "solver's defaults, SMALBE and MSA iterations in parentheses; "
                 "F = 0 is the frictionless problem.\n\n")
         header = ["k", "subdomains", "n", "linear, none", "linear, lumped"]
         header += [f"n_A, F = {fr} (SMALBE, MSA)" for fr in frictions]

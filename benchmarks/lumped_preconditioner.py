@@ -47,6 +47,7 @@ def run(exe, prm, sets):
 def geometry(a):
     k = 8 * a
     return k, [f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+               "Body 1/Decomposition/Method=blocks",
                f"Body 1/Decomposition/Blocks={3 * a}, {a}, {a}",
                "FETI/Dirichlet treatment=total"]
 

@@ -41,6 +41,7 @@ MD = option("--markdown", "doc/data/memory_model.md")
 
 def brick(k, blocks):
     return ["Body 1/Mesh/Subdivisions=%d, %d, %d" % (3 * k, k, k),
+            "Body 1/Decomposition/Method=blocks",
             "Body 1/Decomposition/Blocks=%d, %d, %d" % blocks,
             "Contact solver/Algorithm=mpgp"]
 

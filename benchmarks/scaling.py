@@ -89,6 +89,7 @@ def settings(k, blocks, variant=DEFAULT_VARIANT):
             *(["--set", f"Contact solver/Expert/Penalty factor={factor}"] if factor else []),
             *(["--set", f"Contact solver/Expert/Multiplier step factor={step}"] if step else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
+            "--set", "Body 1/Decomposition/Method=blocks",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",
             "--set", "Contact/Zone 1/Friction coefficient=0.3",
             "--set", "Contact solver/Algorithm=mpgp",

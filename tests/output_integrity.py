@@ -190,7 +190,8 @@ def killed(exe, prm_dir, work):
     outdir = os.path.join(work, "killed")
     shutil.rmtree(outdir, ignore_errors=True)
     prm = os.path.join(prm_dir, "brick_contact.prm")
-    cmd = command(exe, prm, outdir, ["Body 1/Mesh/Subdivisions=36, 12, 12"])
+    # Large enough that its solve lasts well beyond the second after which it is killed.
+    cmd = command(exe, prm, outdir, ["Body 1/Mesh/Subdivisions=60, 20, 20"])
     print("$", " ".join(cmd), "(killed 1 s into its solve)", flush=True)
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=ENV)
     log = os.path.join(outdir, "log.txt")

@@ -345,6 +345,16 @@ namespace FetiContact::Parameters
       InputParsing::parse_positive_integers(prm.get("Blocks"), 3, "Decomposition/Blocks");
     blocks  = {{b[0], b[1], b[2]}};
     n_parts = prm.get_integer("Number of parts");
+    // The automatic method (the default) ignores both counts: one given without choosing the
+    // method that uses it is a mistake, not a wish.
+    require(method != Method::automatic || blocks == std::array<unsigned int, 3>{{1, 1, 1}},
+            "Decomposition/Blocks = " + prm.get("Blocks") +
+              " is not used by 'Method = automatic' (the default): set Method = blocks to cut "
+              "the body into these blocks.");
+    require(method != Method::automatic || n_parts == 1,
+            "Decomposition/Number of parts = " + prm.get("Number of parts") +
+              " is not used by 'Method = automatic' (the default): set Method = metis to "
+              "partition the body into this many parts.");
     prm.leave_subsection();
   }
 

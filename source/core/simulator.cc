@@ -1,4 +1,5 @@
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/grid/grid_tools.h>
 
@@ -24,7 +25,6 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
-#include <sys/resource.h>
 
 namespace FetiContact
 {
@@ -783,10 +783,10 @@ namespace FetiContact
 
     // Peak resident memory of every rank (the process's high-water mark: replicated meshes,
     // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library).
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
+    Utilities::System::MemoryStats stats;
+    Utilities::System::get_memory_stats(stats);
     const std::vector<double> peak_mib =
-      Utilities::MPI::all_gather(comm, static_cast<double>(usage.ru_maxrss) / 1024.0);
+      Utilities::MPI::all_gather(comm, static_cast<double>(stats.VmHWM) / 1024.0);
     JsonObject memory;
     memory.set("peak_rss_mib_max", *std::max_element(peak_mib.begin(), peak_mib.end()))
       .set("peak_rss_mib_per_rank", peak_mib)

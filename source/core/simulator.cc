@@ -5,7 +5,6 @@
 
 #include <feticontact/base/block_partition.h>
 #include <feticontact/base/input_parsing.h>
-#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
@@ -25,6 +24,7 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace FetiContact
 {
@@ -371,7 +371,7 @@ namespace FetiContact
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
       n_modes[s->global_index] = s->R.n();
-    MPITools::sum_in_place(comm, n_modes.data(), n_modes.size());
+    Utilities::MPI::sum(make_array_view(std::as_const(n_modes)), comm, make_array_view(n_modes));
     mode_offset.assign(n_modes.size() + 1, 0);
     for (unsigned int s = 0; s < n_modes.size(); ++s)
       mode_offset[s + 1] = mode_offset[s] + static_cast<unsigned int>(n_modes[s]);

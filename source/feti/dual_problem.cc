@@ -1,4 +1,5 @@
-#include <feticontact/base/mpi_tools.h>
+#include <deal.II/base/mpi.h>
+
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/feti/dual_problem.h>
 
@@ -124,7 +125,9 @@ namespace FetiContact
         set_B_slots(i, x);
       },
       threaded);
-    MPITools::sum_in_place(comm, e.begin(), e.size());
+    Utilities::MPI::sum(ArrayView<const double>(e.begin(), e.size()),
+                        comm,
+                        ArrayView<double>(e.begin(), e.size()));
     sum_slots(h);
     h -= c;
     coarse.initialize(comm, G_entries, mode_offset.back(), m);

@@ -1,7 +1,7 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_handler.h>
 
 #include <feticontact/base/input_parsing.h>
-#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/postprocessing/verification.h>
@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <utility>
 
 namespace FetiContact
 {
@@ -46,7 +47,12 @@ namespace FetiContact
               result[s.body.index][s.body_vertex[v]][c] = u[i][s.vertex_dofs[v][c]];
       }
     for (auto &r : result)
-      MPITools::sum_in_place(comm, reinterpret_cast<double *>(r.data()), 3 * r.size());
+      {
+        double *const values = reinterpret_cast<double *>(r.data());
+        Utilities::MPI::sum(ArrayView<const double>(values, 3 * r.size()),
+                            comm,
+                            ArrayView<double>(values, 3 * r.size()));
+      }
     return result;
   }
 
@@ -109,7 +115,7 @@ namespace FetiContact
     for (unsigned int i = 0; i < owned.size(); ++i)
       for (unsigned int j = 0; j < 6; ++j)
         sums[6 * owned[i]->body.index + j] += of_subdomain[i][j];
-    MPITools::sum_in_place(comm, sums.data(), sums.size());
+    Utilities::MPI::sum(make_array_view(std::as_const(sums)), comm, make_array_view(sums));
     std::vector<ForceBalance> balance(n_bodies);
     for (unsigned int b = 0; b < n_bodies; ++b)
       {
@@ -273,7 +279,7 @@ namespace FetiContact
         energies[0] += K.matrix_norm_square(e);
         energies[1] += K.matrix_norm_square(r);
       }
-    MPITools::sum_in_place(comm, energies, 2);
+    Utilities::MPI::sum(ArrayView<const double>(energies, 2), comm, ArrayView<double>(energies, 2));
     result.energy_relative = energies[1] > 0 ? std::sqrt(std::max(energies[0], 0.) / energies[1]) :
                                                std::sqrt(std::max(energies[0], 0.));
     return result;

@@ -6,7 +6,12 @@
 
 namespace FetiContact::MPITools
 {
-  /** The concatenation, in rank order, of every rank's @p local (trivially copyable T). */
+  /**
+   * The concatenation, in rank order, of every rank's @p local (trivially copyable T), sent as
+   * raw bytes. deal.II's Utilities::MPI::all_gather serializes each rank's object through boost
+   * and returns a vector per rank; this one is used for the entries of G (the coarse problem)
+   * and the shared local work, 10⁵–10⁶ entries at 10⁶ unknowns. Sums use Utilities::MPI::sum.
+   */
   template <typename T>
   std::vector<T>
   all_gather(const MPI_Comm comm, const std::vector<T> &local)
@@ -23,13 +28,5 @@ namespace FetiContact::MPITools
     MPI_Allgatherv(
       local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm);
     return all;
-  }
-
-  /** In-place sum over all ranks of an array of doubles. */
-  inline void
-  sum_in_place(const MPI_Comm comm, double *values, const std::size_t n)
-  {
-    if (n > 0)
-      MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm);
   }
 } // namespace FetiContact::MPITools

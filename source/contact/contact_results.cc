@@ -135,7 +135,7 @@ namespace FetiContact
                    const Vector<double>                         &lambda,
                    const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
                    ContactCheck                                 &check,
-                   const double                                  tresca_slip_bound)
+                   const std::optional<double>                   tresca_slip_bound)
   {
     std::vector<ContactNodeResult> results(nodes.size());
     double                         u_max = 0, lambda_max = 0, bound_max = 0;
@@ -183,8 +183,8 @@ namespace FetiContact
     std::vector<double> bounds = slip_bounds(nodes, normal_force);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        if (tresca_slip_bound >= 0 && nodes[k].friction > 0)
-          bounds[k] = tresca_slip_bound;
+        if (tresca_slip_bound && nodes[k].friction > 0)
+          bounds[k] = *tresca_slip_bound;
         bound_max = std::max(bound_max, bounds[k]);
       }
     const auto status = node_statuses(nodes, results, bounds, lambda_max, bound_max);

@@ -518,12 +518,14 @@ namespace FetiContact
         ContactCheck check;
         const bool   tresca =
           parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-        const auto results = evaluate_contact(contact_nodes,
-                                              layout,
-                                              lambda,
-                                              vertex_u,
-                                              check,
-                                              tresca ? parameters.contact_solver.slip_bound : -1.0);
+        const auto results =
+          evaluate_contact(contact_nodes,
+                           layout,
+                           lambda,
+                           vertex_u,
+                           check,
+                           tresca ? std::optional<double>(parameters.contact_solver.slip_bound) :
+                                    std::nullopt);
         // The independent check counts every vertex of the bodies in front of a rigid plane too.
         check.penetration =
           std::max(check.penetration,

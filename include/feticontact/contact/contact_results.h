@@ -7,6 +7,7 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,8 +84,8 @@ namespace FetiContact
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
    * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) F λ_N
    * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
-   * else stick. With @p tresca_slip_bound ≥ 0 the bound of nodes with F > 0 is that given slip
-   * bound g instead of F λ_N (Tresca friction).
+   * else stick. With a @p tresca_slip_bound (Tresca friction) the bound of nodes with F > 0 is
+   * that given slip bound g instead of F λ_N (Coulomb friction, no value).
    */
   std::vector<ContactNodeResult>
   evaluate_contact(const std::vector<ContactNode>                       &nodes,
@@ -92,7 +93,7 @@ namespace FetiContact
                    const dealii::Vector<double>                         &lambda,
                    const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
                    ContactCheck                                         &check,
-                   const double                                          tresca_slip_bound = -1);
+                   const std::optional<double> tresca_slip_bound = std::nullopt);
 
   /**
    * Writes contact.csv: zone, body, x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status, the

@@ -100,6 +100,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from rows import write_rows  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -552,10 +553,7 @@ def main():
                           f"(n_A {row['project_n_A']}), GetFEM {row['getfem_wall_s']} s "
                           f"({row['getfem_newton_iterations']} Newton iterations), "
                           f"difference {row['difference']}", flush=True)
-                    with open(csv_path, "w", newline="", encoding="utf-8") as f:
-                        writer = csv.DictWriter(f, fieldnames=FIELDS)
-                        writer.writeheader()
-                        writer.writerows(rows)
+                    write_rows(csv_path, FIELDS, rows)
     report(rows, markdown, plot, paths)
 
 

@@ -30,6 +30,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from rows import write_rows  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -207,10 +208,7 @@ def main():
                         print(f"{case:22s} {variant:24s} n_A {row['n_A']} "
                               f"solve {row['solve_s']} s  converged {row['converged']}",
                               flush=True)
-                        with open(csv_path, "w", newline="", encoding="utf-8") as f:
-                            writer = csv.DictWriter(f, fieldnames=FIELDS)
-                            writer.writeheader()
-                            writer.writerows(rows)
+                        write_rows(csv_path, FIELDS, rows)
     report(rows, markdown)
 
 

@@ -25,6 +25,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from rows import write_rows  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FIELDS = ["k", "friction", "method", "edge", "size", "parts", "n_subdomains", "n_primal", "run", "n_A",
@@ -112,10 +113,7 @@ def main():
                             print(f"k={k} F={friction} {method} c={edge}: {row['n_subdomains']} "
                                   f"subdomains, n_A {row['n_A']}, solve {row['solve_s']:.2f} s",
                                   flush=True)
-                            with open(csv_path, "w", newline="", encoding="utf-8") as f:
-                                writer = csv.DictWriter(f, fieldnames=FIELDS)
-                                writer.writeheader()
-                                writer.writerows(rows)
+                            write_rows(csv_path, FIELDS, rows)
     report(rows, markdown)
 
 

@@ -41,7 +41,7 @@ import tempfile
 
 from cli import arguments, option
 
-PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "seed_table_2.prm")
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "kucera_table_2.prm")
 FIELDS = ["k", "n", "tolerance", "status", "time", "time_solve", "iter", "n_A", "e_max",
           "e_energy", "e_force", "status_changes", "runs"]
 # The single runs behind the medians (';'-separated), so that --add-repeats can add runs later.

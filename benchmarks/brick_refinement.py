@@ -9,7 +9,7 @@ of the quadratic-constraint solvers beside the polygonal baselines s = 2 and s =
         [--markdown doc/data/brick_refinement.md] [--only "algorithm 2,mpgp"] [--merge] [--report-only]
     /usr/bin/python3 benchmarks/brick_refinement.py --plot doc/data/brick_refinement.csv doc/brick_refinement.png
 
-Every run is `feticontact prm/seed_table_2.prm` with the mesh, friction coefficient and
+Every run is `feticontact prm/kucera_table_2.prm` with the mesh, friction coefficient and
 algorithm overridden (`--set`), default tolerances (QP 1e-8, MSA 1e-6, relative), no VTU output.
 Time is the wall time of the contact solve (summary.json times.solve: the iterations, without
 assembly and factorization, which are listed separately), the median of --repeats runs.
@@ -60,7 +60,7 @@ def run_case(exe, k, friction, algorithm, polygon, repeats, timeout):
                 # that spin beside other processes distort the times by up to 20x.
                 env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
                 subprocess.run([exe, *settings, "--set", f"Output/Directory={out}",
-                                "prm/seed_table_2.prm"], check=False, capture_output=True,
+                                "prm/kucera_table_2.prm"], check=False, capture_output=True,
                                timeout=timeout, env=env)
             except subprocess.TimeoutExpired:
                 return None

@@ -24,7 +24,7 @@ import tempfile
 
 from cli import arguments, option
 
-PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "seed_table_2.prm")
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "kucera_table_2.prm")
 ALGORITHMS = ["algorithm 2", "algorithm 1", "mpgp"]
 
 

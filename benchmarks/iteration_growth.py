@@ -7,7 +7,7 @@ Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 
 
   - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
     `FETI/Preconditioner = none | lumped`: iterations (one application of F each);
-  - contact: prm/seed_table_2.prm with `Contact solver/Algorithm = mpgp` and the values that
+  - contact: prm/kucera_table_2.prm with `Contact solver/Algorithm = mpgp` and the values that
     `auto` gives for it in `Contact solver / Expert` (projected cg expansion, Hessian norm bound
     max, Inexact MSA factor 0.001, Recursive gradient tolerance 0.1, Arc preconditioner scale
     mean diagonal, the penalty factor 5), that is the solver's defaults, for each friction
@@ -70,7 +70,7 @@ def contact(exe, a, friction):
     sets = settings(k, (3 * a, a, a), MPGP_DEFAULTS)
     sets = [s if not s.startswith("Contact/Zone 1/Friction coefficient=")
             else f"Contact/Zone 1/Friction coefficient={friction}" for s in sets]
-    s = run(exe, os.path.join(PRM, "seed_table_2.prm"), sets)
+    s = run(exe, os.path.join(PRM, "kucera_table_2.prm"), sets)
     return row("contact", friction, a, k, "none", s)
 
 

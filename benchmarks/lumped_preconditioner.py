@@ -7,7 +7,7 @@ the other (never two at a time: paired runs on the two cores slow each other):
 
   - linear: prm/brick.prm (no contact), projected CG, `FETI/Preconditioner = none | lumped`:
     iterations and solve time;
-  - contact: prm/seed_table_2.prm, Algorithm = mpgp, projected cg expansion, Hessian norm
+  - contact: prm/kucera_table_2.prm, Algorithm = mpgp, projected cg expansion, Hessian norm
     bound max, `Contact solver/Expert/Preconditioner = none | lumped`, friction coefficients F:
     n_A (Hessian multiplications), SMALBE iterations, MPGP steps, solve time and the time in
     the preconditioner.
@@ -104,7 +104,7 @@ def main():
                          "Contact solver/Expert/Expansion step=projected cg",
                          "Contact solver/Expert/Hessian norm bound=max"]
                 for pc in ("none", "lumped"):
-                    s = run(exe, os.path.join(PRM, "seed_table_2.prm"),
+                    s = run(exe, os.path.join(PRM, "kucera_table_2.prm"),
                             sets + [f"Contact solver/Expert/Preconditioner={pc}"])
                     rows.append(row("contact", friction, a, k, pc, s))
                     print(rows[-1], flush=True)

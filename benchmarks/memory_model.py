@@ -48,17 +48,17 @@ def brick(k, blocks):
 
 # name, parameter file, --set entries, ranks
 CASES = [
-    ("brick k=8, 3 parts", "seed_table_2.prm", brick(8, (3, 1, 1)), 1),
-    ("brick k=16, 3 parts", "seed_table_2.prm", brick(16, (3, 1, 1)), 1),
-    ("brick k=16, 24 parts", "seed_table_2.prm", brick(16, (6, 2, 2)), 1),
-    ("brick k=16, 81 parts", "seed_table_2.prm", brick(16, (9, 3, 3)), 1),
-    ("brick k=24, 3 parts", "seed_table_2.prm", brick(24, (3, 1, 1)), 1),
-    ("brick k=24, 24 parts", "seed_table_2.prm", brick(24, (6, 2, 2)), 1),
-    ("brick k=24, 81 parts", "seed_table_2.prm", brick(24, (9, 3, 3)), 1),
-    ("brick k=32, 24 parts", "seed_table_2.prm", brick(32, (6, 2, 2)), 1),
-    ("brick k=32, 192 parts", "seed_table_2.prm", brick(32, (12, 4, 4)), 1),
-    ("brick k=24, 24 parts, 2 ranks", "seed_table_2.prm", brick(24, (6, 2, 2)), 2),
-    ("brick k=32, 192 parts, 2 ranks", "seed_table_2.prm", brick(32, (12, 4, 4)), 2),
+    ("brick k=8, 3 parts", "kucera_table_2.prm", brick(8, (3, 1, 1)), 1),
+    ("brick k=16, 3 parts", "kucera_table_2.prm", brick(16, (3, 1, 1)), 1),
+    ("brick k=16, 24 parts", "kucera_table_2.prm", brick(16, (6, 2, 2)), 1),
+    ("brick k=16, 81 parts", "kucera_table_2.prm", brick(16, (9, 3, 3)), 1),
+    ("brick k=24, 3 parts", "kucera_table_2.prm", brick(24, (3, 1, 1)), 1),
+    ("brick k=24, 24 parts", "kucera_table_2.prm", brick(24, (6, 2, 2)), 1),
+    ("brick k=24, 81 parts", "kucera_table_2.prm", brick(24, (9, 3, 3)), 1),
+    ("brick k=32, 24 parts", "kucera_table_2.prm", brick(32, (6, 2, 2)), 1),
+    ("brick k=32, 192 parts", "kucera_table_2.prm", brick(32, (12, 4, 4)), 1),
+    ("brick k=24, 24 parts, 2 ranks", "kucera_table_2.prm", brick(24, (6, 2, 2)), 2),
+    ("brick k=32, 192 parts, 2 ranks", "kucera_table_2.prm", brick(32, (12, 4, 4)), 2),
     ("two blocks", "two_blocks.prm", [], 1),
     ("Gmsh brick", "brick_gmsh_contact.prm", [], 1),
 ]

@@ -21,7 +21,7 @@ import tempfile
 
 from cli import arguments, option
 
-PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "seed_table_2.prm")
+PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "kucera_table_2.prm")
 CORNER = (3.0, 1.0, 1.0)
 
 

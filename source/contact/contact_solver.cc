@@ -1,6 +1,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/qp/smalbe.h>
+#include <feticontact/qp/transforms.h>
 
 #include <algorithm>
 #include <cmath>
@@ -66,19 +67,30 @@ namespace FetiContact
     row_tier.assign(layout.size(), 0);
     for (unsigned int r = 0; r < layout.first_equality(); ++r)
       row_tier[r] = r < layout.first_normal() ? 2 : 1;
-    e_smalbe = dual.coarse.orthonormal_rhs(dual.e);
+    original.hessian = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.apply_F(x, y);
+    };
+    original.linear_term = dual.h;
+    original.set         = &set;
+    original.G           = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_G_orthonormal(x, y);
+    };
+    original.Gt = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_Gt_orthonormal(x, y);
+    };
+    original.e = dual.coarse.orthonormal_rhs(dual.e);
+    problem    = original;
     lambda0.reinit(layout.size());
-    h_smalbe = dual.h;
     projector =
       parameters.equality_constraint == Parameters::ContactSolver::EqualityConstraint::projector &&
       dual.coarse.n_modes() > 0;
     if (projector)
       {
-        lambda0 = dual.coarse.particular_solution(dual.e, row_tier);
-        Vector<double> F_lambda0(layout.size());
-        dual.apply_F(lambda0, F_lambda0);
-        h_smalbe -= F_lambda0;
-        e_smalbe = 0;
+        homogenization.emplace(original, dual.coarse.particular_solution(dual.e, row_tier));
+        lambda0     = homogenization->particular_solution();
+        homogeneous = homogenization->transformed(set);
+        projector_enforcement.emplace(homogeneous);
+        problem = projector_enforcement->transformed();
       }
 
     const unsigned int n_T = layout.n_tangential;
@@ -258,8 +270,8 @@ namespace FetiContact
       };
 
     QP::SolverReport report;
-    report.converged        = true;
-    QP::MpgpOptions options = mpgp_options();
+    report.converged                 = true;
+    QP::MPGP::AdditionalData options = mpgp_options();
     // Each block to tolerance/2: when a sweep changes nothing, both block gradients are then
     // below it and ‖(g^P_c, g^P_t)‖ ≤ tolerance/√2; with `tolerance` itself per block the sweeps
     // could stall with the combined norm between tolerance and √2 tolerance.
@@ -272,7 +284,8 @@ namespace FetiContact
           for (unsigned int i = 0; i < n_c; ++i)
             x[i] = lambda[n_T + i];
           const Vector<double> rhs = block_rhs(n_T, n_c, result.n_bound);
-          const auto r = QP::mpgp(block_operator(n_T, n_c, result.n_bound), rhs, set_c, x, options);
+          const auto           r =
+            QP::MPGP(options).solve(block_operator(n_T, n_c, result.n_bound), rhs, set_c, x);
           for (unsigned int i = 0; i < n_c; ++i)
             lambda[n_T + i] = x[i];
           report.iterations += r.iterations;
@@ -298,7 +311,8 @@ namespace FetiContact
           for (unsigned int i = 0; i < n_T; ++i)
             x[i] = lambda[i];
           const Vector<double> rhs = block_rhs(0, n_T, result.n_disc);
-          const auto r = QP::mpgp(block_operator(0, n_T, result.n_disc), rhs, set_t, x, options);
+          const auto           r =
+            QP::MPGP(options).solve(block_operator(0, n_T, result.n_disc), rhs, set_t, x);
           for (unsigned int i = 0; i < n_T; ++i)
             lambda[i] = x[i];
           report.iterations += r.iterations;
@@ -351,10 +365,10 @@ namespace FetiContact
         << ", inner " << inner << std::endl;
   }
 
-  QP::MpgpOptions
+  QP::MPGP::AdditionalData
   ContactSolver::mpgp_options() const
   {
-    QP::MpgpOptions options;
+    QP::MPGP::AdditionalData options;
     options.max_iterations               = parameters.max_inner_iterations;
     options.step                         = 1.9 / hessian_norm;
     options.disc_rotations               = parameters.disc_rotations;
@@ -403,18 +417,18 @@ namespace FetiContact
     return true;
   }
 
-  QP::SmalbeReport
+  QP::SMALBE::Statistics
   ContactSolver::solve_tresca(Vector<double> &lambda, Vector<double> &mu, Result &result)
   {
     if (slip_bounds_cannot_hold(result))
       {
-        QP::SmalbeReport report;
+        QP::SMALBE::Statistics report;
         report.infeasible = true;
         return report;
       }
     const auto algorithm = parameters.algorithm;
     using A              = Parameters::ContactSolver::Algorithm;
-    QP::SmalbeOptions options;
+    QP::SMALBE::AdditionalData options;
     options.tolerance             = qp_tolerance;
     options.feasibility_tolerance = qp_tolerance;
     options.max_outer_iterations  = parameters.max_smalbe_iterations;
@@ -422,55 +436,58 @@ namespace FetiContact
     options.F_norm                = feti_norm;
     options.G_norm                = G_norm;
     options.inner                 = mpgp_options();
-    options.projector             = projector;
     options.inner_floor           = parameters.inner_tolerance_floor;
     options.multiplier_step       = parameters.multiplier_step;
     const bool split              = algorithm == A::algorithm_1 || algorithm == A::algorithm_2;
     const bool combined           = algorithm == A::algorithm_2;
     if (combined)
-      {
-        options.max_inner_calls = 1;
-        // The radii move inside the loop; M is adapted only once they have settled (see
-        // QP::SmalbeOptions::same_problem).
-        options.same_problem = [&]() { return last_change <= parameters.msa_tolerance; };
-        // The radii are final once they have settled after λ_N has been computed a few times
-        // (at the start λ_N = 0 and g = 0 do not change either).
-        options.set_final = [&]() {
-          return radius_updates >= 3 && last_change <= parameters.msa_tolerance;
+      options.max_inner_calls = 1;
+    QP::SMALBE smalbe(options);
+    if (split && layout.n_tangential > 0)
+      smalbe.set_inner_solver([&](const QP::Operator   &op,
+                                  const Vector<double> &b,
+                                  Vector<double>       &x,
+                                  const double          tolerance,
+                                  const Vector<double> & /*gradient*/) {
+        QP::SMALBE::InnerReport r = gauss_seidel(op, b, x, tolerance, combined, result);
+        if (combined)
+          {
+            // The radii move inside the loop: M is adapted only once they have settled, and
+            // they are final once they have settled after λ_N has been computed a few times
+            // (at the start λ_N = 0 and g = 0 do not change either).
+            r.same_set  = last_change <= parameters.msa_tolerance;
+            r.final_set = radius_updates >= 3 && r.same_set;
+          }
+        last_lambda = x;
+        return r;
+      });
+    else
+      smalbe.set_inner_solver([&](const QP::Operator   &op,
+                                  const Vector<double> &b,
+                                  Vector<double>       &x,
+                                  const double          tolerance,
+                                  const Vector<double> &gradient) {
+        unsigned int calls   = 0;
+        QP::Operator counted = [&](const Vector<double> &v, Vector<double> &y) {
+          op(v, y);
+          ++calls;
         };
-      }
-    options.inner_solver = [&](const QP::Operator   &op,
-                               const Vector<double> &b,
-                               Vector<double>       &x,
-                               const double          tolerance,
-                               const Vector<double> &gradient) {
-      QP::InnerReport r;
-      if (split && layout.n_tangential > 0)
-        r = gauss_seidel(op, b, x, tolerance, combined, result);
-      else
-        {
-          unsigned int calls   = 0;
-          QP::Operator counted = [&](const Vector<double> &v, Vector<double> &y) {
-            op(v, y);
-            ++calls;
-          };
-          QP::MpgpOptions o = options.inner;
-          o.tolerance       = tolerance;
-          // MPGP starts from SMALBE's gradient and returns its own (no multiplication for
-          // either).
-          Vector<double> g(gradient);
-          const auto     mpgp_report = QP::mpgp(counted, b, set, x, o, &g);
-          result.count_steps(mpgp_report);
-          r = mpgp_report;
-          r.gradient.swap(g);
-          result.n_bound += calls;
-        }
-      last_lambda = x;
-      return r;
-    };
+        QP::MPGP::AdditionalData o = options.inner;
+        o.tolerance                = tolerance;
+        // MPGP starts from SMALBE's gradient and returns its own (no multiplication for
+        // either).
+        Vector<double>          g(gradient);
+        const auto              mpgp_report = QP::MPGP(o).solve(counted, b, set, x, &g);
+        QP::SMALBE::InnerReport r(mpgp_report);
+        result.count_steps(mpgp_report);
+        r.gradient.swap(g);
+        result.n_bound += calls;
+        last_lambda = x;
+        return r;
+      });
     // Algorithm 2 reports the change of the radius update inside its loop, MSA that of its last
     // step (0 in the first).
-    options.monitor = [&](const QP::SmalbeStep &step) {
+    smalbe.set_monitor([&](const QP::SMALBE::Step &step) {
       history_row(combined ? 0 : msa_iteration,
                   result.smalbe_iterations + step.outer_iteration + 1,
                   step.relative_feasibility,
@@ -478,17 +495,8 @@ namespace FetiContact
                   combined || msa_iteration > 0 ? last_change : 0.0,
                   last_lambda,
                   step.inner_iterations);
-    };
-    const QP::SmalbeReport report = QP::smalbe(
-      [&](const Vector<double> &x, Vector<double> &y) { dual.apply_F(x, y); },
-      h_smalbe,
-      set,
-      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_G_orthonormal(x, y); },
-      [&](const Vector<double> &x, Vector<double> &y) { dual.coarse.apply_Gt_orthonormal(x, y); },
-      e_smalbe,
-      lambda,
-      mu,
-      options);
+    });
+    const QP::SMALBE::Statistics report = smalbe.solve(problem, lambda, mu);
     result.smalbe_iterations += report.iterations;
     if (report.infeasible)
       {
@@ -520,8 +528,8 @@ namespace FetiContact
   ContactSolver::solve()
   {
     Result result = solve_homogenized();
-    if (projector)
-      result.lambda += lambda0;
+    if (homogenization)
+      homogenization->recover(result.lambda);
     // The equilibrium of the floating subdomains, Gλ = e, holds after SMALBE to its feasibility
     // tolerance only; restore it to rounding with a correction from the gluing rows (the same
     // choice of rows as for λ₀), which leaves the contact multipliers as solved.
@@ -532,14 +540,13 @@ namespace FetiContact
         misfit -= G_lambda;
         result.lambda += dual.coarse.particular_solution(misfit, row_tier);
       }
-    if (projector)
+    if (projector_enforcement)
       {
-        // μ of the original problem from that of the projected one: μ − G̃(Fλ − h).
-        Vector<double> r(layout.size()), Gr(dual.coarse.n_modes());
+        // The multiplier of the original problem from that of the projected one.
+        Vector<double> r(layout.size());
         dual.apply_F(result.lambda, r);
         r -= dual.h;
-        dual.coarse.apply_G_orthonormal(r, Gr);
-        result.mu -= Gr;
+        projector_enforcement->recover_multiplier(r, result.mu);
       }
     return result;
   }

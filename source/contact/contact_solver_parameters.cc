@@ -284,8 +284,8 @@ namespace FetiContact::Parameters
     require(penalty_factor > 0, path + "Penalty factor must be 'auto' or a positive number.");
 
     expansion               = chosen("Expansion step", "projected cg") ?
-                                QP::MpgpOptions::Expansion::projected_cg :
-                                QP::MpgpOptions::Expansion::fixed_step;
+                                QP::MPGP::AdditionalData::Expansion::projected_cg :
+                                QP::MPGP::AdditionalData::Expansion::fixed_step;
     const bool explicit_max = prm.get("Hessian norm bound") == "max";
     hessian_norm_max        = chosen("Hessian norm bound", "max") && projector;
     require(!explicit_max || projector,

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/smalbe.h>
 
 #include <algorithm>
@@ -22,7 +23,7 @@ namespace FetiContact::QP
     }
 
     /**
-     * Inner solves at their iteration limit in a row without progress (SmalbeReport::
+     * Inner solves at their iteration limit in a row without progress (Statistics::
      * inner_stalled): neither ‖g^P‖ 1 % below its least value at such a solve nor ‖Gλ − e‖ 1 %
      * below its value at the previous one.
      */
@@ -53,329 +54,445 @@ namespace FetiContact::QP
     };
   } // namespace
 
-  SmalbeReport
-  smalbe(const Operator       &F,
-         const Vector<double> &h,
-         const SeparableSet   &set,
-         const Operator       &apply_G,
-         const Operator       &apply_Gt,
-         const Vector<double> &e,
-         Vector<double>       &lambda,
-         Vector<double>       &mu,
-         const SmalbeOptions  &options)
+  void
+  SMALBE::AdditionalData::declare_parameters(ParameterHandler &prm)
   {
-    const unsigned int m = h.size(), k = e.size();
-    AssertThrow(set.size() == m && lambda.size() == m,
-                ExcMessage("SMALBE: sizes of h (" + std::to_string(m) + "), λ (" +
-                           std::to_string(lambda.size()) + ") and the set (" +
-                           std::to_string(set.size()) + ") differ."));
-    if (mu.size() != k)
+    prm.declare_entry("Maximum iterations",
+                      "auto",
+                      Patterns::Anything(),
+                      "A positive integer, the limit of SMALBE's outer iterations per QP solve, "
+                      "or 'auto': 200 for algorithm 2 (per call of its loop, which is then "
+                      "repeated warm), 2000 for the others.");
+    prm.declare_entry(
+      "Penalty factor",
+      "auto",
+      Patterns::Anything(),
+      "The penalty ρ as a multiple of the estimated norm of the FETI part of the Hessian "
+      "(‖PFP‖ for mpgp with the projector, ‖F‖ otherwise), or 'auto': 5 for mpgp, 1 for "
+      "polygonal, 0.1 for algorithm 1, 0.03 for algorithm 2. The block Gauss–Seidel of "
+      "algorithms 1 and 2 converges slowly when ρG̃ᵀG̃ couples λ_c and λ_T strongly.");
+    prm.declare_entry("Multiplier step factor",
+                      "1",
+                      Patterns::Double(0, 2),
+                      "s ∈ (0, 2) in the multiplier update ν ← ν + sρ(Gλ − e); 1 is SMALBE as "
+                      "published, s > 1 over-relaxes the update.");
+    prm.declare_entry("Inner tolerance floor",
+                      "1",
+                      Patterns::Double(0, 1),
+                      "c ∈ (0, 1]: the inner solves stop no later than at c × the final gradient "
+                      "tolerance. Below 1 the inner solves are more precise than SMALBE needs, "
+                      "which can help a body held only by frictionless contact, where ‖Gλ − e‖ "
+                      "may otherwise stall a few times above its tolerance.");
+    prm.declare_entry("Equality constraint",
+                      "projector",
+                      Patterns::Selection("projector|penalty"),
+                      "How Gλ = e (the equilibrium of floating subdomains) is enforced: "
+                      "'projector': λ = λ₀ + λ̃ with the least-norm Gλ₀ = e, the Hessian PFP + ρQ "
+                      "of Farhat–Mandel–Roux (the natural coarse space); 'penalty': the Hessian "
+                      "F + ρG̃ᵀG̃ with G̃ the orthonormalized G.");
+    prm.declare_entry("Hessian norm bound",
+                      "auto",
+                      Patterns::Selection("auto|sum|max"),
+                      "The bound of ‖A‖ behind MPGP's fixed step ᾱ = 1.9/‖A‖: 'sum' ‖F‖ + ρ, "
+                      "valid for either equality constraint; 'max' max(‖F‖, ρ), valid only for "
+                      "the projector, whose Hessian PFP + ρQ acts on the complementary orthogonal "
+                      "subspaces ker G̃ and range G̃ᵀ. 'auto': max for mpgp, sum otherwise.");
+  }
+
+  void
+  SMALBE::AdditionalData::parse_parameters(ParameterHandler &prm)
+  {
+    const std::string limit_text = InputParsing::trim(prm.get("Maximum iterations"));
+    if (limit_text != "auto")
       {
-        AssertThrow(mu.size() == 0,
-                    ExcMessage("SMALBE: μ has size " + std::to_string(mu.size()) + ", e has size " +
-                               std::to_string(k) + "."));
-        mu.reinit(k);
+        const std::string what  = "SMALBE/Maximum iterations";
+        const double      limit = InputParsing::parse_double(limit_text, what);
+        require(limit >= 1 && limit == std::floor(limit) && limit <= 1e9,
+                what + " must be 'auto' or a positive integer; got '" + limit_text + "'.");
+        max_outer_iterations = static_cast<unsigned int>(limit);
       }
-    AssertThrow(options.beta_M > 1, ExcMessage("SMALBE: β_M must be > 1."));
-    AssertThrow(options.multiplier_step > 0 && options.multiplier_step < 2,
-                ExcMessage("SMALBE: the multiplier step factor must lie in (0, 2)."));
-    AssertThrow(options.tolerance > 0 && options.feasibility_tolerance > 0,
-                ExcMessage("SMALBE: tolerances must be positive."));
+    const std::string penalty_text = InputParsing::trim(prm.get("Penalty factor"));
+    if (penalty_text != "auto")
+      {
+        const std::string what = "SMALBE/Penalty factor";
+        penalty_factor         = InputParsing::parse_double(penalty_text, what);
+        require(penalty_factor > 0, what + " must be 'auto' or a positive number.");
+      }
+    multiplier_step = prm.get_double("Multiplier step factor");
+    require(multiplier_step > 0 && multiplier_step < 2,
+            "SMALBE/Multiplier step factor must lie in (0, 2) (the method of multipliers "
+            "diverges from 2 on); got " +
+              prm.get("Multiplier step factor") + ".");
+    inner_floor = prm.get_double("Inner tolerance floor");
+    require(inner_floor > 0, "SMALBE/Inner tolerance floor must lie in (0, 1]; got 0.");
+    equality_constraint     = prm.get("Equality constraint") == "projector" ?
+                                EqualityConstraint::projector :
+                                EqualityConstraint::penalty;
+    const std::string bound = prm.get("Hessian norm bound");
+    require(bound != "max" || equality_constraint == EqualityConstraint::projector,
+            "SMALBE/Hessian norm bound = max holds only with Equality constraint = projector "
+            "(the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
+    if (bound != "auto")
+      hessian_norm_bound = bound == "max" ? HessianNormBound::max : HessianNormBound::sum;
+    if (equality_constraint != EqualityConstraint::projector)
+      hessian_norm_bound = HessianNormBound::sum;
+  }
 
-    AssertThrow(!options.projector || e.l2_norm() == 0,
-                ExcMessage("SMALBE: the projector variant needs the homogenized constraint "
-                           "Gλ = 0 (e = 0); shift λ by a particular solution first."));
+  SMALBE::SMALBE()
+    : additional_data()
+  {}
 
-    SmalbeReport report;
-    const double eps_mach = std::numeric_limits<double>::epsilon();
+  SMALBE::SMALBE(const AdditionalData &data)
+    : additional_data(data)
+  {}
 
+  void
+  SMALBE::set_inner_solver(InnerSolver solver)
+  {
+    inner_solver = std::move(solver);
+  }
+
+  void
+  SMALBE::set_monitor(std::function<void(const Step &)> new_monitor)
+  {
+    monitor = std::move(new_monitor);
+  }
+
+  SMALBE::AdditionalData &
+  SMALBE::data()
+  {
+    return additional_data;
+  }
+
+  void
+  SMALBE::choose_scales()
+  {
     // Norms: ‖F‖ and ‖G‖ = √‖GᵀG‖ (power-method estimates times 1.05 unless given).
-    Vector<double> Gx(k), GtGx(m);
-    const auto     GtG = [&](const Vector<double> &x, Vector<double> &y) {
-      apply_G(x, Gx);
-      apply_Gt(Gx, y);
-    };
-    double F_norm = options.F_norm, G_norm = options.G_norm;
+    const AdditionalData &o = additional_data;
+    F_norm                  = o.F_norm;
+    G_norm                  = o.G_norm;
     if (!(F_norm > 0))
       {
-        F_norm = 1.05 * estimate_norm(F, m, options.norm_iterations);
-        report.norm_estimate_multiplications += std::max(options.norm_iterations, 1u);
+        F_norm = 1.05 * estimate_norm(problem->hessian, m, o.norm_iterations);
+        statistics.norm_estimate_multiplications += std::max(o.norm_iterations, 1u);
       }
     AssertThrow(F_norm > 0 && std::isfinite(F_norm),
                 ExcMessage("SMALBE: ‖F‖ is zero or not finite."));
     if (!(G_norm > 0) && k > 0)
-      G_norm = std::sqrt(1.05 * estimate_norm(GtG, m, options.norm_iterations));
-    const bool   constrained = k > 0 && G_norm > 0;
-    const double rho =
-      options.rho > 0 ? options.rho : (constrained ? F_norm / (G_norm * G_norm) : F_norm);
-    double M =
-      options.M0 > 0 ? options.M0 : options.M0_factor * (constrained ? rho * G_norm : F_norm);
-    const double h_norm = h.l2_norm(), e_norm = e.l2_norm();
-    const double eta    = options.eta > 0 ? options.eta : options.eta_factor * h_norm;
-    const double A_norm = F_norm + rho * G_norm * G_norm; // a bound of ‖F + ρGᵀG‖
-    report.rho          = rho;
-    report.F_norm       = F_norm;
-    report.G_norm       = G_norm;
-
-    // The Hessian of the augmented Lagrangian, counted: F + ρGᵀG, or PFP + ρQ.
-    const bool     projector = options.projector && constrained;
-    Vector<double> Px(projector ? m : 0), QFPx(projector ? m : 0);
-    const Operator A = [&](const Vector<double> &x, Vector<double> &y) {
-      if (projector)
-        {
-          GtG(x, GtGx);
-          Px = x;
-          Px -= GtGx;
-          F(Px, y);
-          GtG(y, QFPx);
-          y -= QFPx;
-          y.add(rho, GtGx);
-        }
-      else
-        {
-          F(x, y);
-          if (k > 0)
-            {
-              GtG(x, GtGx);
-              y.add(rho, GtGx);
-            }
-        }
-      ++report.hessian_multiplications;
-    };
-    // The linear term of the objective: h, or Ph.
-    Vector<double> h_objective(h);
-    if (projector)
       {
-        Vector<double> Qh(m);
-        GtG(h, Qh);
-        h_objective -= Qh;
-      }
-
-    // References (see the documentation): relative to the data, floored at the rounding level.
-    const auto gradient_reference = [&](const Vector<double> &x) {
-      const double x_norm = x.l2_norm();
-      const double noise  = 64 * eps_mach * A_norm * x_norm / options.tolerance;
-      return std::max(h_norm > 0 ? h_norm : F_norm * x_norm, noise);
-    };
-    const auto feasibility_reference = [&](const Vector<double> &x) {
-      const double Gx_scale = G_norm * x.l2_norm();
-      return e_norm > 0 ?
-               std::max(e_norm, 64 * eps_mach * Gx_scale / options.feasibility_tolerance) :
-               Gx_scale;
-    };
-
-    // The inner stopping rule at x: ‖g^P‖ ≤ max(min(M‖Gx − e‖, η), c ε_g ref_g), c = inner_floor.
-    Vector<double> Gx_e(k);
-    // The floor of the inner precision, lowered when SMALBE stalls (see below).
-    double     floor        = options.inner_floor;
-    const auto inner_target = [&](const Vector<double> &x) {
-      double feasibility_x = 0;
-      if (k > 0)
-        {
-          apply_G(x, Gx_e);
-          Gx_e -= e;
-          feasibility_x = Gx_e.l2_norm();
-        }
-      return std::max(std::min(M * feasibility_x, eta),
-                      floor * options.tolerance * gradient_reference(x));
-    };
-
-    // The default inner solver: MPGP with the stopping rule evaluated at every step (one
-    // application of G per step), so one call suffices.
-    InnerSolver inner = options.inner_solver;
-    if (!inner)
-      inner = [&](const Operator       &A_inner,
-                  const Vector<double> &b_inner,
-                  Vector<double>       &x,
-                  const double /*tolerance: replaced by the rule itself*/,
-                  const Vector<double> &gradient) -> InnerReport {
-        MpgpOptions inner_options = options.inner;
-        inner_options.tolerance   = 0;
-        inner_options.stop_when   = [&](const Vector<double> &y, const double norm_gP) {
-          return norm_gP <= inner_target(y);
+        const Operator GtG = [&](const Vector<double> &x, Vector<double> &y) {
+          problem->G(x, Gx);
+          problem->Gt(Gx, y);
         };
-        if (!(inner_options.step > 0))
-          inner_options.step = 1.9 / A_norm;
-        Vector<double> g(gradient);
-        InnerReport    report(mpgp(A_inner, b_inner, set, x, inner_options, &g));
-        report.gradient.swap(g);
-        return report;
-      };
+        G_norm = std::sqrt(1.05 * estimate_norm(GtG, m, o.norm_iterations));
+      }
+    const bool constrained = k > 0 && G_norm > 0;
+    rho               = o.rho > 0 ? o.rho : (constrained ? F_norm / (G_norm * G_norm) : F_norm);
+    M                 = o.M0 > 0 ? o.M0 : o.M0_factor * (constrained ? rho * G_norm : F_norm);
+    h_norm            = problem->linear_term_norm();
+    e_norm            = problem->e.l2_norm();
+    eta               = o.eta > 0 ? o.eta : o.eta_factor * h_norm;
+    A_norm            = F_norm + rho * G_norm * G_norm; // a bound of ‖F + ρGᵀG‖
+    statistics.rho    = rho;
+    statistics.F_norm = F_norm;
+    statistics.G_norm = G_norm;
+  }
 
-    Vector<double> r(k), b_inner(m), Gtv(m), g(m), gP(m);
-    // r = Gλ − e; returns ‖r‖.
-    const auto residual = [&]() {
-      if (k == 0)
-        return 0.;
-      apply_G(lambda, r);
-      r -= e;
-      return r.l2_norm();
-    };
-    // g_known = Aλ − b_inner at the current λ when known (from the inner solver), else empty.
-    Vector<double> g_known;
-    // b_inner = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe) (Ph − Gᵀμ in the projector variant); a known
-    // gradient follows the change of b_inner.
-    const auto linear_term = [&]() {
-      if (g_known.size() == m)
-        g_known += b_inner;
-      b_inner = h_objective;
-      if (k > 0)
-        {
-          Vector<double> v(mu);
-          v.add(-rho, e);
-          apply_Gt(v, Gtv);
-          b_inner -= Gtv;
-        }
-      if (g_known.size() == m)
-        g_known -= b_inner;
-    };
-
-    double feasibility = residual();
-    double L_previous  = 0;
-    // Stall detection: outer iterations since ‖Gλ − e‖ last reached a new minimum.
-    double       best_feasibility = std::numeric_limits<double>::infinity();
-    unsigned int since_best       = 0;
-    double       norm_gP          = 0;
-    // Whether a relaxed start at η has made no step (then the rule is used from there on).
-    bool            eta_exhausted = false;
-    InnerStallGuard stall_guard;
-    linear_term();
-    for (unsigned int outer = 0; outer < options.max_outer_iterations; ++outer)
+  void
+  SMALBE::apply_A(const Vector<double> &x, Vector<double> &y)
+  {
+    if (problem->augmented_hessian && k > 0)
+      problem->augmented_hessian(rho, x, y);
+    else
       {
-        SmalbeStep step;
+        problem->hessian(x, y);
+        if (k > 0)
+          {
+            problem->G(x, Gx);
+            problem->Gt(Gx, GtGx);
+            y.add(rho, GtGx);
+          }
+      }
+    ++statistics.hessian_multiplications;
+  }
+
+  double
+  SMALBE::residual()
+  {
+    if (k == 0)
+      return 0.;
+    problem->G(*lambda, r);
+    r -= problem->e;
+    return r.l2_norm();
+  }
+
+  double
+  SMALBE::gradient_reference(const Vector<double> &x) const
+  {
+    const double eps_mach = std::numeric_limits<double>::epsilon();
+    const double x_norm   = x.l2_norm();
+    const double noise    = 64 * eps_mach * A_norm * x_norm / additional_data.tolerance;
+    return std::max(h_norm > 0 ? h_norm : F_norm * x_norm, noise);
+  }
+
+  double
+  SMALBE::feasibility_reference(const Vector<double> &x) const
+  {
+    const double eps_mach = std::numeric_limits<double>::epsilon();
+    const double Gx_scale = G_norm * x.l2_norm();
+    return e_norm > 0 ?
+             std::max(e_norm, 64 * eps_mach * Gx_scale / additional_data.feasibility_tolerance) :
+             Gx_scale;
+  }
+
+  double
+  SMALBE::inner_target(const Vector<double> &x)
+  {
+    double feasibility_x = 0;
+    if (k > 0)
+      {
+        problem->G(x, Gx_e);
+        Gx_e -= problem->e;
+        feasibility_x = Gx_e.l2_norm();
+      }
+    return std::max(std::min(M * feasibility_x, eta),
+                    floor * additional_data.tolerance * gradient_reference(x));
+  }
+
+  void
+  SMALBE::update_linear_term()
+  {
+    // b = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe); a known gradient follows the change of b.
+    if (g_known.size() == m)
+      g_known += b;
+    b = problem->linear_term;
+    if (k > 0)
+      {
+        Vector<double> v(*mu);
+        v.add(-rho, problem->e);
+        problem->Gt(v, Gtv);
+        b -= Gtv;
+      }
+    if (g_known.size() == m)
+      g_known -= b;
+  }
+
+  SMALBE::InnerReport
+  SMALBE::default_inner_solve(const Vector<double> &b_inner, const double /*tolerance*/)
+  {
+    // MPGP with the stopping rule evaluated at every step (one application of G per step), so
+    // one call suffices; the tolerance passed is replaced by the rule itself.
+    MPGP::AdditionalData data = additional_data.inner;
+    data.tolerance            = 0;
+    data.stop_when            = [&](const Vector<double> &y, const double norm) {
+      return norm <= inner_target(y);
+    };
+    if (!(data.step > 0))
+      data.step = 1.9 / A_norm;
+    MPGP           mpgp(data);
+    Vector<double> gradient(g_known);
+    InnerReport    report(
+      mpgp.solve([&](const Vector<double> &x, Vector<double> &y) { apply_A(x, y); },
+                 b_inner,
+                 *problem->set,
+                 *lambda,
+                 &gradient));
+    report.gradient.swap(gradient);
+    return report;
+  }
+
+  bool
+  SMALBE::inner_solves(Step &step, InnerReport &last)
+  {
+    // Until ‖g^P‖ ≤ max(min(M‖Gλ − e‖, η), ε_g ref_g) at the result. The tolerance passed is the
+    // rule at the start, η if λ is feasible there (else a feasible start would be solved to the
+    // final precision at once). A call that makes no step at η (λ feasible, the gradient
+    // already below η) is repeated with the rule itself, min(M · 0, η) = 0 up to the floor, as
+    // in Dostál's algorithm: otherwise λ, Gλ − e and μ would never change again (seen with one
+    // subdomain held only by contact and e = 0, where λ₀ is feasible). Once a relaxed start has
+    // made no step, later outer iterations use the rule too: with one inner call per outer
+    // iteration (the combined loop) and λ feasible in every one (k = 0: one subdomain held by
+    // Dirichlet conditions) the start would otherwise be relaxed, and stuck, forever.
+    const AdditionalData &o             = additional_data;
+    bool                  relaxed_start = feasibility == 0 && !eta_exhausted;
+    const Operator        A = [&](const Vector<double> &x, Vector<double> &y) { apply_A(x, y); };
+    while (true)
+      {
+        const double tolerance = relaxed_start ?
+                                   std::max(eta, o.tolerance * gradient_reference(*lambda)) :
+                                   inner_target(*lambda);
+        last                   = inner_solver ? inner_solver(A, b, *lambda, tolerance, g_known) :
+                                                default_inner_solve(b, tolerance);
+        step.inner_iterations += last.iterations;
+        ++step.inner_calls;
+        feasibility = residual();
+        if (last.gradient.size() == m)
+          g.swap(last.gradient);
+        else
+          {
+            apply_A(*lambda, g);
+            g -= b;
+          }
+        g_known = g;
+        problem->set->projected_gradient(*lambda, g, gP);
+        norm_gP                 = gP.l2_norm();
+        const bool stuck_at_eta = relaxed_start && last.iterations == 0 && last.converged;
+        relaxed_start           = false;
+        eta_exhausted |= stuck_at_eta;
+        if (stuck_at_eta && norm_gP > inner_target(*lambda) && step.inner_calls < o.max_inner_calls)
+          continue;
+        const bool capped =
+          !inner_solver && !last.converged && last.iterations >= o.inner.max_iterations;
+        if (norm_gP <= inner_target(*lambda) || !last.converged || last.iterations == 0 ||
+            step.inner_calls >= o.max_inner_calls)
+          return capped;
+      }
+  }
+
+  void
+  SMALBE::watch_feasibility()
+  {
+    // Stall: ‖Gλ − e‖ has not reached a new minimum for stall_iterations outer iterations. The
+    // inner solves then stop at the floor c ε_g ref_g before they move λ enough for the
+    // multiplier updates to reduce ‖Gλ − e‖ (seen with no contact at all, and on the Hertz
+    // scene): lower the floor by 10, down to 1e-4 c.
+    if (feasibility < best_feasibility)
+      {
+        best_feasibility = feasibility;
+        since_best       = 0;
+      }
+    else if (++since_best >= additional_data.stall_iterations &&
+             floor > 1e-4 * additional_data.inner_floor)
+      {
+        floor /= 10;
+        since_best = 0;
+        ++statistics.floor_reductions;
+      }
+  }
+
+  double
+  SMALBE::lagrangian() const
+  {
+    double L = 0;
+    for (unsigned int i = 0; i < m; ++i)
+      L += (*lambda)[i] * (g[i] - b[i]);
+    return L / 2 - (k > 0 ? *mu * problem->e : 0.) + rho / 2 * e_norm * e_norm;
+  }
+
+  bool
+  SMALBE::infeasibility_proved()
+  {
+    // α = −r/‖r‖ with αᵀe > σ_Ω(Gᵀα) proves that Gλ = e has no solution in Ω (the multiplier
+    // updates would then grow μ without bound).
+    Vector<double> alpha(r);
+    alpha *= -1.0 / feasibility;
+    problem->Gt(alpha, Gtv);
+    const double work = alpha * problem->e, support = problem->set->support(Gtv, 1e-12);
+    if (!(work - support > 1e-6 * (std::abs(work) + std::abs(support))))
+      return false;
+    statistics.infeasible          = true;
+    statistics.certificate_work    = work;
+    statistics.certificate_support = support;
+    statistics.certificate         = alpha;
+    return true;
+  }
+
+  SMALBE::Statistics
+  SMALBE::solve(const Problem &problem_in, Vector<double> &lambda_in, Vector<double> &mu_in)
+  {
+    const AdditionalData &o = additional_data;
+    m                       = problem_in.size();
+    k                       = problem_in.e.size();
+    AssertThrow(problem_in.set && problem_in.set->size() == m && lambda_in.size() == m,
+                ExcMessage("SMALBE: sizes of h (" + std::to_string(m) + "), λ (" +
+                           std::to_string(lambda_in.size()) + ") and the set differ."));
+    if (mu_in.size() != k)
+      {
+        AssertThrow(mu_in.size() == 0,
+                    ExcMessage("SMALBE: μ has size " + std::to_string(mu_in.size()) +
+                               ", e has size " + std::to_string(k) + "."));
+        mu_in.reinit(k);
+      }
+    AssertThrow(o.beta_M > 1, ExcMessage("SMALBE: β_M must be > 1."));
+    AssertThrow(o.multiplier_step > 0 && o.multiplier_step < 2,
+                ExcMessage("SMALBE: the multiplier step factor must lie in (0, 2)."));
+    AssertThrow(o.tolerance > 0 && o.feasibility_tolerance > 0,
+                ExcMessage("SMALBE: tolerances must be positive."));
+    problem    = &problem_in;
+    lambda     = &lambda_in;
+    mu         = &mu_in;
+    statistics = Statistics();
+    for (auto *v : {&Gx, &Gx_e, &r})
+      v->reinit(k);
+    for (auto *v : {&GtGx, &b, &Gtv, &g, &gP})
+      v->reinit(m);
+    g_known.reinit(0);
+    choose_scales();
+
+    floor                      = o.inner_floor;
+    feasibility                = residual();
+    best_feasibility           = std::numeric_limits<double>::infinity();
+    since_best                 = 0;
+    norm_gP                    = 0;
+    eta_exhausted              = false;
+    double          L_previous = 0;
+    InnerStallGuard stall_guard;
+    update_linear_term();
+    for (unsigned int outer = 0; outer < o.max_outer_iterations; ++outer)
+      {
+        Step step;
         step.outer_iteration = outer;
         step.M               = M;
-
-        // 1. Inner solve until ‖g^P‖ ≤ max(min(M‖Gλ − e‖, η), ε_g ref_g) at its result. The
-        //    tolerance passed is the rule at the start, η if λ is feasible there (else a feasible
-        //    start would be solved to the final precision at once).
-        //    A call that makes no step at η (λ feasible, the gradient already below η) is
-        //    repeated with the rule itself, min(M · 0, η) = 0 up to the floor, as in Dostál's
-        //    algorithm: otherwise λ, Gλ − e and μ would never change again (seen with one
-        //    subdomain held only by contact and e = 0, where λ₀ is feasible).
-        //    Once a relaxed start has made no step, later outer iterations use the rule too:
-        //    with one inner call per outer iteration (the combined loop) and λ feasible in
-        //    every one (k = 0: one subdomain held by Dirichlet conditions) the start would
-        //    otherwise be relaxed, and stuck, forever.
-        bool relaxed_start = feasibility == 0 && !eta_exhausted;
-        bool capped        = false; // the last inner solve ended at its iteration limit
-        while (true)
-          {
-            const double tolerance =
-              relaxed_start ? std::max(eta, options.tolerance * gradient_reference(lambda)) :
-                              inner_target(lambda);
-            InnerReport inner_report = inner(A, b_inner, lambda, tolerance, g_known);
-            step.inner_iterations += inner_report.iterations;
-            ++step.inner_calls;
-            feasibility = residual();
-            if (inner_report.gradient.size() == m)
-              g.swap(inner_report.gradient);
-            else
-              {
-                A(lambda, g);
-                g -= b_inner;
-              }
-            g_known = g;
-            set.projected_gradient(lambda, g, gP);
-            norm_gP = gP.l2_norm();
-            const bool stuck_at_eta =
-              relaxed_start && inner_report.iterations == 0 && inner_report.converged;
-            relaxed_start = false;
-            eta_exhausted |= stuck_at_eta;
-            if (stuck_at_eta && norm_gP > inner_target(lambda) &&
-                step.inner_calls < options.max_inner_calls)
-              continue;
-            capped = !options.inner_solver && !inner_report.converged &&
-                     inner_report.iterations >= options.inner.max_iterations;
-            if (norm_gP <= inner_target(lambda) || !inner_report.converged ||
-                inner_report.iterations == 0 || step.inner_calls >= options.max_inner_calls)
-              break;
-          }
-        report.inner_iterations += step.inner_iterations;
+        InnerReport last;
+        const bool  capped = inner_solves(step, last);
+        statistics.inner_iterations += step.inner_iterations;
         if (stall_guard.stalled(capped, norm_gP, feasibility))
           {
-            report.inner_stalled = true;
-            report.iterations    = outer + 1;
+            statistics.inner_stalled = true;
+            statistics.iterations    = outer + 1;
             break;
           }
-        // Stall: ‖Gλ − e‖ has not reached a new minimum for stall_iterations outer iterations.
-        // The inner solves then stop at the floor c ε_g ref_g before they move λ enough for the
-        // multiplier updates to reduce ‖Gλ − e‖ (seen with no contact at all, and on the Hertz
-        // scene): lower the floor by 10, down to 1e-4 c.
-        if (feasibility < best_feasibility)
-          {
-            best_feasibility = feasibility;
-            since_best       = 0;
-          }
-        else if (++since_best >= options.stall_iterations && floor > 1e-4 * options.inner_floor)
-          {
-            floor /= 10;
-            since_best = 0;
-            ++report.floor_reductions;
-          }
-        report.inner_calls += step.inner_calls;
+        watch_feasibility();
+        statistics.inner_calls += step.inner_calls;
 
-        // L(λ, μ_k, ρ) = ½λᵀ(g − b_inner) − μᵀe + ρ/2‖e‖² with g = Aλ − b_inner.
-        double L = 0;
-        for (unsigned int i = 0; i < m; ++i)
-          L += lambda[i] * (g[i] - b_inner[i]);
-        L = L / 2 - (k > 0 ? mu * e : 0.) + rho / 2 * e_norm * e_norm;
+        const double L                  = lagrangian();
+        statistics.iterations           = outer + 1;
+        statistics.relative_gradient    = relative(norm_gP, gradient_reference(*lambda));
+        statistics.relative_feasibility = relative(feasibility, feasibility_reference(*lambda));
+        const bool converged            = statistics.relative_gradient <= o.tolerance &&
+                               statistics.relative_feasibility <= o.feasibility_tolerance;
 
-        report.iterations           = outer + 1;
-        report.relative_gradient    = relative(norm_gP, gradient_reference(lambda));
-        report.relative_feasibility = relative(feasibility, feasibility_reference(lambda));
-        const bool converged        = report.relative_gradient <= options.tolerance &&
-                               report.relative_feasibility <= options.feasibility_tolerance;
-
-        // 3. μ_{k+1} = μ_k + sρ(Gλ_k − e) (s = 1 unless over-relaxed).
+        // μ_{k+1} = μ_k + sρ(Gλ_k − e) (s = 1 unless over-relaxed).
         if (k > 0)
-          mu.add(options.multiplier_step * rho, r);
-
-        // 4. M_{k+1}.
+          mu->add(o.multiplier_step * rho, r);
+        // M_{k+1}: divided by β_M when L did not increase enough, over the same set.
         if (!converged && outer > 0 && L < L_previous + rho / 2 * feasibility * feasibility &&
-            (!options.same_problem || options.same_problem()))
+            last.same_set)
           {
-            M /= options.beta_M;
+            M /= o.beta_M;
             step.M_decreased = true;
           }
         L_previous = L;
 
-        step.hessian_multiplications = report.hessian_multiplications;
-        step.relative_gradient       = report.relative_gradient;
-        step.relative_feasibility    = report.relative_feasibility;
+        step.hessian_multiplications = statistics.hessian_multiplications;
+        step.relative_gradient       = statistics.relative_gradient;
+        step.relative_feasibility    = statistics.relative_feasibility;
         step.lagrangian              = L;
-        if (options.monitor)
-          options.monitor(step);
-        // Infeasibility: α = −r/‖r‖ with αᵀe > σ_Ω(Gᵀα) proves that Gλ = e has no solution
-        // in Ω (the multiplier updates would then grow μ without bound).
-        // Only for a final set (SmalbeOptions::set_final).
-        if (!converged && k > 0 && feasibility > 0 && (!options.set_final || options.set_final()))
-          {
-            Vector<double> alpha(r);
-            alpha *= -1.0 / feasibility;
-            apply_Gt(alpha, Gtv);
-            const double work = alpha * e, support = set.support(Gtv, 1e-12);
-            if (work - support > 1e-6 * (std::abs(work) + std::abs(support)))
-              {
-                report.infeasible          = true;
-                report.certificate_work    = work;
-                report.certificate_support = support;
-                report.certificate         = alpha;
-                break;
-              }
-          }
-
+        if (monitor)
+          monitor(step);
+        if (!converged && k > 0 && feasibility > 0 && last.final_set && infeasibility_proved())
+          break;
         if (converged)
           {
-            report.converged = true;
+            statistics.converged = true;
             break;
           }
-        linear_term();
+        update_linear_term();
       }
 
-    report.relative_residual = report.relative_gradient;
-    report.M                 = M;
-    report.mu                = mu;
-    return report;
+    statistics.relative_residual = statistics.relative_gradient;
+    statistics.M                 = M;
+    statistics.mu                = *mu;
+    return statistics;
   }
 } // namespace FetiContact::QP

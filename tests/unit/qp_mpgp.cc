@@ -214,11 +214,12 @@ namespace
 
   struct Result
   {
-    Vector<double> x;
-    QP::MpgpReport report;
+    Vector<double>       x;
+    QP::MPGP::Statistics report;
   };
 
-  /** The variants of MPGP on discs (MpgpOptions::disc_rotations, proportioning_line_search). */
+  /** The variants of MPGP on discs (MPGP::AdditionalData::disc_rotations,
+   * proportioning_line_search). */
   enum class Variant
   {
     /** The default: rotations along active discs. */
@@ -278,7 +279,7 @@ namespace
     };
     Vector<double> b(problem.b);
     b *= s;
-    QP::MpgpOptions options;
+    QP::MPGP::AdditionalData options;
     options.tolerance      = tolerance * b.l2_norm();
     options.disc_rotations = variant != Variant::fixed_discs && variant != Variant::fixed_step;
     if (variant == Variant::preconditioned)
@@ -288,8 +289,8 @@ namespace
           w[i] = v[i] / (s * problem.A(i, i));
       };
     options.expansion                 = variant == Variant::projected_cg ?
-                                          QP::MpgpOptions::Expansion::projected_cg :
-                                          QP::MpgpOptions::Expansion::fixed_step;
+                                          QP::MPGP::AdditionalData::Expansion::projected_cg :
+                                          QP::MPGP::AdditionalData::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     if (variant == Variant::recursive_arcs)
       options.recursive_gradient_tolerance = 0.1;
@@ -302,7 +303,7 @@ namespace
       }
     Result result;
     result.x      = x0;
-    result.report = QP::mpgp(A, b, problem.set, result.x, options);
+    result.report = QP::MPGP(options).solve(A, b, problem.set, result.x);
     const auto &r = result.report;
     check(r.converged,
           "converged: " + std::to_string(r.iterations) + " steps (" + std::to_string(r.cg_steps) +
@@ -573,7 +574,7 @@ main()
     const Problem p = make_problem({{R::free, 10}, {R::disc_curved, 8}, {R::lower_active, 4}});
     solve_and_check("strongly curved discs (r ≤ 1e-3)", p, Vector<double>(p.n));
     std::cout << "strongly curved discs, fixed-step proportioning, 2000 steps" << std::endl;
-    QP::MpgpOptions options;
+    QP::MPGP::AdditionalData options;
     options.tolerance                 = 1e-12 * p.b.l2_norm();
     options.disc_rotations            = false;
     options.proportioning_line_search = false;
@@ -590,7 +591,7 @@ main()
       increase        = std::max(increase, fx - f_last);
       f_last          = fx;
     };
-    const auto r = QP::mpgp(A, p.b, p.set, x, options);
+    const auto r = QP::MPGP(options).solve(A, p.b, p.set, x);
     check(r.proportioning_fallbacks > 0 && increase <= 1e-12 * std::abs(f_last),
           "f decreases with " + std::to_string(r.proportioning_fallbacks) + " fallbacks in " +
             std::to_string(r.proportioning_steps) + " proportioning steps; ‖g^P‖/‖b‖ = " +

@@ -13,6 +13,7 @@
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
+#include <feticontact/qp/transforms.h>
 
 #include "qp_test_problems.h"
 #include "test_tools.h"
@@ -262,20 +263,20 @@ namespace
 
   struct Result
   {
-    Vector<double>   x, mu;
-    QP::SmalbeReport report;
+    Vector<double>         x, mu;
+    QP::SMALBE::Statistics report;
   };
 
   /** Solves the problem with F, h scaled by s and checks the solution. */
   Result
-  solve_and_check(const std::string                              &name,
-                  const Problem                                  &problem,
-                  const double                                    s              = 1,
-                  const QP::InnerSolver                          &inner_solver   = {},
-                  unsigned int                                   *operator_calls = nullptr,
-                  const double                                    tolerance      = 1e-12,
-                  const bool                                      projector      = false,
-                  const std::function<void(QP::SmalbeOptions &)> &configure      = {})
+  solve_and_check(const std::string                                       &name,
+                  const Problem                                           &problem,
+                  const double                                             s              = 1,
+                  const QP::SMALBE::InnerSolver                           &inner_solver   = {},
+                  unsigned int                                            *operator_calls = nullptr,
+                  const double                                             tolerance      = 1e-12,
+                  const bool                                               projector      = false,
+                  const std::function<void(QP::SMALBE::AdditionalData &)> &configure      = {})
   {
     std::cout << name << (projector ? ", projector variant" : "") << " (n = " << problem.n
               << ", k = " << problem.G.m() << ", scale " << s << ", ε " << tolerance << ")"
@@ -290,13 +291,11 @@ namespace
     const auto     Gt = [&](const Vector<double> &v, Vector<double> &w) { problem.G.Tvmult(w, v); };
     Vector<double> h(problem.b);
     h *= s;
-    QP::SmalbeOptions options;
+    QP::SMALBE::AdditionalData options;
     options.tolerance             = tolerance;
     options.feasibility_tolerance = tolerance;
-    options.inner_solver          = inner_solver;
-    options.projector             = projector;
     unsigned int outer_monitored  = 0;
-    options.monitor               = [&](const QP::SmalbeStep &step) {
+    const auto   monitor          = [&](const QP::SMALBE::Step &step) {
       ++outer_monitored;
       std::cout << "    outer " << step.outer_iteration << ": inner " << step.inner_iterations
                 << " steps/" << step.inner_calls << " calls, n_A = " << step.hessian_multiplications
@@ -306,9 +305,23 @@ namespace
     };
     if (configure)
       configure(options);
+    QP::SMALBE smalbe(options);
+    if (inner_solver)
+      smalbe.set_inner_solver(inner_solver);
+    smalbe.set_monitor(monitor);
+    QP::Problem qp;
+    qp.hessian     = F;
+    qp.linear_term = h;
+    qp.set         = &problem.set;
+    qp.G           = G;
+    qp.Gt          = Gt;
+    qp.e           = problem.e;
     Result result;
     result.x.reinit(problem.n);
-    result.report = QP::smalbe(F, h, problem.set, G, Gt, problem.e, result.x, result.mu, options);
+    if (projector)
+      result.report = smalbe.solve(QP::ProjectorEnforcement(qp).transformed(), result.x, result.mu);
+    else
+      result.report = smalbe.solve(qp, result.x, result.mu);
     const auto &r = result.report;
     check(r.converged,
           "converged: " + std::to_string(r.iterations) + " outer iterations, " +
@@ -432,17 +445,15 @@ main()
         Problem        q = make_problem(roles);
         Vector<double> x(q.n), mu;
         add_equalities(q, 3, false, true);
-        QP::SmalbeOptions options;
-        options.projector = true;
-        QP::smalbe([&](const Vector<double> &v, Vector<double> &w) { q.A.vmult(w, v); },
-                   q.b,
-                   q.set,
-                   [&](const Vector<double> &v, Vector<double> &w) { q.G.vmult(w, v); },
-                   [&](const Vector<double> &v, Vector<double> &w) { q.G.Tvmult(w, v); },
-                   q.e,
-                   x,
-                   mu,
-                   options);
+        QP::Problem qp;
+        qp.hessian     = [&](const Vector<double> &v, Vector<double> &w) { q.A.vmult(w, v); };
+        qp.linear_term = q.b;
+        qp.set         = &q.set;
+        qp.G           = [&](const Vector<double> &v, Vector<double> &w) { q.G.vmult(w, v); };
+        qp.Gt          = [&](const Vector<double> &v, Vector<double> &w) { q.G.Tvmult(w, v); };
+        qp.e           = q.e;
+        QP::ProjectorEnforcement projector(qp);
+        QP::SMALBE().solve(projector.transformed(), x, mu);
       }
     catch (const std::exception &)
       {
@@ -452,56 +463,48 @@ main()
   }
 
   {
-    // SmalbeOptions::same_problem: asked before every M test; answering "yes" changes nothing,
-    // answering "no" (the problem changed, as in Algorithm 2 while the radii move) keeps M at
-    // M_0, and SMALBE still converges here.
-    const Result reference = solve_and_check("generic mix", mix);
-    unsigned int asked     = 0;
-    const Result yes       = solve_and_check(
-      "generic mix, same_problem always true", mix, 1, {}, nullptr, 1e-12, false, [&](auto &o) {
-        o.same_problem = [&]() {
-          ++asked;
-          return true;
-        };
-      });
-    Vector<double> d(yes.x);
-    d -= reference.x;
-    check(asked > 0 && d.l2_norm() == 0 &&
-            yes.report.hessian_multiplications == reference.report.hessian_multiplications &&
-            yes.report.M == reference.report.M,
-          "same_problem() = true: asked " + std::to_string(asked) +
-            " times, bit for bit the same path");
-    unsigned int decreases = 0;
-    double       first_M   = 0;
-    const Result no        = solve_and_check(
-      "generic mix, same_problem always false", mix, 1, {}, nullptr, 1e-12, false, [&](auto &o) {
-        o.same_problem = []() { return false; };
-        o.monitor      = [&, print = o.monitor](const QP::SmalbeStep &step) {
-          print(step);
-          decreases += step.M_decreased;
-          if (step.outer_iteration == 0)
-            first_M = step.M;
-        };
-      });
-    check(decreases == 0 && no.report.M == first_M && reference.report.M < first_M,
-          "same_problem() = false: M stays M_0 = " + sci(first_M) +
-            " (without: " + sci(reference.report.M) + ")");
+    // InnerReport::same_set: an inner solver that changes the set while it solves (Algorithm 2
+    // moves the radii) reports whether the set is that of the previous call. "Yes" is the
+    // default path; "no" keeps M at M_0 (the M test compares Lagrangians over different sets),
+    // and SMALBE still converges here.
+    const auto plug = [&](const bool same_set) -> QP::SMALBE::InnerSolver {
+      return [&, same_set](const QP::Operator   &A,
+                           const Vector<double> &b,
+                           Vector<double>       &x,
+                           const double          tolerance,
+                           const Vector<double> &gradient) -> QP::SMALBE::InnerReport {
+        QP::MPGP::AdditionalData options;
+        options.tolerance = tolerance;
+        Vector<double>          g(gradient);
+        QP::SMALBE::InnerReport report(QP::MPGP(options).solve(A, b, mix.set, x, &g));
+        report.gradient.swap(g);
+        report.same_set = same_set;
+        return report;
+      };
+    };
+    const Result reference = solve_and_check("generic mix, same set", mix, 1, plug(true));
+    const Result changed =
+      solve_and_check("generic mix, set reported changed", mix, 1, plug(false));
+    check(reference.report.M < changed.report.M,
+          "same_set = false: M stays at M_0 = " + sci(changed.report.M) +
+            " (with the same set: " + sci(reference.report.M) + ")");
   }
 
   {
     // The plug: an inner solver of our own (MPGP with Γ = 2 and ᾱ from a power method on the
     // inner operator), counting its calls.
-    unsigned int          inner_calls = 0;
-    const QP::InnerSolver inner       = [&](const QP::Operator   &A,
-                                      const Vector<double> &b,
-                                      Vector<double>       &x,
-                                      const double          tolerance,
-                                      const Vector<double>       &/*gradient*/) -> QP::SolverReport {
+    unsigned int                  inner_calls = 0;
+    const QP::SMALBE::InnerSolver inner =
+      [&](const QP::Operator   &A,
+          const Vector<double> &b,
+          Vector<double>       &x,
+          const double          tolerance,
+          const Vector<double> & /*gradient*/) -> QP::SolverReport {
       ++inner_calls;
-      QP::MpgpOptions options;
+      QP::MPGP::AdditionalData options;
       options.tolerance = tolerance;
       options.gamma     = 2;
-      return QP::mpgp(A, b, mix.set, x, options);
+      return QP::MPGP(options).solve(A, b, mix.set, x);
     };
     unsigned int calls = 0;
     const Result r     = solve_and_check("user-supplied inner solver", mix, 1, inner, &calls);
@@ -511,18 +514,18 @@ main()
   {
     // The gradient passed between the inner solves: an inner solver that starts from SMALBE's
     // gradient and returns its own saves the multiplication at its start and SMALBE's after it.
-    const auto plug = [&](const bool pass_gradient) -> QP::InnerSolver {
+    const auto plug = [&](const bool pass_gradient) -> QP::SMALBE::InnerSolver {
       return [&, pass_gradient](const QP::Operator   &A,
                                 const Vector<double> &b,
                                 Vector<double>       &x,
                                 const double          tolerance,
-                                const Vector<double> &gradient) -> QP::InnerReport {
-        QP::MpgpOptions options;
+                                const Vector<double> &gradient) -> QP::SMALBE::InnerReport {
+        QP::MPGP::AdditionalData options;
         options.tolerance = tolerance;
         if (!pass_gradient)
-          return QP::mpgp(A, b, mix.set, x, options);
-        Vector<double>  g(gradient);
-        QP::InnerReport report(QP::mpgp(A, b, mix.set, x, options, &g));
+          return QP::MPGP(options).solve(A, b, mix.set, x);
+        Vector<double>          g(gradient);
+        QP::SMALBE::InnerReport report(QP::MPGP(options).solve(A, b, mix.set, x, &g));
         report.gradient.swap(g);
         return report;
       };

@@ -9,8 +9,10 @@
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
+#include <feticontact/qp/transforms.h>
 
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -40,7 +42,7 @@ namespace FetiContact
    * With `Equality constraint = projector` (the default) the problem is homogenized first:
    * λ = λ₀ + λ̃ with λ₀ = G̃ᵀẽ the least-norm solution of Gλ = e, so that G̃λ̃ = 0; the bounds
    * and disc centres shift by −λ₀ (λ̃_N ≥ −λ₀_N, ‖λ̃_T + λ₀_T‖ ≤ g) and SMALBE works with the
-   * projected Hessian PFP + ρQ (QP::SmalbeOptions::projector). Everything reported (λ, the
+   * projected Hessian PFP + ρQ (QP::ProjectorEnforcement). Everything reported (λ, the
    * slip bounds, the statuses) is in terms of λ = λ₀ + λ̃.
    *
    * Counts the multiplications by the Hessian F + ρGᵀG in the bound QP (n_A^QPP) and in the disc
@@ -58,16 +60,17 @@ namespace FetiContact
       unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
       unsigned int           smalbe_iterations = 0;
       unsigned int           n_bound = 0, n_disc = 0;
-      /** MPGP's steps summed over all its calls (QP::MpgpReport): conjugate gradient,
+      /** MPGP's steps summed over all its calls (QP::MPGP::Statistics): conjugate gradient,
        *  expansion and proportioning steps, and of the projected CG expansions those that
        *  increased the energy and were replaced by the fixed step, and the steps whose
-       *  gradient was updated recursively (QP::MpgpOptions::recursive_gradient_tolerance). */
+       *  gradient was updated recursively (QP::MPGP::AdditionalData::recursive_gradient_tolerance).
+       */
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
                    expansion_fallbacks = 0, recursive_gradient_updates = 0;
       bool converged = false;
 
       void
-      count_steps(const QP::MpgpReport &r)
+      count_steps(const QP::MPGP::Statistics &r)
       {
         cg_steps += r.cg_steps;
         expansion_steps += r.expansion_steps;
@@ -77,7 +80,7 @@ namespace FetiContact
       }
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating
-       * subdomains (QP::SmalbeReport::infeasible): no equilibrium exists with these slip
+       * subdomains (QP::SMALBE::Statistics::infeasible): no equilibrium exists with these slip
        * bounds, e.g. tangential loads above F × the normal force on a body held only by contact.
        */
       bool        no_equilibrium = false;
@@ -90,6 +93,11 @@ namespace FetiContact
                   const Parameters::ContactSolver &parameters,
                   std::ostream                    &out,
                   std::ostream                    *history);
+
+    /** The problems hold operators that refer to this object: not copyable. */
+    ContactSolver(const ContactSolver &) = delete;
+    ContactSolver &
+    operator=(const ContactSolver &) = delete;
 
     Result
     solve();
@@ -141,12 +149,12 @@ namespace FetiContact
     void
     set_slip_bounds(const std::vector<double> &g);
     /** One SMALBE solve for the current slip bounds, warm-started from λ, μ. */
-    QP::SmalbeReport
+    QP::SMALBE::Statistics
     solve_tresca(dealii::Vector<double> &lambda, dealii::Vector<double> &mu, Result &result);
     /** MPGP's options from the parameters (steps, ᾱ = 1.9/‖Hessian‖, discs, expansion), shared
      *  by SMALBE's inner solves and the block Gauss–Seidel sweeps; the tolerance is the caller's.
      */
-    QP::MpgpOptions
+    QP::MPGP::AdditionalData
     mpgp_options() const;
     /** The block Gauss–Seidel inner solver (Algorithm 1; Algorithm 2 updates the radii in it). */
     QP::SolverReport
@@ -188,17 +196,25 @@ namespace FetiContact
     apply_P(dealii::Vector<double> &v) const;
     /**
      * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
-     * taken from, and that SMALBE gets as SmalbeOptions::F_norm: ‖F‖ (10 multiplications by F),
-     * or with Penalty norm = projected F (projector variant) the estimate of ‖PFP‖ from
-     * projected_norm_iterations multiplications by F, and then ‖F‖ is not estimated (both in
-     * F_applications, not in n_A).
+     * taken from, and that SMALBE gets as QP::SMALBE::AdditionalData::F_norm: ‖F‖ (10
+     * multiplications by F), or with Penalty norm = projected F (projector variant) the estimate of
+     * ‖PFP‖ from projected_norm_iterations multiplications by F, and then ‖F‖ is not estimated
+     * (both in F_applications, not in n_A).
      */
     double                        feti_norm                 = 0;
     static constexpr unsigned int projected_norm_iterations = 10;
-    /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0, e_smalbe = 0). */
+    /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0 and e = 0). */
     bool projector = false;
-    /** λ₀ (zero without the projector), h − Fλ₀, and the right side of G̃λ̃ = ẽ − G̃λ₀. */
-    dealii::Vector<double> lambda0, h_smalbe, e_smalbe;
+    /**
+     * The dual problem with orthonormalized equality constraints, min ½λᵀFλ − λᵀh over Ω with
+     * G̃λ = ẽ; with the projector, its homogenization in λ̃ = λ − λ₀ and the projected problem
+     * (PFP, Ph) that SMALBE solves (`problem`; without the projector `problem` = `original`).
+     */
+    QP::Problem                             original, homogeneous, problem;
+    std::optional<QP::Homogenization>       homogenization;
+    std::optional<QP::ProjectorEnforcement> projector_enforcement;
+    /** λ₀ (zero without the projector). */
+    dealii::Vector<double> lambda0;
     /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
     std::vector<unsigned int> row_tier;
     /** The QP tolerance of the current solve (inexact MSA: looser in early MSA steps). */
@@ -210,8 +226,8 @@ namespace FetiContact
      */
     double hessian_norm = 0;
     /**
-     * QP::MpgpOptions::arc_scale: 0 (the norm bound), or with Arc preconditioner scale = mean
-     * diagonal the estimate of tr(A)/m of the Hessian, from arc_scale_probes multiplications
+     * QP::MPGP::AdditionalData::arc_scale: 0 (the norm bound), or with Arc preconditioner scale =
+     * mean diagonal the estimate of tr(A)/m of the Hessian, from arc_scale_probes multiplications
      * by F (in F_applications, not in n_A).
      */
     double                        arc_scale        = 0;
@@ -220,7 +236,7 @@ namespace FetiContact
     dealii::Vector<double> last_lambda;
     unsigned int           msa_iteration = 0;
     double                 last_change   = 0;
-    /** Radius updates inside the combined loop of Algorithm 2 (for SmalbeOptions::set_final). */
+    /** Radius updates inside the combined loop of Algorithm 2 (for InnerReport::final_set). */
     unsigned int radius_updates = 0;
     /** The stage of the continuation in F: the friction coefficients are multiplied by it. */
     double friction_scale = 1;

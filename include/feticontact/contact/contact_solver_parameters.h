@@ -51,7 +51,7 @@ namespace FetiContact::Parameters
      * (change_0 = 1); 0: every step to qp_tolerance.
      */
     double inexact_msa_factor = 1e-3;
-    /** QP::SmalbeOptions::inner_floor. */
+    /** QP::SMALBE::AdditionalData::inner_floor. */
     double inner_tolerance_floor = 1;
     /** SMALBE outer iterations per QP solve ("auto": 200 for algorithm 2, 2000 otherwise). */
     unsigned int max_smalbe_iterations = 2000;
@@ -64,7 +64,7 @@ namespace FetiContact::Parameters
     unsigned int continuation_steps = 1;
     /** SMALBE penalty ρ as a multiple of ‖F‖, or of ‖PFP‖ with penalty_projected_norm. */
     double penalty_factor = 5;
-    /** s of SMALBE's multiplier update μ ← μ + sρ(Gλ − e) (QP::SmalbeOptions). */
+    /** s of SMALBE's multiplier update μ ← μ + sρ(Gλ − e) (QP::SMALBE::AdditionalData). */
     double multiplier_step = 1;
     /**
      * The norm that penalty_factor multiplies and that bounds the FETI part of the Hessian in
@@ -73,7 +73,7 @@ namespace FetiContact::Parameters
      */
     bool penalty_projected_norm = true;
 
-    /** How SMALBE treats Gλ = e (QP::SmalbeOptions::projector). */
+    /** How SMALBE treats Gλ = e (QP::ProjectorEnforcement). */
     enum class EqualityConstraint
     {
       projector, ///< λ = λ₀ + λ̃ with Gλ₀ = e; Hessian PFP + ρQ (Farhat–Mandel–Roux)
@@ -83,19 +83,20 @@ namespace FetiContact::Parameters
     /** MPGP/KPG: conjugate gradient steps along the circles of active discs. */
     bool disc_rotations = true;
     /** MPGP's expansion step ("Expansion step": fixed or projected cg). */
-    QP::MpgpOptions::Expansion expansion = QP::MpgpOptions::Expansion::projected_cg;
+    QP::MPGP::AdditionalData::Expansion expansion =
+      QP::MPGP::AdditionalData::Expansion::projected_cg;
     /**
      * The bound of ‖A‖ for MPGP's fixed step: false ‖F‖ + ρ; true max(‖F‖, ρ), exact for the
      * projector variant (PFP and ρQ act on complementary orthogonal subspaces).
      */
     bool hessian_norm_max = true;
-    /** QP::MpgpOptions::recursive_gradient_tolerance ("Recursive gradient tolerance"; 0:
+    /** QP::MPGP::AdditionalData::recursive_gradient_tolerance ("Recursive gradient tolerance"; 0:
      * recompute). */
     double recursive_gradient_tolerance = 0.1;
     /**
      * The scale of the Hessian in the preconditioner of MPGP's steps along the circles
      * ("Arc preconditioner scale"): false its norm bound, true its mean diagonal
-     * (QP::MpgpOptions::arc_scale).
+     * (QP::MPGP::AdditionalData::arc_scale).
      */
     bool arc_scale_mean_diagonal = true;
 

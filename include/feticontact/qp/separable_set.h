@@ -175,7 +175,7 @@ namespace FetiContact::QP
     /**
      * v_k ← v_k/(1 + σ_k/(r_k a)) on every active disc k with r_k > 0 pressed outwards by g
      * (σ_k = −g_k·ν_k > 0): a diagonal preconditioner for steps along the circles, a the scale
-     * of the rest of the Hessian (MPGP passes MpgpOptions::arc_scale, by default ‖A‖). With @p
+     * of the rest of the Hessian (MPGP passes AdditionalData::arc_scale, by default ‖A‖). With @p
      * exponent ≠ 1 the factor is (1 + σ_k/(r_k a))^(−exponent) (MPGP applies ½ on both sides of a
      * preconditioner in face, D^(−½) M D^(−½), which keeps the product symmetric).
      */

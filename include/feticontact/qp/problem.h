@@ -1,0 +1,64 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/qp/separable_set.h>
+
+#include <functional>
+
+namespace FetiContact::QP
+{
+  /** A symmetric linear operator given by its action y = A x. */
+  using Operator = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
+
+  /**
+   * @brief A quadratic program with separable constraints and linear equality constraints,
+   *
+   *     min ½λᵀFλ − λᵀh   s.t.  λ ∈ Ω,  Gλ = e,
+   *
+   * given by operators and vectors only (the QP layer knows nothing of meshes). Transforms
+   * (Homogenization, ProjectorEnforcement) make a new Problem from one and own the step back to
+   * the solution of the original.
+   */
+  struct Problem
+  {
+    /** F, symmetric positive semidefinite. */
+    Operator hessian;
+    /** h. */
+    dealii::Vector<double> linear_term;
+    /** Ω (not owned; the caller may change its radii and bounds between solves). */
+    const SeparableSet *set = nullptr;
+    /** G: R^m → R^k and Gᵀ (empty when k = 0). */
+    Operator G, Gt;
+    /** e ∈ R^k. */
+    dealii::Vector<double> e;
+    /**
+     * Optional: y = (F + ρGᵀG) x in one pass, for a transform whose F already applies GᵀG
+     * (ProjectorEnforcement shares the product Qx = GᵀGx between PFP and ρQ). Empty: F, then
+     * GᵀG.
+     */
+    std::function<void(double, const dealii::Vector<double> &, dealii::Vector<double> &)>
+      augmented_hessian;
+
+    /**
+     * The scale of the linear term that relative stopping tests refer to; 0: ‖h‖. A transform
+     * that removes part of h keeps the scale of the problem it came from (ProjectorEnforcement:
+     * ‖h‖, not ‖Ph‖, so that a tolerance means the same with or without the projector).
+     */
+    double linear_term_scale = 0;
+
+    /** The scale of the linear term: linear_term_scale, or ‖h‖. */
+    double
+    linear_term_norm() const
+    {
+      return linear_term_scale > 0 ? linear_term_scale : linear_term.l2_norm();
+    }
+
+    /** m, the number of unknowns. */
+    unsigned int
+    size() const
+    {
+      return linear_term.size();
+    }
+  };
+} // namespace FetiContact::QP

@@ -1,0 +1,78 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/qp/problem.h>
+
+namespace FetiContact::QP
+{
+  /**
+   * @brief Homogenization of the equality constraint: λ = λ₀ + λ̃ with Gλ₀ = e.
+   *
+   * The transformed problem in λ̃ has the linear term h − Fλ₀ and e = 0, and the set Ω − λ₀.
+   * The set is the caller's to build in the shifted coordinates (bounds −λ₀_i, discs centred
+   * at −λ₀), since the caller also changes its radii between solves. recover() is the step
+   * back, λ = λ̃ + λ₀.
+   */
+  class Homogenization
+  {
+  public:
+    /** @p particular_solution is λ₀, any solution of Gλ₀ = e (e.g. of least norm). */
+    Homogenization(const Problem &original, const dealii::Vector<double> &particular_solution);
+
+    /** The problem in λ̃ over @p shifted_set = Ω − λ₀. One multiplication by F (for Fλ₀). */
+    Problem
+    transformed(const SeparableSet &shifted_set) const;
+
+    /** λ̃ → λ = λ̃ + λ₀, in place. */
+    void
+    recover(dealii::Vector<double> &lambda) const;
+
+    /** λ₀. */
+    const dealii::Vector<double> &
+    particular_solution() const;
+
+  private:
+    const Problem         &original;
+    dealii::Vector<double> lambda0;
+  };
+
+  /**
+   * @brief Enforcement of a homogeneous equality constraint Gλ = 0 by the projector
+   * P = I − GᵀG (Farhat–Mandel–Roux; Dostál's TFETI contact solvers).
+   *
+   * For G with orthonormal rows (GGᵀ = I, so Q = GᵀG and P = I − Q are orthogonal projectors),
+   * the transformed problem minimizes ½λᵀPFPλ − λᵀPh, which agrees with the original objective
+   * on Gλ = 0. SMALBE's augmented Lagrangian then has the Hessian PFP + ρQ: on the range of P the
+   * spectrum of the projected FETI operator (the natural coarse space), on that of Q the penalty
+   * ρ, so both the inner iterations and the multiplier iterations need fewer steps than with
+   * F + ρGᵀG. Problem::augmented_hessian applies PFP + ρQ with one product Qx.
+   * recover_multiplier() is the step back for the multiplier of Gλ = 0: the ν of the
+   * transformed problem is not that of the original one.
+   */
+  class ProjectorEnforcement
+  {
+  public:
+    /** Requires e = 0 (apply Homogenization first) and G with orthonormal rows. */
+    explicit ProjectorEnforcement(const Problem &homogeneous);
+
+    /** The problem with F → PFP and h → Ph. */
+    Problem
+    transformed() const;
+
+    /**
+     * ν of the original problem from that of the transformed one: ν ← ν − G r, with
+     * r = Fλ − h the gradient of the original objective at the solution.
+     */
+    void
+    recover_multiplier(const dealii::Vector<double> &r, dealii::Vector<double> &nu) const;
+
+    /** y = P x = x − GᵀG x. */
+    void
+    project(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+
+  private:
+    const Problem         &homogeneous;
+    dealii::Vector<double> projected_linear_term;
+  };
+} // namespace FetiContact::QP

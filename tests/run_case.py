@@ -9,21 +9,24 @@
       [--no-equilibrium]
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
-into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array). With several ranks (--np 1,2,3)
-every run is checked, and with --same-displacements the nodal displacements of all runs must
-agree to TOL relative (max norm); --threads runs each rank count once per number of threads
-(DEAL_II_NUM_THREADS, the limit of the threads per rank). --alt-set adds one more run with further overrides, compared
-the same way (e.g. F = 0 against Tresca with slip bound 0); --alt-scale S divides the
-displacements of that run by S first (the same scene in other units or with scaled loads).
---same-counts requires every run to take the same MSA iterations and Hessian multiplications;
---fewer-multiplications requires the first run to take fewer Hessian multiplications than the
---alt-set run (an option that must save work against the setting it replaces).
+into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array; the
+keys are described in doc/summary_json.md). With several ranks (--np 1,2,3) every run is
+checked, and with --same-displacements the nodal displacements of all runs must agree to TOL
+relative (max norm); --threads runs each rank count once per number of threads
+(DEAL_II_NUM_THREADS, the limit of the threads per rank). --alt-set adds one more run with
+further overrides, compared the same way (e.g. μ = 0 against Tresca with slip bound 0);
+--alt-scale S divides the displacements of that run by S first (the same scene in other units or
+with scaled loads). --same-counts requires every run to take the same MSA iterations and Hessian
+multiplications; --fewer-multiplications requires the first run to take fewer Hessian
+multiplications than the --alt-set run (an option that must save work against the setting it
+replaces).
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
 PVD, CSV) in OUTDIR. With --no-equilibrium the input is valid but the solver proves that no
 equilibrium exists: exit status 4 within TIME_LIMIT, TEXT on stderr, summary.json with
 "converged": false and "no_equilibrium": true, and besides it only the iteration history
 (history.csv): no displacement, contact or VTU files.
+The regression tests (regression.py) use run() and load_summary() of this file.
 Standard library only, so that any python3 runs it.
 """
 import csv

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed against accuracy on the seed's brick (DESIGN.md §5, F = 0.3): the solver tolerances
+"""Speed against accuracy on the paper's brick (doc/formulation.md, "The brick benchmark"; μ = 0.3): the solver tolerances
 swept from loose to tight, each run compared with a reference solve of the same mesh at 1e-12,
 and the discretization error of each mesh against the finest, so that a user sees the tolerance
 below which solving harder buys nothing.
@@ -12,7 +12,7 @@ below which solving harder buys nothing.
     /usr/bin/python3 benchmarks/accuracy_sweep.py --plot doc/data/accuracy_sweep.csv doc/accuracy_sweep.png
 
 One tolerance t sets both relative tolerances, `MSA relative tolerance = t` and `QP relative
-tolerance = t` (DESIGN.md §4). For each k and t:
+tolerance = t` (doc/formulation.md, "Relative tolerances"). For each k and t:
   time      median wall time of --repeats runs (k ≥ 16: --repeats-large) without output,
             i.e. setup + assembly + factorization + coarse problem + solve + primal recovery;
   Iter, n_A the MSA steps and Hessian multiplications;

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""The seed's numerical experiment (DESIGN.md §5): the brick with Coulomb friction on uniform
-meshes h = 1/k, three unit cubes (12 rigid modes), F = 0.1 and 0.3, in the seed's columns
-n, m, Time, Iter, n_A = n_A^QPP + n_A^QPQ, beside the seed's own numbers; Table 3 puts the time
+"""The numerical experiment of R. Kučera, J. Haslinger, Z. Dostál, "The FETI based domain
+decomposition method for solving 3D-multibody contact problems with Coulomb friction" (LNCSE 40,
+Springer, 2005; doc/formulation.md, "The brick benchmark"): the brick with Coulomb friction on uniform
+meshes h = 1/k, three unit cubes (12 rigid modes), F = 0.1 and 0.3, in the paper's columns
+n, m, Time, Iter, n_A = n_A^QPP + n_A^QPQ, beside the paper's own numbers; Table 3 puts the time
 of the quadratic-constraint solvers beside the polygonal baselines s = 2 and s = 4.
 
     python3 benchmarks/brick_refinement.py [--exe build/feticontact] [--k 4,6,8,10,12,16,20,24]
@@ -28,9 +30,9 @@ import tempfile
 
 from cli import arguments, option
 
-# The seed's Tables 1-3 (Matlab 7, Pentium 4 3 GHz), as printed. Table 2's n_A^QPP + n_A^QPQ do
+# The paper's Tables 1-3 (Matlab 7, Pentium 4 3 GHz), as printed. Table 2's n_A^QPP + n_A^QPQ do
 # not add up to the printed n_A in the extracted text; both are quoted as printed.
-SEED = {
+PAPER = {
     "n": [900, 2646, 5832, 10890, 18252],
     "m": [180, 378, 648, 990, 1404],
     0.1: {"time": [1, 11, 34, 67, 221], "iter": [5] * 5,
@@ -40,7 +42,7 @@ SEED = {
     "time2": [15, 101, 486, 1542, 5004],
     "time4": [61, 548, 2114, 7724, 20534],
 }
-SEED_K = [4, 6, 8, 10, 12]
+PAPER_K = [4, 6, 8, 10, 12]
 
 
 def run_case(exe, k, friction, algorithm, polygon, repeats, timeout):
@@ -184,26 +186,26 @@ def markdown(rows, ks, repeats):
     for table, friction in ((1, 0.1), (2, 0.3)):
         out.append(f"### Table {table}: F = {friction}")
         out.append("")
-        out.append("| k | n | m | seed Time | seed Iter | seed n_A | Alg. 2 Time | Alg. 2 Iter | Alg. 2 n_A "
+        out.append("| k | n | m | paper Time | paper Iter | paper n_A | Alg. 2 Time | Alg. 2 Iter | Alg. 2 n_A "
                    "| Alg. 1 Time | Alg. 1 Iter | Alg. 1 n_A | MPGP Time | MPGP Iter | MPGP n_A |")
         out.append("|---" * 15 + "|")
         for k in ks:
-            i = SEED_K.index(k) if k in SEED_K else None
-            seed = [str(SEED[friction]["time"][i]), str(SEED[friction]["iter"][i]),
-                    SEED[friction]["n_A"][i]] if i is not None else ["", "", ""]
+            i = PAPER_K.index(k) if k in PAPER_K else None
+            paper = [str(PAPER[friction]["time"][i]), str(PAPER[friction]["iter"][i]),
+                    PAPER[friction]["n_A"][i]] if i is not None else ["", "", ""]
             cells = []
             for label in ("algorithm 2", "algorithm 1", "mpgp"):
                 cells += [cell(rows, k, friction, label, w) for w in ("time", "iter", "n_A")]
-            out.append(f"| {k} | {first('n', k)} | {first('m', k)} | " + " | ".join(seed + cells) + " |")
+            out.append(f"| {k} | {first('n', k)} | {first('m', k)} | " + " | ".join(paper + cells) + " |")
         out.append("")
     out.append("### Table 3: F = 0.3, time (s) of the quadratic-constraint solvers and the polygonal baselines")
     out.append("")
-    out.append("| k | n | m | seed Time | seed Time2 | seed Time4 | Alg. 2 | MPGP | s = 2 | s = 4 "
+    out.append("| k | n | m | paper Time | paper Time2 | paper Time4 | Alg. 2 | MPGP | s = 2 | s = 4 "
                "| s = 2 / MPGP | s = 4 / MPGP | n_A s = 2 | n_A s = 4 |")
     out.append("|---" * 14 + "|")
     for k in ks:
-        i = SEED_K.index(k) if k in SEED_K else None
-        seed = [str(SEED[0.3]["time"][i]), str(SEED["time2"][i]), str(SEED["time4"][i])] \
+        i = PAPER_K.index(k) if k in PAPER_K else None
+        paper = [str(PAPER[0.3]["time"][i]), str(PAPER["time2"][i]), str(PAPER["time4"][i])] \
             if i is not None else ["", "", ""]
         t = {label: cell(rows, k, 0.3, label, "time")
              for label in ("algorithm 2", "mpgp", "polygonal s = 2", "polygonal s = 4")}
@@ -214,7 +216,7 @@ def markdown(rows, ks, repeats):
             except ValueError:
                 return "–"
         out.append(f"| {k} | {first('n', k)} | {first('m', k)} | " + " | ".join(
-            seed + [t["algorithm 2"], t["mpgp"], t["polygonal s = 2"], t["polygonal s = 4"],
+            paper + [t["algorithm 2"], t["mpgp"], t["polygonal s = 2"], t["polygonal s = 4"],
                     ratio("polygonal s = 2", "mpgp"), ratio("polygonal s = 4", "mpgp"),
                     cell(rows, k, 0.3, "polygonal s = 2", "n_A"),
                     cell(rows, k, 0.3, "polygonal s = 4", "n_A")]) + " |")
@@ -242,10 +244,10 @@ def plot(csv_path, png_path):
             axes[1].loglog(n, [float(r["time_solve"]) for _, r in sel], style,
                            label=f"{label}, F = {friction}", **kw)
     for friction, colour in ((0.1, "tab:blue"), (0.3, "tab:red")):
-        seed_nA = [int(v.split()[0]) for v in SEED[friction]["n_A"]]
-        axes[0].loglog(SEED["n"], seed_nA, "x:", color=colour, label=f"seed, F = {friction}")
-        axes[1].loglog(SEED["n"], SEED[friction]["time"], "x:", color=colour,
-                       label=f"seed (Matlab, Pentium 4), F = {friction}")
+        paper_nA = [int(v.split()[0]) for v in PAPER[friction]["n_A"]]
+        axes[0].loglog(PAPER["n"], paper_nA, "x:", color=colour, label=f"paper, μ = {friction}")
+        axes[1].loglog(PAPER["n"], PAPER[friction]["time"], "x:", color=colour,
+                       label=f"paper (Matlab, Pentium 4), μ = {friction}")
     axes[0].set_xlabel("n (primal unknowns)")
     axes[0].set_ylabel("n_A (multiplications by the Hessian)")
     axes[1].set_xlabel("n (primal unknowns)")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Cattaneo–Mindlin (DESIGN.md §6): the stick radius of prm/cattaneo_mindlin.prm against
+"""Cattaneo–Mindlin (doc/validation.md): the stick radius of prm/cattaneo_mindlin.prm against
 c = a (1 − Q/(μP))^(1/3), and full sliding for Q > μP.
 
     python3 benchmarks/cattaneo_mindlin.py [--exe build/feticontact] [--n 16]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""FETI against the monolithic solve on the brick without contact (DESIGN.md §5, §6).
+"""FETI against the monolithic solve on the brick without contact (doc/formulation.md, "The brick benchmark").
 
 Runs build/feticontact on prm/brick.prm for k = 4 and 8 with several decompositions, both
 Dirichlet treatments and 1, 2, 3 MPI ranks, and writes the table doc/data/feti_verification.md
@@ -24,7 +24,7 @@ env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 
 decompositions = [
     ("1 subdomain", ["Body 1/Decomposition/Method=blocks", "Body 1/Decomposition/Blocks=1,1,1"]),
-    ("3 blocks (seed)", ["Body 1/Decomposition/Method=blocks",
+    ("3 blocks (the paper's)", ["Body 1/Decomposition/Method=blocks",
                          "Body 1/Decomposition/Blocks=3,1,1"]),
     ("METIS 8", ["Body 1/Decomposition/Method=metis", "Body 1/Decomposition/Number of parts=8"]),
     ("METIS 27", ["Body 1/Decomposition/Method=metis", "Body 1/Decomposition/Number of parts=27"]),

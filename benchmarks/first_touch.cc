@@ -6,8 +6,8 @@
  * virtual machine whose balloon reports free pages to the host, the host backs every such page
  * again on its first touch. This program maps @p gib GiB, touches one byte per 4 KiB page
  * (optionally asking for transparent huge pages, as feticontact does for its heap) and then
- * writes the whole block again, and prints both times. doc/performance.md ("MPI on this
- * machine", twenty-second session) compares them.
+ * writes the whole block again, and prints both times (doc/performance.md, "MPI on this
+ * machine").
  *
  * Usage: first_touch [--huge-pages] [--gib N]
  */

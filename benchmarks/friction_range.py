@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The solver across the range of the friction coefficient on the seed's brick (DESIGN.md §5),
+"""The solver across the range of the friction coefficient on the paper's brick (doc/formulation.md, "The brick benchmark"),
 and the effect of the two parameters meant for large F: relaxation of the slip-bound update
 (`Contact solver/Expert/Relaxation` ω) and continuation in F (`Contact solver/Friction continuation
 steps` n).

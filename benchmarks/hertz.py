@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hertz contact (DESIGN.md §6): refinement study of prm/hertz.prm against the analytic solution.
+"""Hertz contact (doc/validation.md): refinement study of prm/hertz.prm against the analytic solution.
 
     python3 benchmarks/hertz.py [--exe build/feticontact] [--n 12,16,24,32,40]
         [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv] [--work DIR]

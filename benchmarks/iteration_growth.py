@@ -2,7 +2,7 @@
 """How the iteration counts grow with the number of subdomains at fixed H/h, from the linear
 problem to Coulomb friction.
 
-Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
+Brick of doc/formulation.md ("The brick benchmark") with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
 3a x a x a subdomains. For each a, on the same decomposition:
 
   - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
@@ -10,14 +10,15 @@ Brick of DESIGN.md §5 with subdomains of 8 x 8 x 8 cubes (H/h = 8, TFETI), k = 
   - contact: prm/kucera_table_2.prm with `Contact solver/Algorithm = mpgp` and the values that
     `auto` gives for it in `Contact solver / Expert` (projected cg expansion, Hessian norm bound
     max, Inexact MSA factor 0.001, Recursive gradient tolerance 0.1, Arc preconditioner scale
-    mean diagonal, the penalty factor 5), that is the solver's defaults, for each friction
-    coefficient F: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
+    mean diagonal, the penalty factor 5 or --penalty-factor), that is the solver's defaults, for
+    each friction coefficient μ: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
 
-F = 0 is the frictionless problem (one bound-constrained QP), the Coulomb problem without its
+μ = 0 is the frictionless problem (one bound-constrained QP), the Coulomb problem without its
 fixed point. The counts do not depend on the machine's speed, so runs may share the cores
 (--jobs 2); the times in the CSV are then those of a shared machine and are not reported.
 
 Usage: iteration_growth.py [--exe PATH] [--a 1,2,3,4,6] [--friction 0,0.3] [--jobs 1]
+       [--penalty-factor 3]
        [--csv doc/data/iteration_growth.csv] [--markdown doc/data/iteration_growth.md]
        iteration_growth.py --plot doc/data/iteration_growth.csv doc/iteration_growth.png
 (the plot needs matplotlib: /usr/bin/python3 on Debian with python3-matplotlib)
@@ -39,7 +40,8 @@ from scaling import env, read_summary, settings
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PRM = os.path.join(HERE, "..", "prm")
-# The Expert values of the defaults (the penalty norm field of scaling.settings is unused).
+# The Expert values of the defaults (the penalty norm field of scaling.settings is unused);
+# the penalty factor is the program's default unless --penalty-factor is given.
 MPGP_DEFAULTS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "", "", "")
 FIELDS = ["problem", "F", "a", "k", "n_subdomains", "n", "m", "preconditioner", "iterations",
           "n_A", "smalbe", "msa", "cg", "expansion", "proportioning", "converged"]
@@ -67,7 +69,7 @@ def linear(exe, a, preconditioner):
 
 def contact(exe, a, friction):
     k = 8 * a
-    sets = settings(k, (3 * a, a, a), MPGP_DEFAULTS)
+    sets = settings(k, (3 * a, a, a), MPGP_DEFAULTS[:6] + (option("--penalty-factor", ""), ""))
     sets = [s if not s.startswith("Contact/Zone 1/Friction coefficient=")
             else f"Contact/Zone 1/Friction coefficient={friction}" for s in sets]
     s = run(exe, os.path.join(PRM, "kucera_table_2.prm"), sets)
@@ -98,11 +100,13 @@ def write_markdown(path, rows, a_list, frictions, command):
                 f"Written by `{command}`. H/h = 8, TFETI, k cubes across the brick's width, "
                 "3a × a × a subdomains, one run per cell. Linear: projected CG iterations to "
                 "‖P(Fλ − h)‖ ≤ 1e-10 ‖Ph‖ (one application of F each). Contact: n_A with the "
-                "solver's defaults, SMALBE and MSA iterations in parentheses; "
-                "F = 0 is the frictionless problem.\n\n")
+                "solver's defaults" + (f" but penalty factor {option('--penalty-factor', '')}"
+                                       if option("--penalty-factor", "") else "") +
+                ", SMALBE and MSA iterations in parentheses; "
+                "μ = 0 is the frictionless problem.\n\n")
         header = ["k", "subdomains", "n", "linear, none", "linear, lumped"]
-        header += [f"n_A, F = {fr} (SMALBE, MSA)" for fr in frictions]
-        header += [f"n_A / linear none, F = {fr}" for fr in frictions]
+        header += [f"n_A, μ = {fr} (SMALBE, MSA)" for fr in frictions]
+        header += [f"n_A / linear none, μ = {fr}" for fr in frictions]
         f.write("| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n")
         columns = {h: [] for h in header}
         for a in a_list:
@@ -119,7 +123,7 @@ def write_markdown(path, rows, a_list, frictions, command):
             for fr in frictions:
                 r = find("contact", a, "F", fr)
                 cells.append(f"{r['n_A']} ({r['smalbe']}, {r['msa']})" if r else "")
-                columns[f"n_A, F = {fr} (SMALBE, MSA)"].append(r["n_A"] if r else 0)
+                columns[f"n_A, μ = {fr} (SMALBE, MSA)"].append(r["n_A"] if r else 0)
             for fr in frictions:
                 r = find("contact", a, "F", fr)
                 cells.append(f"{r['n_A'] / none['iterations']:.1f}" if r and none else "")
@@ -140,7 +144,7 @@ def plot(csv_path, png_path):
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     series = [("linear", "", "none", "iterations", "linear FETI, no preconditioner", "o"),
               ("linear", "", "lumped", "iterations", "linear FETI, lumped preconditioner", "s")]
-    series += [("contact", fr, "none", "n_A", f"contact, F = {fr}: n_A", m)
+    series += [("contact", fr, "none", "n_A", f"contact, μ = {fr}: n_A", m)
                for fr, m in zip(sorted({r["F"] for r in rows if r["problem"] == "contact"}),
                                 "^v*D")]
     for problem, friction, preconditioner, column, label, marker in series:
@@ -167,7 +171,8 @@ def main():
             raise SystemExit("usage: iteration_growth.py --plot CSV PNG (see --help)")
         plot(sys.argv[2], sys.argv[3])
         return
-    arguments(__doc__, ["--exe", "--a", "--friction", "--jobs", "--csv", "--markdown"])
+    arguments(__doc__, ["--exe", "--a", "--friction", "--jobs", "--csv", "--markdown",
+                        "--penalty-factor"])
     exe_source = option("--exe", os.path.join(HERE, "..", "build", "feticontact"))
     a_list = [int(x) for x in option("--a", "1,2,3,4,6").split(",") if x]
     frictions = [x for x in option("--friction", "0,0.3").split(",") if x]

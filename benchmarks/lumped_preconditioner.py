@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The lumped FETI preconditioner, without contact and with contact (preconditioning in face).
 
-Brick of DESIGN.md §5 with subdomains of 8 × 8 × 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
+Brick of doc/formulation.md ("The brick benchmark") with subdomains of 8 × 8 × 8 cubes (H/h = 8, TFETI), k = 8a cubes across,
 3a × a × a subdomains. For each a, one run without and one with the preconditioner, one after
 the other (never two at a time: paired runs on the two cores slow each other):
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""P1 locking as ν → 1/2 on the seed's brick (DESIGN.md §5, F = 0.3, MPGP, default tolerances).
+"""P1 locking as ν → 1/2 on the paper's brick (doc/formulation.md, "The brick benchmark"; μ = 0.3, MPGP, default tolerances).
 
     python3 benchmarks/poisson_locking.py [--exe build/feticontact] [--k 4,8,16]
         [--nu 0,0.3,0.45,0.49,0.499] [--markdown doc/data/poisson_locking.md]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""The brick with Coulomb friction F = 0.3 on the Gmsh mesh of ../shared/reference/brick_k4,
+"""The brick with Coulomb friction F = 0.3 on the Gmsh mesh tests/meshes/brick_k4.msh,
 solved by every contact algorithm and compared with the independent reference solution
-(GetFEM, nodal contact, Newton to 1e-12). Writes doc/data/reference_comparison.md.
+stored in tests/reference/ (GetFEM 5.4, nodal contact, Newton to 1e-12; tests/reference/README.md). Writes doc/data/reference_comparison.md.
 
     python3 benchmarks/reference_comparison.py [--exe build/feticontact]
 

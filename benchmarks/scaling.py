@@ -1,18 +1,18 @@
 #!/usr/bin/env python3
-"""Performance at scale on the brick (DESIGN.md §5, F = 0.3, MPGP, TFETI, default tolerances):
+"""Performance at scale on the brick (doc/formulation.md, "The brick benchmark"; friction
+coefficient μ = 0.3, MPGP, TFETI, default tolerances):
 numerical scalability with the subdomain size fixed, MPI speed-up on this machine, the cost
 floor, peak memory, the coarse problem against the number of subdomains, and one monolithic
 linear solve beside the contact solve.
 
     python3 benchmarks/scaling.py [--exe build/feticontact]
         [--monolithic build/benchmarks/monolithic_solve] [--cells-per-subdomain 8]
-        [--a 1,2,3,4,5,6] [--np 1,2] [--seed-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
+        [--a 1,2,3,4,5,6] [--np 1,2] [--paper-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
         [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
         [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
-        [--arc-scale "mean diagonal"] [--penalty-norm "projected F"]
-        [--penalty-factor 5] [--multiplier-step 1.5]
+        [--arc-scale "mean diagonal"] [--penalty-factor 3] [--multiplier-step 1.5]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
     /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
@@ -23,21 +23,21 @@ of --a; each is run with every rank count of --np (`mpirun -np P`, one OpenBLAS 
 rank; the --repeats runs of one rank count, then those of the next; with --alternate the runs
 alternate, 1, 2, 1, 2, …, which spreads a drift of the machine's speed over all rank counts
 but, on the machine of doc/performance.md, slows every one-rank run that follows a two-rank
-run by 10–20 %). "Seed setting": three subdomains (blocks 3, 1, 1) at the k of --seed-k, so that H/h = k
-grows. "Coarse problem": c = 2 and a of --coarse-a (3a³ subdomains, up to 1,029 at a = 7),
+run by 10–20 %). "Paper's setting": three subdomains (blocks 3, 1, 1) at the k of --paper-k, so
+that H/h = k grows (the decomposition of R. Kučera, J. Haslinger, Z. Dostál, LNCSE 40, 2005). "Coarse problem": c = 2 and a of --coarse-a (3a³ subdomains, up to 1,029 at a = 7),
 where the time of setting up the coarse problem GGᵀ is read. --monolithic gives the program that
 assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
---expansion sets MPGP's `Contact solver/Expert/Expansion step` (default fixed); other than fixed, the
-series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Expert/Hessian norm bound`
+--expansion sets MPGP's `Contact solver/Expert/Expansion step` (default fixed; the program's default
+for mpgp is projected cg); other than fixed, the series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Expert/Hessian norm bound`
 (default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max").
 --inexact-msa-factor and --recursive-gradient-tolerance set `Contact solver/Expert/Inexact MSA factor`
-and `Contact solver/Expert/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"); every series has
-its own tables, and its own MPI tables; --arc-scale sets `Contact solver/Expert/Arc preconditioner scale`
-(default norm; "mean diagonal": suffix "_md") and --penalty-norm `Contact solver/Expert/Penalty norm`
-(default F; "projected F": suffix "_pfp") and --penalty-factor `Contact solver/Expert/Penalty factor`
-(default auto; suffix "_f5" for 5), --multiplier-step `Contact solver/Expert/Multiplier step factor`
+and `Contact solver/Expert/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"; unset: the
+program's default); every series has its own tables, and its own MPI tables; --arc-scale sets
+`Contact solver/Expert/Arc preconditioner scale` (default norm; "mean diagonal": suffix "_md") and
+--penalty-factor `Contact solver/Expert/Penalty factor` (unset: the program's default, 5 for mpgp;
+suffix "_f3" for 3), --multiplier-step `Contact solver/Expert/Multiplier step factor`
 (default 1; suffix "_s1.5" for 1.5) when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
@@ -84,8 +84,7 @@ def settings(k, blocks, variant=DEFAULT_VARIANT):
             *(["--set", f"Contact solver/Expert/Inexact MSA factor={msa_factor}"] if msa_factor else []),
             *(["--set", f"Contact solver/Expert/Recursive gradient tolerance={recursive}"]
               if recursive else []),
-            *(["--set", f"Contact solver/Expert/Arc preconditioner scale={arc_scale}"]
-              if arc_scale != "norm" else []),
+            "--set", f"Contact solver/Expert/Arc preconditioner scale={arc_scale}",
             *(["--set", f"Contact solver/Expert/Penalty factor={factor}"] if factor else []),
             *(["--set", f"Contact solver/Expert/Multiplier step factor={step}"] if step else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
@@ -179,7 +178,7 @@ def row_from_summaries(runs, series, a, c, k, ranks):
         return statistics.median(r["times"][name] for r in runs)
 
     def median_if_present(name):
-        # The work in a rank's own subdomains (summary.json since commit 628ad20).
+        # The work in a rank's own subdomains (absent from the summaries of old programs).
         values = [r["times"][name] for r in runs if name in r["times"]]
         return statistics.median(values) if values else ""
 
@@ -250,7 +249,7 @@ def variant_note(suffix):
     names = {"pcg": "Expansion step = projected cg", "max": "Hessian norm bound = max",
              "c": "Inexact MSA factor = ", "r": "Recursive gradient tolerance = ",
              "md": "Arc preconditioner scale = mean diagonal",
-             "pfp": "Penalty norm = projected F", "f": "Penalty factor = ",
+             "f": "Penalty factor = ",
              "s": "Multiplier step factor = "}
     notes = []
     for token in suffix.split("_")[1:]:
@@ -271,7 +270,7 @@ def mpi_tables(out, contact, series, note):
     out.extend([f"### MPI{note}: wall time without output (total) on 1 and more ranks", "",
                 "'speed-up' is the ratio of the medians. On the virtual machine of these "
                 "runs a one-rank run right after a two-rank run was 10–20 % slower than "
-                "after a one-rank run (doc/performance.md, ninth session): measure in "
+                "after a one-rank run (doc/performance.md): measure in "
                 "blocks (the default; not --alternate), whose ratios do not overstate the "
                 "speed-up.", "",
                 "| k | n | subdomains | " + " | ".join(f"total np={p}" for p in ranks) +
@@ -347,8 +346,9 @@ def report(rows, md_path, command):
     contact = [r for r in rows if r["series"] != "linear"]
     linear = {int(r["a"]): r for r in rows if r["series"] == "linear"}
     out = ["<!-- written by benchmarks/scaling.py -->", "",
-           f"Written by `{command}` from the rows of the CSV files beside this file (the "
-           "commands that measured them: doc/performance.md). Brick, F = 0.3, MPGP, TFETI, "
+           "Tables written by benchmarks/scaling.py from the rows of the CSV files beside this "
+           "file (the commands that measured them: doc/performance.md). Brick, friction "
+           "coefficient μ = 0.3, MPGP, TFETI, "
            "CHOLMOD, default tolerances "
            "(MSA 1e-6, QP 1e-8); times [s] from summary.json, medians of the runs counted in "
            "'runs'; one OpenBLAS thread per rank.", ""]
@@ -365,7 +365,7 @@ def report(rows, md_path, command):
                     "peak MiB/rank | runs |",
                     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"])
         for r in sel:
-            hh = int(r["k"]) // (int(r["a"]) if not series.startswith("seed") else 1)
+            hh = int(r["k"]) // (int(r["a"]) if not series.startswith("paper") else 1)
             out.append(f"| {r['k']} | {r['n_subdomains']} | {hh} | {r['n']} | {r['m']} | "
                        f"{r['coarse']} | {r['iter']} | {r['n_A']} | "
                        f"{float(r['n_A']) / n_a0:.2f} | {g(r['assembly'])} | "
@@ -375,7 +375,7 @@ def report(rows, md_path, command):
         out.append("")
 
     titles = {"weak": "Fixed H/h (c × c × c cells per subdomain)",
-              "seed": "Seed setting: three subdomains, h → 0",
+              "paper": "The paper's setting: three subdomains, h → 0",
               "coarse": "Coarse problem against the number of subdomains (c = 2)"}
     for base, title in titles.items():
         for suffix in variant_suffixes(contact, base):
@@ -388,24 +388,15 @@ def report(rows, md_path, command):
             pair_table(out, contact, suffix)
 
     if linear:
-        out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick) beside the "
-                    "contact solve (one rank)", "",
+        out.extend(["### One monolithic linear solve (CHOLMOD, undecomposed brick, one rank)", "",
                     "| k | n | linear: assembly | factorization | solve | total | entries of L | "
-                    "peak MiB | relative residual | contact total (np=1) | contact / linear | "
-                    "contact total, projected cg + max (np=1) | contact / linear |",
-                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|"])
+                    "peak MiB | relative residual |",
+                    "|---|---|---|---|---|---|---|---|---|"])
         for a, r in sorted(linear.items()):
-            cells = []
-            for series in ("weak", "weak_pcg_max"):
-                c = [x for x in contact if x["series"] == series and int(x["a"]) == a and
-                     int(x["c"]) == int(r["c"]) and int(x["np"]) == 1]
-                ct = float(c[0]["total"]) if c else None
-                cells += [g(ct) if ct else "", f"{ct / float(r['linear_total']):.2f}" if ct else ""]
             entries = f"{float(r['factor_entries']):.3g}" if r.get("factor_entries") else ""
             out.append(f"| {r['k']} | {r['n']} | {g(r['assembly'])} | {g(r['factorization'])} | "
                        f"{g(r['solve'])} | {g(r['linear_total'])} | {entries} | "
-                       f"{float(r['peak_mib']):.0f} | {float(r['residual']):.1e} | " +
-                       " | ".join(cells) + " |")
+                       f"{float(r['peak_mib']):.0f} | {float(r['residual']):.1e} |")
         out.append("")
     with open(md_path, "w") as f:
         f.write("\n".join(out))
@@ -417,7 +408,7 @@ def plot(csv_path, png_path):
     import matplotlib.pyplot as plt
     rows = load(csv_path)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
-    for series, label, marker in [("weak", "fixed H/h", "o"), ("seed", "3 subdomains", "s"),
+    for series, label, marker in [("weak", "fixed H/h", "o"), ("paper", "3 subdomains", "s"),
                                   ("weak_pcg", "fixed H/h, projected CG expansion", "^"),
                                   ("weak_max", "fixed H/h, Hessian norm bound max", "v"),
                                   ("weak_pcg_max", "fixed H/h, projected CG, bound max", "D"),
@@ -426,8 +417,10 @@ def plot(csv_path, png_path):
                                    "recursive gradient 0.1)", "P"),
                                   ("weak_pcg_max_c0.001_r0.1_md",
                                    "fixed H/h, five options (+ arc scale mean diagonal)", "X"),
-                                  ("weak_pcg_max_c0.001_r0.1_md_pfp",
-                                   "fixed H/h, six options (+ penalty norm projected F)", "*")]:
+                                  ("weak_pcg_max_c0.001_r0.1_md_f3",
+                                   "fixed H/h, the defaults with penalty factor 3", "*"),
+                                  ("weak_pcg_max_c0.001_r0.1_md",
+                                   "fixed H/h, the defaults", "p")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
                      key=lambda r: int(r["n"]))
         if sel:
@@ -437,7 +430,7 @@ def plot(csv_path, png_path):
     axes[0].set_ylabel("n_A (multiplications by F)")
     axes[0].set_ylim(bottom=0)
     axes[0].legend(fontsize="small")
-    axes[0].set_title("Numerical scalability (F = 0.3, MPGP)")
+    axes[0].set_title("Numerical scalability (μ = 0.3, MPGP)")
     for series, label, marker in [("coarse", "2 × 2 × 2 cubes per subdomain", "o"),
                                   ("weak", "8 × 8 × 8 cubes per subdomain", "s")]:
         sel = sorted([r for r in rows if r["series"] == series and r["np"] == "1"],
@@ -464,9 +457,9 @@ def main():
         plot(sys.argv[i + 1], sys.argv[i + 2])
         return
     arguments(__doc__, ["--exe", "--monolithic", "--cells-per-subdomain", "--a", "--np",
-                        "--seed-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
+                        "--paper-k", "--coarse-a", "--repeats", "--csv", "--linear-csv",
                         "--markdown", "--expansion", "--hessian-norm-bound", "--inexact-msa-factor",
-                        "--recursive-gradient-tolerance", "--arc-scale", "--penalty-norm",
+                        "--recursive-gradient-tolerance", "--arc-scale",
                         "--penalty-factor", "--multiplier-step",
                         "--add-summary",
                         "--pair-a"],
@@ -476,7 +469,7 @@ def main():
     c = int(option("--cells-per-subdomain", "8"))
     a_list = [int(v) for v in option("--a", "1,2,3,4,5,6").split(",") if v]
     ranks = [int(v) for v in option("--np", "1,2").split(",") if v]
-    seed_k = [int(v) for v in option("--seed-k", "8,16").split(",") if v]
+    paper_k = [int(v) for v in option("--paper-k", "8,16").split(",") if v]
     coarse_a = [int(v) for v in option("--coarse-a", "1,3,5,7").split(",") if v]
     repeats = int(option("--repeats", "1"))
     csv_path = option("--csv", "doc/data/scaling.csv")
@@ -496,10 +489,7 @@ def main():
     arc_scale = option("--arc-scale", "norm")
     if arc_scale not in ("norm", "mean diagonal"):
         raise SystemExit(f"--arc-scale: unknown '{arc_scale}' (norm, mean diagonal)")
-    penalty_norm = option("--penalty-norm", "projected F")
-    if penalty_norm != "projected F":
-        raise SystemExit("--penalty-norm: MPGP's penalty is always a multiple of ‖PFP‖ now "
-                         "(the penalty against ‖F‖ was removed: doc/performance.md, \"Defaults\")")
+    penalty_norm = ""  # the removed penalty against ‖F‖ left this field of the variant unused
     factor = option("--penalty-factor", "")
     step = option("--multiplier-step", "")
     variant = (expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor, step)
@@ -509,7 +499,6 @@ def main():
     suffix = short[expansion] + ("" if bound == "sum" else "_" + bound) + \
         (f"_c{msa_factor}" if msa_factor else "") + (f"_r{recursive}" if recursive else "") + \
         ("_md" if arc_scale == "mean diagonal" else "") + \
-        ("_pfp" if penalty_norm == "projected F" else "") + \
         (f"_f{factor}" if factor else "") + (f"_s{step}" if step else "")
 
     def add(row):
@@ -550,8 +539,8 @@ def main():
             add(run_monolithic(mono, a, c, a * c))
     if "--linear-only" in sys.argv:
         return
-    for k in seed_k:
-        add(run_contact(exe, "seed" + suffix, k, k, k, (3, 1, 1), 1, repeats, variant))
+    for k in paper_k:
+        add(run_contact(exe, "paper" + suffix, k, k, k, (3, 1, 1), 1, repeats, variant))
     for a in coarse_a:
         add(run_contact(exe, "coarse" + suffix, a, 2, 2 * a, (3 * a, a, a), 1, repeats,
                         variant))

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The local work shared by the ranks of a node (FETI/Shared local work) against every rank
 solving its own subdomains, on two ranks: the brick of benchmarks/scaling.py (fixed H/h,
-8 × 8 × 8 cells per subdomain, F = 0.3) with the six options of doc/performance.md.
+8 × 8 × 8 cells per subdomain, friction coefficient μ = 0.3) with the solver's defaults
+(the penalty factor of --penalty-factor if given).
 
     python3 benchmarks/shared_local_work.py [--exe build/feticontact] [--a 3,4]
-        [--fractions 0.25,0] [--pairs 6] [--csv doc/data/shared_local_work.csv]
+        [--fractions 0.25,0] [--pairs 6] [--penalty-factor 3] [--csv doc/data/shared_local_work.csv]
         [--markdown doc/data/shared_local_work.md]
 
 For every a of --a, --pairs rounds; each round runs every fraction of --fractions once, in that
@@ -21,7 +22,8 @@ import tempfile
 import scaling
 from cli import arguments, option
 
-SIX_OPTIONS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "projected F", "", "")
+# The Expert values of the defaults; the penalty factor from --penalty-factor (empty: the default).
+DEFAULTS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "", "", "")
 FIELDS = ["a", "k", "fraction", "round", "n_A", "total", "solve", "hessian", "local_slowest",
           "local_fastest", "bookkeeping", "factorization", "solves_rank0", "solves_rank1"]
 
@@ -29,7 +31,8 @@ FIELDS = ["a", "k", "fraction", "round", "n_A", "total", "solve", "hessian", "lo
 def run(exe, a, fraction):
     k, blocks = 8 * a, (3 * a, a, a)
     with tempfile.TemporaryDirectory() as out:
-        command = scaling.contact_command(exe, k, blocks, out, SIX_OPTIONS)
+        command = scaling.contact_command(exe, k, blocks, out, DEFAULTS[:6] +
+                                          (option("--penalty-factor", ""), ""))
         command = (["mpirun", "-np", "2", "--bind-to", "core"] + command[:-1] +
                    ["--set", f"FETI/Shared local work={fraction}", command[-1]])
         p = subprocess.run(command, capture_output=True, text=True, env=scaling.env())
@@ -48,7 +51,9 @@ def report(rows, path, command):
     with open(path, "w") as f:
         f.write("<!-- written by benchmarks/shared_local_work.py -->\n\n")
         f.write(f"Written by `{command}`. Two ranks, brick with 8 × 8 × 8 cells per subdomain, "
-                "F = 0.3, the six options; times [s] from summary.json, medians over the "
+                "μ = 0.3, the solver's defaults" + (f" but penalty factor {option('--penalty-factor', '')}"
+                                               if option("--penalty-factor", "") else "") +
+                "; times [s] from summary.json, medians over the "
                 "rounds; 'won' = rounds in which this fraction had the shortest total.\n\n")
         f.write("| k | FETI/Shared local work | rounds | won | total | applications of F | "
                 "local work, slower rank | local work, faster rank | bookkeeping | "
@@ -72,7 +77,8 @@ def report(rows, path, command):
 
 
 def main():
-    arguments(__doc__, ["--exe", "--a", "--fractions", "--pairs", "--csv", "--markdown"])
+    arguments(__doc__, ["--exe", "--a", "--fractions", "--pairs", "--csv", "--markdown",
+                        "--penalty-factor"])
     exe = option("--exe", "build/feticontact")
     sizes = [int(a) for a in option("--a", "3,4").split(",")]
     fractions = option("--fractions", "0.25,0").split(",")

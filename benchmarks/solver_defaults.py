@@ -10,7 +10,7 @@ two_blocks, hertz and cattaneo_mindlin.
 
 Every case is run with the defaults (`variant` "defaults": nothing set in `subsection Contact
 solver` except what the scene itself sets, whose lines the case removes: the scenes of the
-seed's tables choose Algorithm 2) and with each variant, which sets one entry of `Contact solver
+paper's tables, prm/kucera_table_*.prm, choose Algorithm 2) and with each variant, which sets one entry of `Contact solver
 / Expert` to another value. A variant that needs more multiplications than the defaults in every
 case, or fails where the defaults converge, is worse; one that needs fewer in some case is
 listed with the ratio; a run that takes longer than --time-limit seconds is stopped and counted
@@ -71,7 +71,7 @@ FIELDS = ["case", "variant", "run", "converged", "n_A", "outer_iterations", "F_a
 
 def scene_without_solver_choices(prm_dir, name, directory):
     """The scene's parameter file without its `Contact solver` and `FETI` subsections (they
-    choose the paper's algorithm or a decomposition for the seed's tables) and without its
+    choose the paper's algorithm or a decomposition for the paper's tables) and without its
     `Decomposition` subsections: the defaults decide."""
     out = []
     skip = 0

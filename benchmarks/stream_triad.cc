@@ -1,8 +1,9 @@
 // The memory bandwidth one core gets, alone and with the other core doing the same: a STREAM-like
 // triad a = b + 3c over three arrays of 32 Mi doubles (768 MiB), best of ten passes, counting
 // 3 × 8 bytes per entry. The substitutions of FETI's local solves are bound by this bandwidth
-// (doc/performance.md, twenty-eighth session), so it tells whether a machine's state allows the
-// two-rank speed-up of issue 5, item 3. Needs nothing of the project and is not in the CMake build:
+// (doc/performance.md), so it tells how fast a machine's state lets the applications of F run
+// and what two ranks on two cores can gain. Needs nothing of the project and is not in the CMake
+// build:
 //
 //   g++ -O2 -o /tmp/stream_triad benchmarks/stream_triad.cc
 //   /tmp/stream_triad && (/tmp/stream_triad & /tmp/stream_triad; wait)

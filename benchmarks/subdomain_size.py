@@ -7,13 +7,14 @@ F, the factorization and the solve.
     /usr/bin/python3 benchmarks/subdomain_size.py [--exe build/feticontact] [--k 16,24]
         [--friction 0.3,0.1] [--edges 2,3,4,6,8,12] [--metis-edges 4,8] [--repeats 3]
         [--csv doc/data/subdomain_size.csv] [--markdown doc/data/subdomain_size.md]
-        [--report-only]
+        [--merge] [--report-only]
 
 An edge c gives `Blocks` = (round(3k/c), round(k/c), round(k/c)), subdomains of about 3(c + 1)³
 unknowns; for the edges of --metis-edges also METIS with that many parts.
 Times are medians of --repeats runs, from summary.json: the solve (n_A × one application of F
 plus the QP bookkeeping), the factorization, and `total` without output. The CSV is rewritten
-after every run; --report-only rewrites the table from it. Standard library only.
+after every run; --merge keeps the rows of the k not run again; --report-only rewrites the
+table from it. Standard library only.
 """
 import csv
 import json
@@ -84,7 +85,7 @@ def report(rows, markdown):
 
 def main():
     arguments(__doc__, ["--exe", "--k", "--friction", "--edges", "--metis-edges", "--repeats", "--csv",
-                        "--markdown"], ["--report-only"])
+                        "--markdown"], ["--report-only", "--merge"])
     exe = os.path.abspath(option("--exe", os.path.join(ROOT, "build", "feticontact")))
     ks = [int(k) for k in option("--k", "16,24").split(",")]
     frictions = [float(f) for f in option("--friction", "0.3,0.1").split(",")]
@@ -99,7 +100,7 @@ def main():
         with open(csv_path, newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
     if "--report-only" not in sys.argv:
-        rows = []
+        rows = [r for r in rows if int(r["k"]) not in ks] if "--merge" in sys.argv else []
         with tempfile.TemporaryDirectory() as directory:
             for k in ks:
                 for friction in frictions:

@@ -1,8 +1,8 @@
 // The triangular solves with CHOLMOD's supernodal factor of a FETI subdomain: CHOLMOD's own
 // (cholmod_solve2, CholmodSolver::solve_by_library) against the project's (SupernodalSolve,
 // CholmodSolver::solve), on the regularized stiffness matrix of a floating subdomain of the
-// brick (8 × 8 × 8 cubes of 5 tetrahedra, 2,187 unknowns; DESIGN.md §5, steel in SI units), as
-// every multiplication by F in the contact solver makes them.
+// brick (8 × 8 × 8 cubes of 5 tetrahedra, 2,187 unknowns; doc/formulation.md, "The brick
+// benchmark"; steel in SI units), as every multiplication by F in the contact solver makes them.
 //
 //   triangular_solves [--cubes N] [--copies C] [--rounds R]
 //

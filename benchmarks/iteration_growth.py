@@ -8,7 +8,7 @@ Brick of doc/formulation.md ("The brick benchmark") with subdomains of 8 x 8 x 8
   - linear: prm/brick.prm (no contact), projected CG to the default relative tolerance 1e-10,
     `FETI/Preconditioner = none | lumped`: iterations (one application of F each);
   - contact: prm/kucera_table_2.prm with `Contact solver/Algorithm = mpgp` and the values that
-    `auto` gives for it in `Contact solver / Expert` (projected cg expansion, Hessian norm bound
+    `auto` gives for it in `Contact solver` (subsections Expert, MPGP, SMALBE) (projected cg expansion, Hessian norm bound
     max, Inexact MSA factor 0.001, Recursive gradient tolerance 0.1, Arc preconditioner scale
     mean diagonal, the penalty factor 5 or --penalty-factor), that is the solver's defaults, for
     each friction coefficient μ: n_A (Hessian multiplications), SMALBE and MSA iterations, MPGP steps.
@@ -40,7 +40,7 @@ from scaling import env, read_summary, settings
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PRM = os.path.join(HERE, "..", "prm")
-# The Expert values of the defaults (the penalty norm field of scaling.settings is unused);
+# The MPGP, SMALBE and Expert values of the defaults (the penalty norm field of scaling.settings is unused);
 # the penalty factor is the program's default unless --penalty-factor is given.
 MPGP_DEFAULTS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "", "", "")
 FIELDS = ["problem", "F", "a", "k", "n_subdomains", "n", "m", "preconditioner", "iterations",

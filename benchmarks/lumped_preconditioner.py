@@ -101,8 +101,8 @@ def main():
                 k, sets = geometry(a)
                 sets += [f"Contact/Zone 1/Friction coefficient={friction}",
                          "Contact solver/Algorithm=mpgp",
-                         "Contact solver/Expert/Expansion step=projected cg",
-                         "Contact solver/Expert/Hessian norm bound=max"]
+                         "Contact solver/MPGP/Expansion step=projected cg",
+                         "Contact solver/SMALBE/Hessian norm bound=max"]
                 for pc in ("none", "lumped"):
                     s = run(exe, os.path.join(PRM, "kucera_table_2.prm"),
                             sets + [f"Contact solver/Expert/Preconditioner={pc}"])

@@ -29,15 +29,15 @@ where the time of setting up the coarse problem GGᵀ is read. --monolithic give
 assembles the stiffness of the undecomposed brick and solves the linear elastic problem with
 CHOLMOD (benchmarks/monolithic_solve.cc); it is run once per a, and its rows go to --linear-csv
 (--linear-only runs only these, e.g. on the second core beside a one-rank study).
---expansion sets MPGP's `Contact solver/Expert/Expansion step` (default fixed; the program's default
-for mpgp is projected cg); other than fixed, the series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/Expert/Hessian norm bound`
+--expansion sets MPGP's `Contact solver/MPGP/Expansion step` (default fixed; the program's default
+for mpgp is projected cg); other than fixed, the series are named "weak_pcg" etc. --hessian-norm-bound sets `Contact solver/SMALBE/Hessian norm bound`
 (default sum; max: the series get the suffix "_max", e.g. "weak_max", "weak_pcg_max").
 --inexact-msa-factor and --recursive-gradient-tolerance set `Contact solver/Expert/Inexact MSA factor`
-and `Contact solver/Expert/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"; unset: the
+and `Contact solver/MPGP/Recursive gradient tolerance` (suffixes "_c0.001", "_r0.1"; unset: the
 program's default); every series has its own tables, and its own MPI tables; --arc-scale sets
-`Contact solver/Expert/Arc preconditioner scale` (default norm; "mean diagonal": suffix "_md") and
---penalty-factor `Contact solver/Expert/Penalty factor` (unset: the program's default, 5 for mpgp;
-suffix "_f3" for 3), --multiplier-step `Contact solver/Expert/Multiplier step factor`
+`Contact solver/MPGP/Arc preconditioner scale` (default norm; "mean diagonal": suffix "_md") and
+--penalty-factor `Contact solver/SMALBE/Penalty factor` (unset: the program's default, 5 for mpgp;
+suffix "_f3" for 3), --multiplier-step `Contact solver/SMALBE/Multiplier step factor`
 (default 1; suffix "_s1.5" for 1.5) when it was run on more than one rank count. --add-summary adds the row of a run made with the same settings
 whose summary.json was kept (e.g. a long run whose study was interrupted) and rewrites the tables.
 --pair-a measures what two cores of this machine allow, for the fixed-H/h cases of the given a:
@@ -79,14 +79,14 @@ DEFAULT_VARIANT = ("fixed", "sum", "", "", "norm", "F", "", "")
 
 def settings(k, blocks, variant=DEFAULT_VARIANT):
     expansion, bound, msa_factor, recursive, arc_scale, penalty_norm, factor, step = variant
-    return ["--set", f"Contact solver/Expert/Expansion step={expansion}",
-            "--set", f"Contact solver/Expert/Hessian norm bound={bound}",
+    return ["--set", f"Contact solver/MPGP/Expansion step={expansion}",
+            "--set", f"Contact solver/SMALBE/Hessian norm bound={bound}",
             *(["--set", f"Contact solver/Expert/Inexact MSA factor={msa_factor}"] if msa_factor else []),
-            *(["--set", f"Contact solver/Expert/Recursive gradient tolerance={recursive}"]
+            *(["--set", f"Contact solver/MPGP/Recursive gradient tolerance={recursive}"]
               if recursive else []),
-            "--set", f"Contact solver/Expert/Arc preconditioner scale={arc_scale}",
-            *(["--set", f"Contact solver/Expert/Penalty factor={factor}"] if factor else []),
-            *(["--set", f"Contact solver/Expert/Multiplier step factor={step}"] if step else []),
+            "--set", f"Contact solver/MPGP/Arc preconditioner scale={arc_scale}",
+            *(["--set", f"Contact solver/SMALBE/Penalty factor={factor}"] if factor else []),
+            *(["--set", f"Contact solver/SMALBE/Multiplier step factor={step}"] if step else []),
             "--set", f"Body 1/Mesh/Subdivisions={3 * k}, {k}, {k}",
             "--set", "Body 1/Decomposition/Method=blocks",
             "--set", f"Body 1/Decomposition/Blocks={blocks[0]}, {blocks[1]}, {blocks[2]}",

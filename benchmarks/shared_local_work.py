@@ -22,7 +22,7 @@ import tempfile
 import scaling
 from cli import arguments, option
 
-# The Expert values of the defaults; the penalty factor from --penalty-factor (empty: the default).
+# The MPGP, SMALBE and Expert values of the defaults; the penalty factor from --penalty-factor (empty: the default).
 DEFAULTS = ("projected cg", "max", "0.001", "0.1", "mean diagonal", "", "", "")
 FIELDS = ["a", "k", "fraction", "round", "n_A", "total", "solve", "hessian", "local_slowest",
           "local_fastest", "bookkeeping", "factorization", "solves_rank0", "solves_rank1"]

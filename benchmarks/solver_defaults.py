@@ -10,8 +10,8 @@ two_blocks, hertz and cattaneo_mindlin.
 
 Every case is run with the defaults (`variant` "defaults": nothing set in `subsection Contact
 solver` except what the scene itself sets, whose lines the case removes: the scenes of the
-paper's tables, prm/kucera_table_*.prm, choose Algorithm 2) and with each variant, which sets one entry of `Contact solver
-/ Expert` to another value. A variant that needs more multiplications than the defaults in every
+paper's tables, prm/kucera_table_*.prm, choose Algorithm 2) and with each variant, which sets one entry of `Contact solver`
+(its Expert, MPGP or SMALBE subsection) to another value. A variant that needs more multiplications than the defaults in every
 case, or fails where the defaults converge, is worse; one that needs fewer in some case is
 listed with the ratio; a run that takes longer than --time-limit seconds is stopped and counted
 as not converged. The counts (n_A, Hessian multiplications; outer iterations) do not
@@ -35,19 +35,21 @@ from rows import write_rows  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 EXPERT = "Contact solver/Expert/"
+MPGP = "Contact solver/MPGP/"
+SMALBE = "Contact solver/SMALBE/"
 # The variants: one entry changed from its default. The defaults' own values are in
 # `feticontact --print-parameters`.
 VARIANTS = {
     "defaults": [],
-    "expansion fixed": [EXPERT + "Expansion step=fixed"],
-    "hessian norm sum": [EXPERT + "Hessian norm bound=sum"],
+    "expansion fixed": [MPGP + "Expansion step=fixed"],
+    "hessian norm sum": [SMALBE + "Hessian norm bound=sum"],
     "inexact MSA 0.01": [EXPERT + "Inexact MSA factor=0.01"],
-    "recursive gradient 0": [EXPERT + "Recursive gradient tolerance=0"],
-    "arc scale norm": [EXPERT + "Arc preconditioner scale=norm"],
-    "penalty factor 3": [EXPERT + "Penalty factor=3"],
-    "penalty factor 10": [EXPERT + "Penalty factor=10"],
-    "multiplier step 1.5": [EXPERT + "Multiplier step factor=1.5"],
-    "inner floor 0.1": [EXPERT + "Inner tolerance floor=0.1"],
+    "recursive gradient 0": [MPGP + "Recursive gradient tolerance=0"],
+    "arc scale norm": [MPGP + "Arc preconditioner scale=norm"],
+    "penalty factor 3": [SMALBE + "Penalty factor=3"],
+    "penalty factor 10": [SMALBE + "Penalty factor=10"],
+    "multiplier step 1.5": [SMALBE + "Multiplier step factor=1.5"],
+    "inner floor 0.1": [SMALBE + "Inner tolerance floor=0.1"],
 }
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The polygonal baseline approaches the disc as s grows (issue 3, item 10).
+"""The polygonal baseline approaches the disc as s grows.
 
 For the brick with Tresca friction (a given slip bound g on every contact node), solves the disc
 problem (MPGP variant) and the polygonal problems with s = 2, 4, 8, 16 tangential multipliers

@@ -139,7 +139,7 @@ namespace FetiContact
      * and the others keep none (t1 = t2 = 0: rows without entries, whose multipliers stay 0). The
      * friction of a node whose rows would act on the same motion as the keeper's (both on rigid
      * obstacles, or both against one master vertex) acts through the keeper's rows, whose slip
-     * bound is the sum of those zones' F λ_N (slip_bounds()); where a body pair meets a rigid
+     * bound is the sum of those zones' μ λ_N (slip_bounds()); where a body pair meets a rigid
      * plane, only the keeper's zone has friction along the edge.
      */
     void
@@ -170,7 +170,7 @@ namespace FetiContact
                   basis.push_back(v / v.norm());
               }
           // The keeper of the tangential rows: the first node with friction (only nodes with
-          // F > 0 have tangential rows), else the first.
+          // μ > 0 have tangential rows), else the first.
           unsigned int keeper = numbers::invalid_unsigned_int;
           for (const unsigned int k : ks)
             if (!dropped[k] && (keeper == numbers::invalid_unsigned_int ||
@@ -207,6 +207,126 @@ namespace FetiContact
       for (auto &node : nodes)
         if (node.keeper)
           node.keeper = new_index[*node.keeper];
+    }
+  } // namespace
+
+  namespace
+  {
+    /** The gap and normal of @p node towards a rigid plane: χ(x) is its orthogonal projection. */
+    void
+    place_on_plane(ContactNode                   &node,
+                   const Parameters::ContactZone &zone,
+                   const Surface                 &slave,
+                   const std::string             &where)
+    {
+      // χ(x): the orthogonal projection of x on the plane, so the critical direction
+      // is the plane's normal (towards the obstacle) for every node.
+      const double distance = (node.x - zone.plane_point) * zone.plane_normal;
+      require(distance >= -1e-10 * slave.mean_edge,
+              where + "the node at " + point_text(node.x) +
+                " lies inside the rigid obstacle (initial penetration " +
+                InputParsing::number_text(-distance) + ").");
+      node.gap = std::max(distance, 0.0);
+      node.n   = -zone.plane_normal;
+    }
+
+    /**
+     * The gap and normal of @p node towards the master surface: χ(x) is the master vertex
+     * opposite x along its outer normal @p outer; the meshes must match node to node.
+     */
+    void
+    place_opposite_master(ContactNode                   &node,
+                          const Tensor<1, 3>            &outer,
+                          const Surface                 &slave,
+                          const Surface                 &master,
+                          const Body                    &body,
+                          const Body                    *master_body,
+                          const Parameters::ContactZone &zone,
+                          const std::string             &where)
+    {
+      // χ(x): the master vertex opposite x along the outer normal.
+      double       best_offset = std::numeric_limits<double>::max();
+      unsigned int best        = numbers::invalid_unsigned_int;
+      for (const auto &[mv, unused] : master.normal_sum)
+        {
+          const Tensor<1, 3> d      = master_body->mesh.get_vertices()[mv] - node.x;
+          const double       along  = d * outer;
+          const double       offset = (d - along * outer).norm();
+          if (offset < best_offset)
+            {
+              best_offset = offset;
+              best        = mv;
+            }
+        }
+      require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
+              where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
+                "' has no node of the master surface of body '" + master_body->parameters.name +
+                "' opposite it: the meshes of the two surfaces do not match (they must "
+                "be conforming node to node).");
+      node.master          = std::make_pair(zone.master_body, best);
+      const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
+      const Tensor<1, 3> master_outer =
+        master.normal_sum.at(best) / master.normal_sum.at(best).norm();
+      require(master_outer * outer < 0,
+              where + "the master surface <" + zone.master_surface.name() + "> of body '" +
+                master_body->parameters.name +
+                "' faces away from the slave surface: at the node at " + point_text(node.x) +
+                " of body '" + body.parameters.name +
+                "' the outer normals of the two surfaces are " + point_text(outer) + " and " +
+                point_text(master_outer) +
+                " (they must point towards each other; is the master surface the "
+                "other side of its body?).");
+      require(d * outer >= -1e-8 * slave.mean_edge,
+              where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
+                "' lies inside body '" + master_body->parameters.name + "' (initial penetration " +
+                InputParsing::number_text(-(d * outer)) +
+                " along its outer normal): the bodies overlap before any load.");
+      if (d.norm() > 1e-8 * slave.mean_edge)
+        {
+          node.n   = d / d.norm();
+          node.gap = d.norm();
+        }
+      else
+        {
+          node.n   = outer;
+          node.gap = 0;
+        }
+    }
+
+    /**
+     * A Dirichlet vertex (@p prescribed components) stays a contact node only under a roller
+     * condition tangential to the contact surface; returns false otherwise.
+     */
+    bool
+    orient_for_roller(ContactNode &node, const Body::Prescribed &prescribed)
+    {
+      // A Dirichlet node is not a contact node, unless its prescribed components are
+      // orthogonal to the normal: a symmetry (roller) condition tangential to the contact
+      // surface, as on the symmetry planes of a quarter or half model. With friction the
+      // tangent t2 is then the prescribed axis: its row acts on no free DoF (contact rows
+      // skip prescribed components), λ_T2 stays 0, and the disc ‖λ_T‖ ≤ g becomes the
+      // interval |λ_T1| ≤ g along the free tangent t1 (the symmetric solution has no
+      // tangential force across the symmetry plane).
+      bool         conflicts = false;
+      unsigned int axis      = numbers::invalid_unsigned_int;
+      for (unsigned int d = 0; d < 3; ++d)
+        if (prescribed[d])
+          {
+            if (std::abs(node.n[d]) > 1e-12)
+              conflicts = true;
+            axis = d;
+          }
+      if (conflicts)
+        return false;
+      if (axis != numbers::invalid_unsigned_int)
+        {
+          Tensor<1, 3> e;
+          e[axis] = 1;
+          node.t2 = e - (e * node.n) * node.n;
+          node.t2 /= node.t2.norm();
+          node.t1 = cross_product_3d(node.t2, node.n);
+        }
+      return true;
     }
   } // namespace
 
@@ -265,99 +385,15 @@ namespace FetiContact
             const Tensor<1, 3> outer = normal_sum / normal_sum.norm();
             if (zone.type == Parameters::ContactZone::Type::rigid_plane)
               {
-                // χ(x): the orthogonal projection of x on the plane, so the critical direction
-                // is the plane's normal (towards the obstacle) for every node.
-                const double distance = (node.x - zone.plane_point) * zone.plane_normal;
-                require(distance >= -1e-10 * slave.mean_edge,
-                        where + "the node at " + point_text(node.x) +
-                          " lies inside the rigid obstacle (initial penetration " +
-                          InputParsing::number_text(-distance) + ").");
-                node.gap = std::max(distance, 0.0);
-                node.n   = -zone.plane_normal;
+                place_on_plane(node, zone, slave, where);
               }
             else
               {
-                // χ(x): the master vertex opposite x along the outer normal.
-                double       best_offset = std::numeric_limits<double>::max();
-                unsigned int best        = numbers::invalid_unsigned_int;
-                for (const auto &[mv, unused] : master.normal_sum)
-                  {
-                    const Tensor<1, 3> d      = master_body->mesh.get_vertices()[mv] - node.x;
-                    const double       along  = d * outer;
-                    const double       offset = (d - along * outer).norm();
-                    if (offset < best_offset)
-                      {
-                        best_offset = offset;
-                        best        = mv;
-                      }
-                  }
-                require(best != numbers::invalid_unsigned_int &&
-                          best_offset <= 1e-6 * slave.mean_edge,
-                        where + "the node at " + point_text(node.x) + " of body '" +
-                          body.parameters.name + "' has no node of the master surface of body '" +
-                          master_body->parameters.name +
-                          "' opposite it: the meshes of the two surfaces do not match (they must "
-                          "be conforming node to node).");
-                node.master          = std::make_pair(zone.master_body, best);
-                const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
-                const Tensor<1, 3> master_outer =
-                  master.normal_sum.at(best) / master.normal_sum.at(best).norm();
-                require(master_outer * outer < 0,
-                        where + "the master surface <" + zone.master_surface.name() +
-                          "> of body '" + master_body->parameters.name +
-                          "' faces away from the slave surface: at the node at " +
-                          point_text(node.x) + " of body '" + body.parameters.name +
-                          "' the outer normals of the two surfaces are " + point_text(outer) +
-                          " and " + point_text(master_outer) +
-                          " (they must point towards each other; is the master surface the "
-                          "other side of its body?).");
-                require(d * outer >= -1e-8 * slave.mean_edge,
-                        where + "the node at " + point_text(node.x) + " of body '" +
-                          body.parameters.name + "' lies inside body '" +
-                          master_body->parameters.name + "' (initial penetration " +
-                          InputParsing::number_text(-(d * outer)) +
-                          " along its outer normal): the bodies overlap before any load.");
-                if (d.norm() > 1e-8 * slave.mean_edge)
-                  {
-                    node.n   = d / d.norm();
-                    node.gap = d.norm();
-                  }
-                else
-                  {
-                    node.n   = outer;
-                    node.gap = 0;
-                  }
+                place_opposite_master(node, outer, slave, master, body, master_body, zone, where);
               }
             std::tie(node.t1, node.t2) = tangent_basis(node.n);
-            // A Dirichlet node is not a contact node, unless its prescribed components are
-            // orthogonal to the normal: a symmetry (roller) condition tangential to the contact
-            // surface, as on the symmetry planes of a quarter or half model. With friction the
-            // tangent t2 is then the prescribed axis: its row acts on no free DoF (contact rows
-            // skip prescribed components), λ_T2 stays 0, and the disc ‖λ_T‖ ≤ g becomes the
-            // interval |λ_T1| ≤ g along the free tangent t1 (the symmetric solution has no
-            // tangential force across the symmetry plane).
-            if (prescribed != body.prescribed.end())
-              {
-                bool         conflicts = false;
-                unsigned int axis      = numbers::invalid_unsigned_int;
-                for (unsigned int d = 0; d < 3; ++d)
-                  if (prescribed->second[d])
-                    {
-                      if (std::abs(node.n[d]) > 1e-12)
-                        conflicts = true;
-                      axis = d;
-                    }
-                if (conflicts)
-                  continue;
-                if (axis != numbers::invalid_unsigned_int)
-                  {
-                    Tensor<1, 3> e;
-                    e[axis] = 1;
-                    node.t2 = e - (e * node.n) * node.n;
-                    node.t2 /= node.t2.norm();
-                    node.t1 = cross_product_3d(node.t2, node.n);
-                  }
-              }
+            if (prescribed != body.prescribed.end() && !orient_for_roller(node, prescribed->second))
+              continue;
             nodes.push_back(node);
             ++n_in_zone;
           }

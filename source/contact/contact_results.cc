@@ -26,7 +26,7 @@ namespace FetiContact
     {
       std::vector<bool> pressed(nodes.size());
       for (unsigned int k = 0; k < nodes.size(); ++k)
-        pressed[k] = results[k].lambda_N > 1e-8 * lambda_max;
+        pressed[k] = is_pressed(results[k].lambda_N, lambda_max);
       for (unsigned int k = 0; k < nodes.size(); ++k)
         if (nodes[k].keeper && pressed[k])
           pressed[*nodes[k].keeper] = true;
@@ -36,17 +36,31 @@ namespace FetiContact
         {
           const unsigned int rows = nodes[k].keeper ? *nodes[k].keeper : k;
           const double force = std::hypot(results[rows].lambda_T[0], results[rows].lambda_T[1]);
-          // F = 0: a pressed node slides freely; a companion's keeper may hold only rounding.
+          // μ = 0: a pressed node slides freely; a companion's keeper may hold only rounding.
           const double slack = nodes[k].keeper ? 1e-8 * bound_max : 0;
-          if (!pressed[k])
-            status[k] = ContactStatus::open;
-          else
-            status[k] = force >= (1 - 1e-4) * bound[rows] - slack ? ContactStatus::slip :
-                                                                    ContactStatus::stick;
+          status[k]          = contact_status(pressed[k], force, bound[rows], slack);
         }
       return status;
     }
   } // namespace
+
+  bool
+  is_pressed(const double normal_force, const double largest_normal_force)
+  {
+    return normal_force > 1e-8 * largest_normal_force;
+  }
+
+  ContactStatus
+  contact_status(const bool   pressed,
+                 const double tangential_force,
+                 const double slip_bound,
+                 const double slack)
+  {
+    if (!pressed)
+      return ContactStatus::open;
+    return tangential_force >= (1 - 1e-4) * slip_bound - slack ? ContactStatus::slip :
+                                                                 ContactStatus::stick;
+  }
 
   std::string
   to_string(const ContactStatus status)
@@ -176,7 +190,7 @@ namespace FetiContact
         r.slip[1]                = relative * frame.t2;
         lambda_max               = std::max(lambda_max, r.lambda_N);
       }
-    // The slip bounds in the units of the forces: Tresca's, or F λ_N summed over each vertex.
+    // The slip bounds in the units of the forces: Tresca's, or μ λ_N summed over each vertex.
     std::vector<double> normal_force(nodes.size());
     for (unsigned int k = 0; k < nodes.size(); ++k)
       normal_force[k] = results[k].lambda_N;

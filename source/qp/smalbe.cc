@@ -61,8 +61,8 @@ namespace FetiContact::QP
                       "auto",
                       Patterns::Anything(),
                       "A positive integer, the limit of SMALBE's outer iterations per QP solve, "
-                      "or 'auto': 200 for algorithm 2 (per call of its loop, which is then "
-                      "repeated warm), 2000 for the others.");
+                      "or 'auto': 200 for algorithm 2 with Coulomb friction (per call of its "
+                      "loop, which is then repeated warm), 2000 otherwise.");
     prm.declare_entry(
       "Penalty factor",
       "auto",
@@ -116,7 +116,8 @@ namespace FetiContact::QP
       {
         const std::string what = "SMALBE/Penalty factor";
         penalty_factor         = InputParsing::parse_double(penalty_text, what);
-        require(penalty_factor > 0, what + " must be 'auto' or a positive number.");
+        require(penalty_factor > 0,
+                what + " must be 'auto' or a number above 0; got '" + penalty_text + "'.");
       }
     multiplier_step = prm.get_double("Multiplier step factor");
     require(multiplier_step > 0 && multiplier_step < 2,

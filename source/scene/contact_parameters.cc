@@ -27,7 +27,7 @@ namespace FetiContact::Parameters
     prm.declare_entry("Friction coefficient",
                       "0",
                       Patterns::Anything(),
-                      "Coulomb's coefficient of friction F ≥ 0 (dimensionless); 0 is "
+                      "Coulomb's coefficient of friction μ ≥ 0 (dimensionless); 0 is "
                       "frictionless contact.");
     prm.declare_entry("Plane point",
                       "0, 0, 0",

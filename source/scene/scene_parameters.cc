@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace FetiContact::Parameters
 {
@@ -133,9 +134,9 @@ namespace FetiContact::Parameters
   {
     /**
      * A hint for deal.II's message about an undeclared entry @p message ("No entry with name
-     * <X> was declared in the current subsection") when X is a research switch of the contact
-     * solver, which lives in `subsection Contact solver / Expert`, or one that was removed
-     * because it lost on every measured scene; empty otherwise.
+     * <X> was declared in the current subsection") when X is an entry of one of the
+     * subsections of `subsection Contact solver` (Expert, MPGP, SMALBE) given elsewhere, or one
+     * that was removed because it lost on every measured scene; empty otherwise.
      */
     std::string
     hint_for_unknown_entry(const std::string &message)
@@ -144,30 +145,53 @@ namespace FetiContact::Parameters
       const auto        start  = message.find(marker);
       if (start == std::string::npos)
         return "";
-      const auto        end   = message.find('>', start + marker.size());
-      const std::string entry = message.substr(start + marker.size(), end - start - marker.size());
+      const auto end = message.find('>', start + marker.size());
+      // deal.II may break its message across lines: the entry's words joined by single spaces.
+      std::string entry;
+      for (const auto &word :
+           InputParsing::split(message.substr(start + marker.size(), end - start - marker.size()),
+                               ' '))
+        for (const auto &part : InputParsing::split(word, '\n'))
+          if (!InputParsing::trim(part).empty())
+            entry += (entry.empty() ? "" : " ") + InputParsing::trim(part);
       if (entry == "Penalty norm")
-        return " (MPGP's penalty is always a multiple of ‖PFP‖ and the seed's algorithms' of ‖F‖: "
+        return " (MPGP's penalty is always a multiple of ‖PFP‖ and the paper's algorithms' of ‖F‖: "
                "the entry was removed)";
+      if (entry == "Maximum SMALBE iterations" || entry == "Maximum inner iterations")
+        return std::string(" (the limit of ") +
+               (entry == "Maximum SMALBE iterations" ? "SMALBE's outer iterations" :
+                                                       "MPGP's steps per inner solve") +
+               " is 'Maximum iterations' in 'subsection Contact solver', 'subsection " +
+               (entry == "Maximum SMALBE iterations" ? "SMALBE" : "MPGP") + "')";
       if (entry == "Preconditioner")
         return " (preconditioning MPGP in face was removed from the contact solver; 'subsection "
                "FETI' has the preconditioner of problems without contact)";
-      ParameterHandler expert;
-      ContactSolver::declare_parameters(expert);
+      // Where the contact solver declares an entry of that name: its subsections, walked in
+      // the short listing of its parameters.
+      ParameterHandler solver;
+      ContactSolver::declare_parameters(solver);
       std::ostringstream listing;
-      expert.print_parameters(listing, ParameterHandler::ShortPRM);
-      std::istringstream lines(listing.str());
+      solver.print_parameters(listing, ParameterHandler::ShortPRM);
+      std::istringstream       lines(listing.str());
+      std::vector<std::string> path;
       for (std::string line; std::getline(lines, line);)
         {
-          // The entries of the Expert subsection, two levels deep: indented by four spaces.
-          if (line.compare(0, 8, "    set ") != 0)
-            continue;
           const std::string text = InputParsing::trim(line);
-          const std::string head = "set " + entry;
-          if (text.compare(0, head.size(), head) == 0 &&
-              InputParsing::trim(text.substr(head.size())).compare(0, 1, "=") == 0)
-            return " (the solver's research switches, " + entry +
-                   " among them, are in 'subsection Contact solver', 'subsection Expert')";
+          if (text.compare(0, 11, "subsection ") == 0)
+            path.push_back(InputParsing::trim(text.substr(11)));
+          else if (text == "end" && !path.empty())
+            path.pop_back();
+          else if (text.compare(0, 4, "set ") == 0 && path.size() > 1)
+            {
+              const std::string head = "set " + entry;
+              if (text.compare(0, head.size(), head) != 0 ||
+                  InputParsing::trim(text.substr(head.size())).compare(0, 1, "=") != 0)
+                continue;
+              std::string where;
+              for (const auto &p : path)
+                where += (where.empty() ? "'subsection " : ", 'subsection ") + p + "'";
+              return " (" + entry + " is an entry of " + where + ")";
+            }
         }
       return "";
     }

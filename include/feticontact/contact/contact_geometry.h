@@ -14,10 +14,10 @@
 namespace FetiContact
 {
   /**
-   * A contact node x_k of a slave surface Γ_c (DESIGN.md §1): the vertex, its partner χ(x_k)
-   * (a vertex of the master surface, or the projection on a rigid plane), the critical direction
-   * n_k, tangents t1_k, t2_k ({n, t1, t2} orthonormal), the initial gap d_k = (χ(x_k) − x_k)·n_k
-   * and the coefficient of friction F of its zone.
+   * A contact node x_k of a slave surface Γ_c (doc/formulation.md, "The continuous problem"): the
+   * vertex, its partner χ(x_k) (a vertex of the master surface, or the projection on a rigid
+   * plane), the critical direction n_k, tangents t1_k, t2_k ({n, t1, t2} orthonormal), the initial
+   * gap d_k = (χ(x_k) − x_k)·n_k and the coefficient of friction F of its zone.
    */
   struct ContactNode
   {
@@ -37,7 +37,7 @@ namespace FetiContact
     double area = 0;
     /**
      * For a node at a vertex shared with other zones whose tangential rows another node of the
-     * vertex carries (combine_shared_vertices): that node's index. This node's F λ_N adds to
+     * vertex carries (combine_shared_vertices): that node's index. This node's μ λ_N adds to
      * that node's slip bound (slip_bounds()).
      */
     std::optional<unsigned int> keeper;

@@ -17,13 +17,32 @@ namespace FetiContact
   enum class ContactStatus
   {
     open,  ///< no normal force
-    stick, ///< pressed, ‖λ_T‖ < F λ_N
-    slip   ///< pressed, ‖λ_T‖ = F λ_N
+    stick, ///< pressed, ‖λ_T‖ < μ λ_N
+    slip   ///< pressed, ‖λ_T‖ = μ λ_N
   };
 
   /** Name of a status for output: "open", "stick", "slip". */
   std::string
   to_string(const ContactStatus status);
+
+  /**
+   * Whether a contact node is pressed: its normal force above 1e-8 of the largest normal force
+   * (@p largest_normal_force) of the contact problem. The rule of the statuses exists only here
+   * and in contact_status(); the log, history.csv, contact.csv and the KKT check use it.
+   */
+  bool
+  is_pressed(const double normal_force, const double largest_normal_force);
+
+  /**
+   * The status of a contact node: open unless @p pressed; slip when the norm of its
+   * tangential force reaches its slip bound, ‖λ_T‖ ≥ (1 − 1e-4) g − @p slack (a frictionless
+   * pressed node, g = 0, slips); stick otherwise.
+   */
+  ContactStatus
+  contact_status(const bool   pressed,
+                 const double tangential_force,
+                 const double slip_bound,
+                 const double slack = 0);
 
   /**
    * Forces and kinematics of one contact node, computed from the multipliers λ and the
@@ -41,10 +60,11 @@ namespace FetiContact
   };
 
   /**
-   * The independent check of a contact solution (issue 3, item 5), from u and the contact forces,
-   * all relative: largest penetration (max(N u − d)⁺ / max |u|), largest violation of
-   * ‖λ_T‖ ≤ F λ_N (/ max F λ_N), normal complementarity (max |λ_N (d − N u)| / (max λ_N max |u|)),
-   * and for slipping nodes the largest angle between λ_T and the slip (radians), plus totals.
+   * The independent check of a contact solution (the KKT check of summary.json), from u and the
+   * contact forces, all relative: largest penetration (max(N u − d)⁺ / max |u|), largest violation
+   * of ‖λ_T‖ ≤ μ λ_N (/ max μ λ_N), normal complementarity (max |λ_N (d − N u)| / (max λ_N max
+   * |u|)), and for slipping nodes the largest angle between λ_T and the slip (radians), plus
+   * totals.
    */
   struct ContactCheck
   {
@@ -82,10 +102,10 @@ namespace FetiContact
   /**
    * Evaluates every contact node. @p vertex_u: displacements per body and vertex; @p lambda in the
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
-   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) F λ_N
+   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) μ λ_N
    * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
-   * else stick. With a @p tresca_slip_bound (Tresca friction) the bound of nodes with F > 0 is
-   * that given slip bound g instead of F λ_N (Coulomb friction, no value).
+   * else stick. With a @p tresca_slip_bound (Tresca friction) the bound of nodes with μ > 0 is
+   * that given slip bound g instead of μ λ_N (Coulomb friction, no value).
    */
   std::vector<ContactNodeResult>
   evaluate_contact(const std::vector<ContactNode>                       &nodes,

@@ -9,14 +9,14 @@
 namespace FetiContact
 {
   /**
-   * Where the contact multipliers sit in λ = [λ_T; λ_N; λ_E] (DESIGN.md §2): first the
-   * tangential pairs (λ_T1, λ_T2) of the contact nodes with friction, contiguous per node (the
-   * disc blocks), then one normal multiplier λ_N per contact node (λ_N ≥ 0), then the equality
-   * multipliers λ_E (gluing, TFETI Dirichlet rows).
+   * Where the contact multipliers sit in λ = [λ_T; λ_N; λ_E] (doc/formulation.md, "The constraint
+   * rows"): first the tangential pairs (λ_T1, λ_T2) of the contact nodes with friction, contiguous
+   * per node (the disc blocks), then one normal multiplier λ_N per contact node (λ_N ≥ 0), then the
+   * equality multipliers λ_E (gluing, TFETI Dirichlet rows).
    */
   struct DualLayout
   {
-    unsigned int n_tangential = 0; ///< tangential rows: per node with F > 0, 2 (disc) or s
+    unsigned int n_tangential = 0; ///< tangential rows: per node with μ > 0, 2 (disc) or s
     /** Tangential rows per node with friction: 2 for the disc, s for the polygonal baseline. */
     unsigned int tangential_per_node = 2;
     /** Whether the tangential rows are the polygonal baseline's s directions. */
@@ -26,7 +26,7 @@ namespace FetiContact
 
     /** Per contact node: its row in λ_N (absolute index in λ). */
     std::vector<unsigned int> normal_row;
-    /** Per contact node: the first of its tangential rows, or invalid if F = 0. */
+    /** Per contact node: the first of its tangential rows, or invalid if μ = 0. */
     std::vector<unsigned int> tangential_row;
     /**
      * Per contact node: the factor σ_k by which its rows are scaled (1 unless the rows average
@@ -67,7 +67,7 @@ namespace FetiContact
    * keeps its length and is orthogonal to the gluing rows; the gap is scaled by σ_k as well.
    * Fills @p layout except n_equality.
    *
-   * With @p polygon_directions = s > 0 (the polygonal baseline of the seed's Table 3) a node
+   * With @p polygon_directions = s > 0 (the polygonal baseline of the paper's Table 3) a node
    * with friction gets s tangential rows along d_j = cos(πj/s) t1 + sin(πj/s) t2, j = 0 … s−1,
    * instead of the two rows along t1 and t2.
    */

@@ -48,7 +48,7 @@ namespace FetiContact
    * A necessary condition of equilibrium, tested before any solve and independent of the
    * decomposition and the algorithm: the loads f must be balanced on every free rigid motion
    * of every body by contact forces p_k = (λ_N, λ_T1, λ_T2) in the sets of the friction law:
-   * the cones ‖λ_T‖ ≤ F λ_N (Coulomb) or λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca, @p tresca_slip_bound ≥ 0).
+   * the cones ‖λ_T‖ ≤ μ λ_N (Coulomb) or λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca, @p tresca_slip_bound ≥ 0).
    * With W the work of the contact forces on the free motions (−p_k on the slave, +p_k on the
    * master) and e the negative work of the loads, the test minimizes ½‖Wp − e‖² over those
    * sets by accelerated projected gradients (FISTA with backtracking and restarts). A nonzero
@@ -61,7 +61,7 @@ namespace FetiContact
    * The data of test_load_balance() (the free rigid motions of the bodies, the work of the
    * loads on them, the work of every contact node's forces), built once, for tests with
    * different sets: the cones of the friction law, or Tresca sets with one slip bound per node
-   * (the slip bounds of an MSA step, g = F λ_N of the previous one). Knows nothing of the FETI
+   * (the slip bounds of an MSA step, g = μ λ_N of the previous one). Knows nothing of the FETI
    * layer: the contact solver calls it with the bounds it is about to solve for.
    */
   class LoadBalanceTest
@@ -73,7 +73,7 @@ namespace FetiContact
     /** Whether any body has a free rigid motion on which the loads do work. */
     bool
     has_free_motions() const;
-    /** The test with the friction cones ‖λ_T‖ ≤ F λ_N. */
+    /** The test with the friction cones ‖λ_T‖ ≤ μ λ_N. */
     LoadBalance
     coulomb(const unsigned int max_iterations = 2000);
     /**

@@ -15,15 +15,15 @@ namespace FetiContact::QP
    *  - a disc on two components (i, j): ‖(x_i, x_j) − c‖ ≤ r with centre c ∈ R² and radius
    *    r ≥ 0 (r = 0 fixes the block at c; r = +∞ leaves it free, never active).
    * In FETI contact: λ_N ≥ 0 (lower bounds), ‖(λ_t1, λ_t2)_k‖ ≤ g_k (discs centred at 0),
-   * λ_E free (DESIGN.md §2).
+   * λ_E free (doc/formulation.md, "The dual problem").
    *
-   * The set supplies what MPRGP/MPGP need (DESIGN.md §3): the Euclidean projection P_Ω, the free
-   * gradient φ, the chopped gradient β, the projected gradient g^P = φ + β and the feasible step
-   * length. "Active" (on the boundary) is decided robustly: an interval end is active when x_i
-   * equals it or lies within 1e-14 times the interval's scale max(|l|, |u|) (finite ends only)
-   * of it; a disc is active when ‖x − c‖ ≥ r(1 − 1e-12); fixed blocks (l = u, r = 0) are always
-   * active, and so is an interval narrower than twice the interval tolerance. φ and β have disjoint
-   * supports (inactive blocks and active blocks).
+   * The set supplies what MPRGP/MPGP need (doc/formulation.md, "Algorithms"): the Euclidean
+   * projection P_Ω, the free gradient φ, the chopped gradient β, the projected gradient g^P = φ + β
+   * and the feasible step length. "Active" (on the boundary) is decided robustly: an interval end
+   * is active when x_i equals it or lies within 1e-14 times the interval's scale max(|l|, |u|)
+   * (finite ends only) of it; a disc is active when ‖x − c‖ ≥ r(1 − 1e-12); fixed blocks (l = u, r
+   * = 0) are always active, and so is an interval narrower than twice the interval tolerance. φ and
+   * β have disjoint supports (inactive blocks and active blocks).
    */
   class SeparableSet
   {
@@ -53,7 +53,7 @@ namespace FetiContact::QP
              const std::array<double, 2> &centre,
              const double                 radius);
 
-    /** Changes the radius r ≥ 0 of disc k (in MSA: the slip bound g_k = F λ_N,k). */
+    /** Changes the radius r ≥ 0 of disc k (in MSA: the slip bound g_k = μ λ_N,k). */
     void
     set_disc_radius(const unsigned int k, const double radius);
 

@@ -241,7 +241,7 @@ namespace FetiContact::QP
        * iterations in a row whose inner MPGP solve (the default inner solver) ended at its
        * iteration limit without bringing ‖g^P‖ 1 % below the least value of the previous such
        * solves or ‖Gλ − e‖ 1 % below its value at the previous one (the limit would otherwise be
-       * spent again in every one of up to Maximum SMALBE iterations).
+       * spent again in every one of up to AdditionalData::max_outer_iterations).
        */
       bool inner_stalled = false;
       /** Inner solver steps and calls summed over all outer iterations. */

@@ -124,7 +124,7 @@ namespace FetiContact::Parameters
      * 6 × 6 × 6 cells. The cost of a contact solve is about n_A × the cost of one multiplication
      * by F plus the QP bookkeeping and the factorization: larger subdomains make the local solves
      * dearer per unknown, smaller ones make the dual and the coarse problem larger and n_A grow.
-     * On the brick (F = 0.1 and 0.3, k = 8, 16, 24; benchmarks/subdomain_size.py) cubes of 6
+     * On the brick (μ = 0.1 and 0.3, k = 8, 16, 24; benchmarks/subdomain_size.py) cubes of 6
      * cells gave the shortest solves, cubes of 4 and 8 cells up to 1.1–1.8 times longer ones;
      * METIS parts of the same size needed 2–4 times as many multiplications as the cubes.
      */

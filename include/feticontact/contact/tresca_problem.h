@@ -1,0 +1,238 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/contact/contact_rows.h>
+#include <feticontact/contact/contact_solver_parameters.h>
+#include <feticontact/feti/dual_problem.h>
+#include <feticontact/qp/mpgp.h>
+#include <feticontact/qp/separable_set.h>
+#include <feticontact/qp/smalbe.h>
+#include <feticontact/qp/transforms.h>
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * @brief The FETI dual problem of contact with given slip bounds g (a problem with Tresca
+   * friction), and its solution by SMALBE:
+   *
+   *   min ½λᵀFλ − λᵀh  s.t.  λ_N ≥ 0,  ‖λ_T,k‖ ≤ g_k,  λ_E free,  G̃λ = ẽ,
+   *
+   * with λ = [λ_T; λ_N; λ_E] as in DualLayout and G̃ the orthonormalized G. With `Equality
+   * constraint = projector` (the default) the problem is homogenized (QP::Homogenization):
+   * λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse problem, so that G̃λ̃ = 0; the
+   * bounds and disc centres shift by −λ₀ and SMALBE solves the projected problem
+   * (QP::ProjectorEnforcement). Multipliers passed to solve() are λ̃; total() and recover() map
+   * back. The inner solver is MPGP over the whole set (mpgp, polygonal) or, for the paper's
+   * Algorithms 1 and 2, block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] with λ_T fixed, then
+   * KPG (MPGP on the discs) on λ_T.
+   *
+   * Knows nothing of friction laws: the caller sets the slip bounds (set_slip_bounds()).
+   */
+  class TrescaProblem
+  {
+  public:
+    /** Counts summed over all solves. */
+    struct Statistics
+    {
+      /** Multiplications by the Hessian in the bound QP (n_A^QPP) and in the disc QP. */
+      unsigned int n_bound = 0, n_disc = 0;
+      /** SMALBE's outer iterations. */
+      unsigned int smalbe_iterations = 0;
+      /**
+       * MPGP's steps (QP::MPGP::Statistics): conjugate gradient, expansion and proportioning
+       * steps, the projected CG expansions that increased the energy and were replaced, and the
+       * steps whose gradient was updated recursively.
+       */
+      unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
+                   expansion_fallbacks = 0, recursive_gradient_updates = 0;
+
+      /** Adds the steps of one MPGP solve. */
+      void
+      count_steps(const QP::MPGP::Statistics &r);
+    };
+
+    /**
+     * A set that moves inside the solve: Algorithm 2 updates the radii between the two blocks
+     * of every Gauss–Seidel sweep. update() is called with λ̃ after the λ_c block;
+     * unchanged() and final() after every inner solve tell SMALBE whether the set is that of the
+     * previous inner solve and whether it is final (QP::SMALBE::InnerReport).
+     */
+    struct MovingSet
+    {
+      std::function<void(const dealii::Vector<double> &)> update;
+      std::function<bool()>                               unchanged, final;
+    };
+
+    /** Called after every SMALBE iteration with its step and λ̃ after the inner solve. */
+    using Monitor =
+      std::function<void(const QP::SMALBE::Step &, const dealii::Vector<double> &lambda)>;
+
+    /**
+     * Sets up the problem: the transforms, the constraint set (all slip bounds 0), the norm
+     * estimates, ρ and MPGP's scales (reported on @p out).
+     */
+    TrescaProblem(const DualProblem               &dual,
+                  const DualLayout                &layout,
+                  const std::vector<ContactNode>  &nodes,
+                  const Parameters::ContactSolver &parameters,
+                  std::ostream                    &out);
+
+    /** The problems hold operators that refer to this object: not copyable. */
+    TrescaProblem(const TrescaProblem &) = delete;
+    TrescaProblem &
+    operator=(const TrescaProblem &) = delete;
+
+    /** Sets the slip bounds g (per contact node, in the units of its multipliers). */
+    void
+    set_slip_bounds(const std::vector<double> &g);
+
+    /** The current slip bounds. */
+    const std::vector<double> &
+    slip_bounds() const;
+
+    /**
+     * One SMALBE solve to the relative @p tolerance for the current slip bounds, warm from
+     * λ̃ = @p lambda and ν = @p nu (overwritten). @p moving_set: Algorithm 2 (one inner call per
+     * SMALBE iteration, radii updated inside).
+     */
+    QP::SMALBE::Statistics
+    solve(dealii::Vector<double> &lambda,
+          dealii::Vector<double> &nu,
+          const double            tolerance,
+          const Monitor          &monitor,
+          const MovingSet        *moving_set = nullptr);
+
+    /** λ = λ̃ + λ₀. */
+    dealii::Vector<double>
+    total(const dealii::Vector<double> &lambda_tilde) const;
+
+    /** The normal force (N) of every contact node at λ̃. */
+    std::vector<double>
+    normal_forces(const dealii::Vector<double> &lambda_tilde) const;
+
+    /**
+     * The solution of the original problem from λ̃ and the ν of the problem SMALBE solved: λ₀
+     * added, Gλ = e restored to rounding with a correction from the gluing rows, ν mapped back
+     * from the projected problem.
+     */
+    void
+    recover(dealii::Vector<double> &lambda, dealii::Vector<double> &nu) const;
+
+    /** Open, stick and slip nodes at λ̃ for the current slip bounds (contact_status()). */
+    std::array<unsigned int, 3>
+    status_counts(const dealii::Vector<double> &lambda_tilde) const;
+
+    /**
+     * The message for SMALBE's proof that no multiplier within the current bounds balances the
+     * loads (QP::SMALBE::Statistics::infeasible), with the certificate in the original
+     * variables.
+     */
+    std::string
+    no_equilibrium_message(const QP::SMALBE::Statistics &report) const;
+
+    /** k, the number of rows of G̃ (the size of ν). */
+    unsigned int
+    n_equality_constraints() const;
+
+    /** The counts so far. */
+    const Statistics &
+    statistics() const;
+
+  private:
+    /** The original, homogenized and projected problems (original = problem without the
+     *  projector). */
+    void
+    build_problems();
+    /** The bounds λ̃_N ≥ −λ₀_N and the discs centred at −λ₀_T (radii 0). */
+    void
+    build_constraint_sets();
+    /** ‖F‖ or ‖PFP‖, ρ, the bound of the Hessian's norm and the arc scale. */
+    void
+    estimate_scales(std::ostream &out);
+    /** v ← P v = v − G̃ᵀG̃ v. */
+    void
+    apply_P(dealii::Vector<double> &v) const;
+    /** MPGP's data from the parameters with ᾱ = 1.9/‖Hessian‖ and the arc scale. */
+    QP::MPGP::AdditionalData
+    mpgp_data() const;
+    /** SMALBE's inner solver: MPGP over the whole set. */
+    QP::SMALBE::InnerReport
+    mpgp_inner_solve(const QP::Operator           &A,
+                     const dealii::Vector<double> &b,
+                     dealii::Vector<double>       &x,
+                     const double                  tolerance,
+                     const dealii::Vector<double> &gradient);
+    /** The block Gauss–Seidel inner solver (Algorithms 1 and 2). */
+    QP::SolverReport
+    gauss_seidel(const QP::Operator           &A,
+                 const dealii::Vector<double> &b,
+                 dealii::Vector<double>       &lambda,
+                 const double                  tolerance,
+                 const MovingSet              *moving_set);
+    /** One block of a sweep: MPGP on rows [first, first + n) with the other rows fixed. */
+    QP::MPGP::Statistics
+    solve_block(const QP::Operator           &A,
+                const dealii::Vector<double> &b,
+                dealii::Vector<double>       &lambda,
+                const unsigned int            first,
+                const unsigned int            n,
+                const QP::SeparableSet       &block_set,
+                const double                  tolerance,
+                unsigned int                 &counter);
+
+    const DualProblem               &dual;
+    const DualLayout                &layout;
+    const std::vector<ContactNode>  &nodes;
+    const Parameters::ContactSolver &parameters;
+    QP::SeparableSet                 set;   ///< Ω for all of λ̃
+    QP::SeparableSet                 set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
+    QP::SeparableSet                 set_t; ///< tangential part λ_T
+    std::vector<unsigned int>        disc_of_node;
+    std::vector<double>              slip_bound;
+    /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0 and e = 0). */
+    bool projector = false;
+    /**
+     * The dual problem with orthonormalized equality constraints, min ½λᵀFλ − λᵀh over Ω with
+     * G̃λ = ẽ; with the projector, its homogenization in λ̃ = λ − λ₀ and the projected problem
+     * (PFP, Ph) that SMALBE solves (`problem`; without the projector `problem` = `original`).
+     */
+    QP::Problem                             original, homogeneous, problem;
+    std::optional<QP::Homogenization>       homogenization;
+    std::optional<QP::ProjectorEnforcement> projector_enforcement;
+    /** λ₀ (zero without the projector). */
+    dealii::Vector<double> lambda0;
+    /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
+    std::vector<unsigned int> row_tier;
+    /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */
+    double G_norm = 0, rho = 0;
+    /**
+     * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
+     * taken from, and that SMALBE gets as QP::SMALBE::AdditionalData::F_norm: ‖PFP‖ (mpgp with
+     * the projector) or ‖F‖, from projected_norm_iterations multiplications by F (in
+     * F_applications, not in n_A).
+     */
+    double                        feti_norm                 = 0;
+    static constexpr unsigned int projected_norm_iterations = 10;
+    /**
+     * The bound of the Hessian's norm behind the fixed step ᾱ = 1.9/‖A‖ of MPGP: ‖F‖ + ρ‖G̃‖²,
+     * or max(‖F‖, ρ) for the projector variant (SMALBE/Hessian norm bound = max).
+     */
+    double hessian_norm = 0;
+    /**
+     * QP::MPGP::AdditionalData::arc_scale: 0 (the norm bound), or with Arc preconditioner
+     * scale = mean diagonal the estimate of tr(A)/m of the Hessian, from arc_scale_probes
+     * multiplications by F (in F_applications, not in n_A).
+     */
+    double                        arc_scale        = 0;
+    static constexpr unsigned int arc_scale_probes = 10;
+    Statistics                    counts;
+  };
+} // namespace FetiContact

@@ -1,0 +1,477 @@
+#include <feticontact/contact/contact_results.h>
+#include <feticontact/contact/tresca_problem.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace FetiContact
+{
+  using namespace dealii;
+
+  void
+  TrescaProblem::Statistics::count_steps(const QP::MPGP::Statistics &r)
+  {
+    cg_steps += r.cg_steps;
+    expansion_steps += r.expansion_steps;
+    proportioning_steps += r.proportioning_steps;
+    expansion_fallbacks += r.expansion_fallbacks;
+    recursive_gradient_updates += r.recursive_gradient_updates;
+  }
+
+  TrescaProblem::TrescaProblem(const DualProblem               &dual,
+                               const DualLayout                &layout,
+                               const std::vector<ContactNode>  &nodes,
+                               const Parameters::ContactSolver &parameters,
+                               std::ostream                    &out)
+    : dual(dual)
+    , layout(layout)
+    , nodes(nodes)
+    , parameters(parameters)
+    , set(layout.size())
+    , set_c(layout.size() - layout.n_tangential)
+    , set_t(layout.n_tangential)
+    , disc_of_node(nodes.size(), numbers::invalid_unsigned_int)
+    , slip_bound(nodes.size(), 0.0)
+  {
+    build_problems();
+    build_constraint_sets();
+    set_slip_bounds(slip_bound);
+    estimate_scales(out);
+  }
+
+  void
+  TrescaProblem::build_problems()
+  {
+    // Homogenization for the projector variant: Gλ₀ = e, h − Fλ₀, ẽ − G̃λ₀ = 0. λ₀ is taken
+    // from the gluing and Dirichlet rows alone when they restrain the floating subdomains, else
+    // from those and the normal rows, and only else from all rows (CoarseProblem::
+    // particular_solution): the bounds are then λ̃_N ≥ 0 and the discs centred at the origin,
+    // where radii far below ‖λ₀‖ (μ = 1e-8, nodes without contact) are resolved.
+    row_tier.assign(layout.size(), 0);
+    for (unsigned int r = 0; r < layout.first_equality(); ++r)
+      row_tier[r] = r < layout.first_normal() ? 2 : 1;
+    original.hessian = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.apply_F(x, y);
+    };
+    original.linear_term = dual.h;
+    original.set         = &set;
+    original.G           = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_G_orthonormal(x, y);
+    };
+    original.Gt = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_Gt_orthonormal(x, y);
+    };
+    original.e = dual.coarse.orthonormal_rhs(dual.e);
+    problem    = original;
+    lambda0.reinit(layout.size());
+    projector = parameters.smalbe.equality_constraint ==
+                  QP::SMALBE::AdditionalData::EqualityConstraint::projector &&
+                dual.coarse.n_modes() > 0;
+    if (projector)
+      {
+        homogenization.emplace(original, dual.coarse.particular_solution(dual.e, row_tier));
+        lambda0     = homogenization->particular_solution();
+        homogeneous = homogenization->transformed(set);
+        projector_enforcement.emplace(homogeneous);
+        problem = projector_enforcement->transformed();
+      }
+  }
+
+  void
+  TrescaProblem::build_constraint_sets()
+  {
+    const unsigned int n_T = layout.n_tangential;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int r = layout.normal_row[k];
+        set.set_lower_bound(r, -lambda0[r]);
+        set_c.set_lower_bound(r - n_T, -lambda0[r]);
+        const unsigned int t = layout.tangential_row[k];
+        if (t == numbers::invalid_unsigned_int)
+          continue;
+        if (!layout.polygonal)
+          {
+            const std::array<double, 2> centre{{-lambda0[t], -lambda0[t + 1]}};
+            disc_of_node[k] = set.add_disc(t, t + 1, centre, 0.0);
+            set_t.add_disc(t, t + 1, centre, 0.0);
+          }
+      }
+  }
+
+  void
+  TrescaProblem::estimate_scales(std::ostream &out)
+  {
+    // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
+    G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
+    // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
+    // with floating subdomains it also measures the local pseudo-inverses on the rigid body
+    // modes, which P removes: with the projector SMALBE gets ‖PFP‖, the norm of the FETI part
+    // of the Hessian it applies.
+    if (parameters.penalty_projected_norm && projector)
+      {
+        Vector<double> Pv;
+        feti_norm = 1.05 * QP::estimate_norm(
+                             [&](const Vector<double> &x, Vector<double> &y) {
+                               Pv = x;
+                               apply_P(Pv);
+                               dual.apply_F(Pv, y);
+                               apply_P(y);
+                             },
+                             layout.size(),
+                             projected_norm_iterations);
+      }
+    else
+      feti_norm = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
+                                               Vector<double>       &y) { dual.apply_F(x, y); },
+                                           layout.size(),
+                                           10);
+    rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) :
+                       feti_norm;
+    // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
+    // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
+    hessian_norm =
+      parameters.smalbe.hessian_norm_bound == QP::SMALBE::AdditionalData::HessianNormBound::max &&
+          projector ?
+        std::max(feti_norm, rho * G_norm * G_norm) :
+        feti_norm + rho * G_norm * G_norm;
+    if (parameters.penalty_projected_norm && projector)
+      out << "  Penalty: ρ = " << std::scientific << std::setprecision(3) << rho << " ("
+          << parameters.smalbe.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ")"
+          << std::defaultfloat << std::endl;
+    if (parameters.mpgp.arc_scale_estimate != QP::MPGP::AdditionalData::ArcScale::mean_diagonal)
+      return;
+    // tr(A)/m for A = PFP + ρQ (projector) or F + ρG̃ᵀG̃ (penalty): Hutchinson's estimate of
+    // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number
+    // of rigid modes (G̃ has orthonormal rows).
+    const unsigned int m = layout.size();
+    Vector<double>     Pv;
+    const auto         PFP = [&](const Vector<double> &v, Vector<double> &y) {
+      Pv = v;
+      if (projector)
+        apply_P(Pv);
+      dual.apply_F(Pv, y);
+    };
+    arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
+                rho * G_norm * G_norm * dual.coarse.n_modes() / m;
+    out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
+        << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
+        << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
+  }
+
+  void
+  TrescaProblem::apply_P(Vector<double> &v) const
+  {
+    Vector<double> Gv, Qv;
+    dual.coarse.apply_G_orthonormal(v, Gv);
+    dual.coarse.apply_Gt_orthonormal(Gv, Qv);
+    v -= Qv;
+  }
+
+  void
+  TrescaProblem::set_slip_bounds(const std::vector<double> &g)
+  {
+    slip_bound                = g;
+    const unsigned int s      = layout.tangential_per_node;
+    const double       shrink = std::sin(numbers::PI / (2.0 * s));
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int t = layout.tangential_row[k];
+        if (t == numbers::invalid_unsigned_int)
+          continue;
+        if (layout.polygonal)
+          for (unsigned int j = 0; j < s; ++j)
+            {
+              const double c = lambda0[t + j];
+              set.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
+              set_t.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
+            }
+        else
+          {
+            set.set_disc_radius(disc_of_node[k], g[k]);
+            set_t.set_disc_radius(disc_of_node[k], g[k]);
+          }
+      }
+  }
+
+  const std::vector<double> &
+  TrescaProblem::slip_bounds() const
+  {
+    return slip_bound;
+  }
+
+  unsigned int
+  TrescaProblem::n_equality_constraints() const
+  {
+    return original.e.size();
+  }
+
+  const TrescaProblem::Statistics &
+  TrescaProblem::statistics() const
+  {
+    return counts;
+  }
+
+  Vector<double>
+  TrescaProblem::total(const Vector<double> &lambda_tilde) const
+  {
+    Vector<double> lambda(lambda_tilde);
+    lambda += lambda0;
+    return lambda;
+  }
+
+  std::vector<double>
+  TrescaProblem::normal_forces(const Vector<double> &lambda_tilde) const
+  {
+    // A node's multipliers are its forces / scale_of_node.
+    std::vector<double> normal_force(nodes.size());
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int r = layout.normal_row[k];
+        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
+      }
+    return normal_force;
+  }
+
+  QP::MPGP::AdditionalData
+  TrescaProblem::mpgp_data() const
+  {
+    QP::MPGP::AdditionalData data = parameters.mpgp;
+    data.step                     = 1.9 / hessian_norm;
+    data.arc_scale                = arc_scale;
+    return data;
+  }
+
+  QP::MPGP::Statistics
+  TrescaProblem::solve_block(const QP::Operator     &A,
+                             const Vector<double>   &b,
+                             Vector<double>         &lambda,
+                             const unsigned int      first,
+                             const unsigned int      n,
+                             const QP::SeparableSet &block_set,
+                             const double            tolerance,
+                             unsigned int           &counter)
+  {
+    const unsigned int m = lambda.size();
+    Vector<double>     full(m), Afull(m), x(n), rhs(n);
+    for (unsigned int i = 0; i < n; ++i)
+      x[i] = lambda[first + i];
+    // b_block − A_{block, other} λ_other.
+    full = lambda;
+    for (unsigned int i = 0; i < n; ++i)
+      full[first + i] = 0;
+    if (full.l2_norm() > 0)
+      {
+        A(full, Afull);
+        ++counter;
+      }
+    else
+      Afull = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      rhs[i] = b[first + i] - Afull[first + i];
+    // A restricted to the block: pad with zeros, multiply, extract.
+    const QP::Operator A_block = [&](const Vector<double> &v, Vector<double> &y) {
+      full = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        full[first + i] = v[i];
+      A(full, Afull);
+      ++counter;
+      y.reinit(n);
+      for (unsigned int i = 0; i < n; ++i)
+        y[i] = Afull[first + i];
+    };
+    QP::MPGP::AdditionalData data = mpgp_data();
+    data.tolerance                = tolerance;
+    const auto report             = QP::MPGP(data).solve(A_block, rhs, block_set, x);
+    for (unsigned int i = 0; i < n; ++i)
+      lambda[first + i] = x[i];
+    counts.count_steps(report);
+    return report;
+  }
+
+  QP::SolverReport
+  TrescaProblem::gauss_seidel(const QP::Operator   &A,
+                              const Vector<double> &b,
+                              Vector<double>       &lambda,
+                              const double          tolerance,
+                              const MovingSet      *moving_set)
+  {
+    const unsigned int n_T = layout.n_tangential, n_c = lambda.size() - n_T;
+    QP::SolverReport   report;
+    report.converged = true;
+    // Each block to tolerance/2: when a sweep changes nothing, both block gradients are then
+    // below it and ‖(g^P_c, g^P_t)‖ ≤ tolerance/√2; with `tolerance` itself per block the sweeps
+    // could stall with the combined norm between tolerance and √2 tolerance.
+    for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
+      {
+        // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
+        const auto rc =
+          solve_block(A, b, lambda, n_T, n_c, set_c, tolerance / 2, counts.n_bound);
+        report.iterations += rc.iterations;
+        report.converged &= rc.converged;
+        if (n_T == 0)
+          break;
+        if (moving_set)
+          moving_set->update(lambda);
+        // λ_T by KPG (MPGP on the discs) with λ_c fixed.
+        const auto rt = solve_block(A, b, lambda, 0, n_T, set_t, tolerance / 2, counts.n_disc);
+        report.iterations += rt.iterations;
+        report.converged &= rt.converged;
+      }
+    return report;
+  }
+
+  QP::SMALBE::InnerReport
+  TrescaProblem::mpgp_inner_solve(const QP::Operator   &A,
+                                  const Vector<double> &b,
+                                  Vector<double>       &x,
+                                  const double          tolerance,
+                                  const Vector<double> &gradient)
+  {
+    unsigned int       calls   = 0;
+    const QP::Operator counted = [&](const Vector<double> &v, Vector<double> &y) {
+      A(v, y);
+      ++calls;
+    };
+    QP::MPGP::AdditionalData data = mpgp_data();
+    data.tolerance                = tolerance;
+    // MPGP starts from SMALBE's gradient and returns its own (no multiplication for either).
+    Vector<double>          g(gradient);
+    const auto              mpgp_report = QP::MPGP(data).solve(counted, b, set, x, &g);
+    QP::SMALBE::InnerReport report(mpgp_report);
+    counts.count_steps(mpgp_report);
+    report.gradient.swap(g);
+    counts.n_bound += calls;
+    return report;
+  }
+
+  QP::SMALBE::Statistics
+  TrescaProblem::solve(Vector<double>  &lambda,
+                       Vector<double>  &nu,
+                       const double     tolerance,
+                       const Monitor   &monitor,
+                       const MovingSet *moving_set)
+  {
+    QP::SMALBE::AdditionalData data = parameters.smalbe;
+    data.tolerance                  = tolerance;
+    data.feasibility_tolerance      = tolerance;
+    data.rho                        = rho;
+    data.F_norm                     = feti_norm;
+    data.G_norm                     = G_norm;
+    data.inner                      = mpgp_data();
+    if (moving_set)
+      data.max_inner_calls = 1;
+    const bool     split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
+                       parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2;
+    Vector<double> last_lambda;
+    QP::SMALBE     smalbe(data);
+    if (split && layout.n_tangential > 0)
+      smalbe.set_inner_solver([&](const QP::Operator   &A,
+                                  const Vector<double> &b,
+                                  Vector<double>       &x,
+                                  const double          inner_tolerance,
+                                  const Vector<double> & /*gradient*/) {
+        QP::SMALBE::InnerReport r = gauss_seidel(A, b, x, inner_tolerance, moving_set);
+        if (moving_set)
+          {
+            r.same_set  = moving_set->unchanged();
+            r.final_set = moving_set->final();
+          }
+        last_lambda = x;
+        return r;
+      });
+    else
+      smalbe.set_inner_solver([&](const QP::Operator   &A,
+                                  const Vector<double> &b,
+                                  Vector<double>       &x,
+                                  const double          inner_tolerance,
+                                  const Vector<double> &gradient) {
+        QP::SMALBE::InnerReport r = mpgp_inner_solve(A, b, x, inner_tolerance, gradient);
+        last_lambda               = x;
+        return r;
+      });
+    if (monitor)
+      smalbe.set_monitor(
+        [&](const QP::SMALBE::Step &step) { monitor(step, last_lambda); });
+    const QP::SMALBE::Statistics report = smalbe.solve(problem, lambda, nu);
+    counts.smalbe_iterations += report.iterations;
+    return report;
+  }
+
+  void
+  TrescaProblem::recover(Vector<double> &lambda, Vector<double> &nu) const
+  {
+    if (homogenization)
+      homogenization->recover(lambda);
+    // The equilibrium of the floating subdomains, Gλ = e, holds after SMALBE to its feasibility
+    // tolerance only; restore it to rounding with a correction from the gluing rows (the same
+    // choice of rows as for λ₀), which leaves the contact multipliers as solved.
+    if (dual.coarse.n_modes() > 0)
+      {
+        Vector<double> misfit(dual.e), G_lambda;
+        dual.coarse.apply_G(lambda, G_lambda);
+        misfit -= G_lambda;
+        lambda += dual.coarse.particular_solution(misfit, row_tier);
+      }
+    if (projector_enforcement)
+      {
+        // The multiplier of the original problem from that of the projected one.
+        Vector<double> r(layout.size());
+        dual.apply_F(lambda, r);
+        r -= dual.h;
+        projector_enforcement->recover_multiplier(r, nu);
+      }
+  }
+
+  std::array<unsigned int, 3>
+  TrescaProblem::status_counts(const Vector<double> &lambda_tilde) const
+  {
+    const Vector<double>        lambda = total(lambda_tilde);
+    std::array<unsigned int, 3> counts_by_status{{0, 0, 0}};
+    // The normal force σ_k λ_N (σ_k ≠ 1 only with averaged contact rows) against the largest;
+    // slip and stick compare multipliers of the same node.
+    double lambda_max = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda[layout.normal_row[k]]);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const double       lN = layout.scale_of_node(k) * lambda[layout.normal_row[k]];
+        const unsigned int t  = layout.tangential_row[k];
+        double             lT = 0;
+        if (t != numbers::invalid_unsigned_int)
+          for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+            lT += lambda[t + j] * lambda[t + j];
+        const ContactStatus status =
+          contact_status(is_pressed(lN, lambda_max),
+                         std::sqrt(lT),
+                         t == numbers::invalid_unsigned_int ? 0. : slip_bound[k]);
+        ++counts_by_status[static_cast<unsigned int>(status)];
+      }
+    return counts_by_status;
+  }
+
+  std::string
+  TrescaProblem::no_equilibrium_message(const QP::SMALBE::Statistics &report) const
+  {
+    // The certificate in the original variables: with the projector SMALBE saw λ̃ ∈ Ω − λ₀ and
+    // G̃λ̃ = 0, so αᵀẽ = αᵀG̃λ₀ and σ_Ω = σ_{Ω−λ₀} + αᵀG̃λ₀.
+    double work = report.certificate_work, support = report.certificate_support;
+    if (projector)
+      {
+        Vector<double> e_tilde(dual.coarse.n_modes());
+        dual.coarse.apply_G_orthonormal(lambda0, e_tilde);
+        work = report.certificate * e_tilde;
+        support += work;
+      }
+    std::ostringstream text;
+    text << "no equilibrium: the contact forces allowed by the current bounds (λ_N ≥ 0, "
+            "‖λ_T‖ ≤ slip bound) cannot balance the loads on the floating subdomains. On a "
+            "rigid motion α of those subdomains the loads do the work "
+         << work << ", the contact forces at most " << support
+         << " (a proof: no multiplier within the bounds satisfies Gλ = e). For a body held "
+            "only by contact: the tangential loads exceed the friction coefficient times "
+            "the normal force (full sliding), or the loads pull the body off the obstacle";
+    return text.str();
+  }
+} // namespace FetiContact

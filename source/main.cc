@@ -16,8 +16,6 @@
 #include <feticontact/base/mpi_start.h>
 #include <feticontact/base/output_files.h>
 #include <feticontact/base/subdomain_threads.h>
-#include <feticontact/contact/contact_geometry.h>
-#include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
 #include <feticontact/scene/scene_parameters.h>
@@ -165,18 +163,9 @@ main(int argc, char **argv)
 
       if (validate_only)
         {
-          // The meshes, boundary parts and contact surfaces are checked too, without solving,
-          // if they fit into memory.
-          MemoryEstimate::of(scene, comm).check(scene);
-          std::vector<std::unique_ptr<Body>> bodies;
-          for (unsigned int b = 0; b < scene.bodies.size(); ++b)
-            {
-              bodies.push_back(std::make_unique<Body>(scene.bodies[b], b));
-              bodies.back()->setup();
-              if (!in_contact(scene.contact, b))
-                bodies.back()->check_held();
-            }
-          find_contact_nodes(bodies, scene.contact);
+          // The set-up of a run (the meshes, boundary parts, contact surfaces and the files the
+          // scene names) without solving, if they fit into memory, and without writing a file.
+          Simulator(comm, scene, "", "").validate();
           if (root)
             std::cout << "The parameter file <" << filename << "> is valid." << std::endl;
           return 0;

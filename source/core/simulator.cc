@@ -10,9 +10,7 @@
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/contact/load_balance.h>
 #include <feticontact/core/simulator.h>
-#include <feticontact/postprocessing/contact_output.h>
-#include <feticontact/postprocessing/fclib_export.h>
-#include <feticontact/postprocessing/solution_output.h>
+#include <feticontact/postprocessing/postprocessors.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/qp/projected_cg.h>
 
@@ -32,21 +30,6 @@ namespace FetiContact
 
   namespace
   {
-    /** The entries of the displacements and the multipliers that are not finite numbers. */
-    unsigned int
-    count_not_finite(const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
-                     const Vector<double>                         &lambda)
-    {
-      unsigned int n = 0;
-      for (const auto &body : vertex_u)
-        for (const auto &v : body)
-          for (unsigned int d = 0; d < 3; ++d)
-            n += !std::isfinite(v[d]);
-      for (const double l : lambda)
-        n += !std::isfinite(l);
-      return n;
-    }
-
     /**
      * The total contact force on every body: −(λ_N n + λ_T1 t1 + λ_T2 t2) on the slave, its
      * opposite on the master, except at a prescribed component of the master vertex, where the
@@ -91,13 +74,7 @@ namespace FetiContact
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , fe(FE_SimplexP<3>(1), 3)
     , mapping(FE_SimplexP<3>(1))
-  {
-    // Rank 0 writes the log. The contact solver prints to the tee directly (not through pcout),
-    // so the other ranks' tee must have no destination, or every iteration line would appear
-    // once per rank on the terminal.
-    if (rank == 0)
-      tee.add(std::cout);
-  }
+  {}
 
   void
   Simulator::prepare_output_directory()
@@ -170,9 +147,23 @@ namespace FetiContact
   }
 
   void
-  Simulator::setup_bodies()
+  Simulator::validate()
+  {
+    set_up_scene();
+  }
+
+  void
+  Simulator::set_up_scene()
   {
     TimerOutput::Scope scope(timer, "setup");
+    estimate_memory();
+    set_up_bodies();
+    set_up_contact_nodes();
+  }
+
+  void
+  Simulator::estimate_memory()
+  {
     memory_estimate = MemoryEstimate::of(parameters, comm);
     pcout << "Memory: estimated peak "
           << InputParsing::number_text(std::round(memory_estimate.peak_mib)) << " MiB per rank, "
@@ -183,6 +174,11 @@ namespace FetiContact
       pcout << "Warning: the estimated peak memory exceeds the memory available by less than the "
                "model's error; the system may stop this run (doc/performance.md, \"Memory\")."
             << std::endl;
+  }
+
+  void
+  Simulator::set_up_bodies()
+  {
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
@@ -207,16 +203,13 @@ namespace FetiContact
   }
 
   void
-  Simulator::setup_contact()
+  Simulator::set_up_contact_nodes()
   {
-    TimerOutput::Scope scope(timer, "setup");
     contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
     require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
             "Verification/Hertz: the scene has no contact nodes.");
     require(!contact_nodes.empty() || !parameters.output.write_fclib,
             "Output/Write FCLIB problem: the scene has no contact nodes.");
-    if (contact_nodes.empty())
-      return;
     for (const auto &node : contact_nodes)
       require(!parameters.output.write_fclib || !node.keeper || node.friction == 0,
               "Output/Write FCLIB problem: the node at " + InputParsing::number_text(node.x[0]) +
@@ -225,7 +218,15 @@ namespace FetiContact
                 " lies on the surfaces of several zones "
                 "with friction, whose friction adds up along their edge; FCLIB's problems have "
                 "one friction cone per contact and cannot express it.");
-    const bool tresca =
+  }
+
+  void
+  Simulator::test_load_balance()
+  {
+    if (contact_nodes.empty())
+      return;
+    TimerOutput::Scope scope(timer, "setup");
+    const bool         tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
     load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes);
     const LoadBalance balance =
@@ -244,6 +245,16 @@ namespace FetiContact
             << "); the solve decides" << std::endl;
     if (balance.outcome != LoadBalance::Outcome::impossible)
       return;
+    message                = no_equilibrium_message(balance, tresca);
+    equilibrium_impossible = true;
+    converged              = false;
+    pcout << "Load balance: " << message << std::endl;
+    summary.set("solver_message", message).set("no_equilibrium", true);
+  }
+
+  std::string
+  Simulator::no_equilibrium_message(const LoadBalance &balance, const bool tresca)
+  {
     std::ostringstream text;
     text << "no equilibrium: the loads cannot be balanced by contact forces within "
          << (tresca ? "the bounds λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca)" : "the friction cones ‖λ_T‖ ≤ F λ_N")
@@ -258,26 +269,47 @@ namespace FetiContact
       text << "no contact force within them can oppose it";
     text << ". A body held only by contact is pulled off its obstacle, or its tangential loads "
             "exceed what friction can hold (full sliding)";
-    message                = text.str();
-    equilibrium_impossible = true;
-    converged              = false;
-    pcout << "Load balance: " << message << std::endl;
-    summary.set("solver_message", message).set("no_equilibrium", true);
+    return text.str();
+  }
+
+  bool
+  Simulator::stop_without_equilibrium()
+  {
+    summary.set_leading("converged", false)
+      .set_leading("n_subdomains", first_subdomain.back())
+      .set_leading("n_contact_nodes", static_cast<unsigned int>(contact_nodes.size()))
+      .set_leading("n_mpi_ranks", n_ranks);
+    on_all_ranks([&]() {
+      if (rank == 0)
+        summary.write(summary_file, parameters.output.directory);
+    });
+    timer.print_summary();
+    commit_results();
+    return false;
   }
 
   void
-  Simulator::write_no_equilibrium_summary()
+  Simulator::set_up_subdomains()
   {
-    JsonObject s;
-    s.set("converged", false)
-      .set("n_subdomains", first_subdomain.back())
-      .set("n_contact_nodes", static_cast<unsigned int>(contact_nodes.size()))
-      .set("n_mpi_ranks", n_ranks)
-      .append(summary);
-    on_all_ranks([&]() {
-      if (rank == 0)
-        summary_file.open(parameters.output.directory + "/summary.json") << s.str() << '\n';
+    distribute_subdomains();
+    TimerOutput::Scope scope(timer, "setup");
+    const bool         primal =
+      parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
+    // The sub-meshes and their DoFs, one subdomain per call on the subdomain threads.
+    std::vector<std::pair<const Body *, unsigned int>> parts;
+    for (const auto &body : bodies)
+      for (unsigned int p = 0; p < body->partition.n_parts; ++p)
+        if (owner[first_subdomain[body->index] + p] == rank)
+          parts.emplace_back(body.get(), p);
+    subdomains.resize(parts.size());
+    SubdomainThreads::for_each(parts.size(), [&](const unsigned int i) {
+      const auto &[body, p] = parts[i];
+      subdomains[i] =
+        std::make_unique<Subdomain>(*body, p, first_subdomain[body->index] + p, primal, fe);
     });
+    for (const auto &s : subdomains)
+      owned.push_back(s.get());
+    build_dual_rows();
   }
 
   void
@@ -303,42 +335,30 @@ namespace FetiContact
   }
 
   void
-  Simulator::build_subdomains()
+  Simulator::build_dual_rows()
   {
     const bool primal =
       parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
-    {
-      TimerOutput::Scope scope(timer, "setup");
-      // The sub-meshes and their DoFs, one subdomain per call on the subdomain threads.
-      std::vector<std::pair<const Body *, unsigned int>> parts;
-      for (const auto &body : bodies)
-        for (unsigned int p = 0; p < body->partition.n_parts; ++p)
-          if (owner[first_subdomain[body->index] + p] == rank)
-            parts.emplace_back(body.get(), p);
-      subdomains.resize(parts.size());
-      SubdomainThreads::for_each(parts.size(), [&](const unsigned int i) {
-        const auto &[body, p] = parts[i];
-        subdomains[i] =
-          std::make_unique<Subdomain>(*body, p, first_subdomain[body->index] + p, primal, fe);
-      });
-      for (const auto &s : subdomains)
-        owned.push_back(s.get());
-      // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
-      const bool polygonal =
-        parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
-      rows                    = build_contact_rows(contact_nodes,
-                                bodies,
-                                first_subdomain,
-                                layout,
-                                polygonal ? parameters.contact_solver.polygon_directions : 0,
-                                parameters.feti.average_contact_rows);
-      const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
-      layout.n_equality       = equality.n_rows();
-      rows.append(equality);
-      if (!contact_nodes.empty())
-        pcout << "Contact: " << contact_nodes.size() << " contact nodes, " << layout.n_normal
-              << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
-    }
+    // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
+    const bool polygonal =
+      parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
+    rows                    = build_contact_rows(contact_nodes,
+                              bodies,
+                              first_subdomain,
+                              layout,
+                              polygonal ? parameters.contact_solver.polygon_directions : 0,
+                              parameters.feti.average_contact_rows);
+    const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
+    layout.n_equality       = equality.n_rows();
+    rows.append(equality);
+    if (!contact_nodes.empty())
+      pcout << "Contact: " << contact_nodes.size() << " contact nodes, " << layout.n_normal
+            << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
+  }
+
+  void
+  Simulator::assemble()
+  {
     TimerOutput::Scope scope(timer, "assembly");
     SubdomainThreads::for_each(owned.size(),
                                [&](const unsigned int i) { owned[i]->assemble(mapping); });
@@ -346,6 +366,17 @@ namespace FetiContact
 
   void
   Simulator::factorize()
+  {
+    factorize_subdomains();
+    build_dual_problem();
+    pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
+          << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
+          << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
+    check_log();
+  }
+
+  void
+  Simulator::factorize_subdomains()
   {
     TimerOutput::Scope scope(timer, "factorization");
     if (parameters.feti.shared_local_work > 0 &&
@@ -387,11 +418,21 @@ namespace FetiContact
   void
   Simulator::solve()
   {
-    if (!contact_nodes.empty())
-      {
-        solve_contact();
-        return;
-      }
+    if (contact_nodes.empty())
+      solve_linear();
+    else
+      solve_contact();
+    check_log();
+    solve_F_time                      = dual->F_time;
+    solve_F_local_time                = dual->F_local_time;
+    solve_F_applications              = dual->n_F_applications;
+    solve_preconditioner_time         = dual->lumped_time;
+    solve_preconditioner_applications = dual->n_lumped_applications;
+  }
+
+  void
+  Simulator::solve_linear()
+  {
     TimerOutput::Scope scope(timer, "solve");
     lambda            = dual->coarse.least_norm_solution(dual->e);
     const auto report = QP::projected_conjugate_gradient(
@@ -466,255 +507,118 @@ namespace FetiContact
   }
 
   void
-  Simulator::check_quantity(const std::string &key,
-                            const std::string &description,
-                            const double       value,
-                            const double       limit)
+  Simulator::postprocess()
   {
-    if (!converged || value <= limit)
+    // Without equilibrium the multipliers are not a solution: no displacement or contact files.
+    if (equilibrium_impossible)
       return;
-    converged = false;
-    message   = "the solver's residuals are small, but the independent check finds " + description +
-              " " + InputParsing::number_text(value) + " (" + key + ", limit " +
-              InputParsing::number_text(limit) + ")";
-    summary.set("check_failure", message);
-    pcout << "Check failed: " << message << std::endl;
+    recover_primal();
+    TimerOutput::Scope          scope(timer, "output");
+    const Evaluation            evaluation = evaluate_solution();
+    const Postprocessing::Input input{comm,
+                                      parameters,
+                                      bodies,
+                                      first_subdomain,
+                                      owned,
+                                      u,
+                                      evaluation.vertex_u,
+                                      lambda,
+                                      evaluation.u_max,
+                                      evaluation.interface_jump,
+                                      contact_nodes,
+                                      contact_triangles,
+                                      evaluation.contact_results,
+                                      evaluation.contact_check,
+                                      evaluation.contact_forces,
+                                      reference_displacements,
+                                      mapping,
+                                      fe,
+                                      parameters.output.directory,
+                                      result_files,
+                                      summary,
+                                      pcout};
+    summary.set_solver_converged(converged);
+    for (const auto &postprocessor : Postprocessing::create(parameters, !contact_nodes.empty()))
+      {
+        postprocessor->execute(input);
+        if (const auto *hertz =
+              dynamic_cast<const Postprocessing::HertzComparison *>(postprocessor.get()))
+          run_statistics.hertz = hertz->result();
+      }
+    if (!summary.check_failure().empty())
+      {
+        converged = false;
+        message   = summary.check_failure();
+      }
   }
 
   void
-  Simulator::postprocess()
+  Simulator::recover_primal()
   {
-    {
-      TimerOutput::Scope scope(timer, "primal recovery");
-      u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
-    }
-    TimerOutput::Scope scope(timer, "output");
+    TimerOutput::Scope scope(timer, "primal recovery");
+    u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
+  }
 
-    // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
-    // Dirichlet misfit in TFETI), relative to the largest displacement.
-    const auto vertex_u = gather_vertex_displacements(comm, bodies, first_subdomain, owned, u);
-    double     u_max    = 0;
-    for (const auto &b : vertex_u)
+  Simulator::Evaluation
+  Simulator::evaluate_solution() const
+  {
+    Evaluation evaluation;
+    evaluation.vertex_u = gather_vertex_displacements(comm, bodies, first_subdomain, owned, u);
+    for (const auto &b : evaluation.vertex_u)
       for (const auto &v : b)
-        u_max = std::max(u_max, v.norm());
-    // Only the equality rows: the contact rows of B u − c are the gaps and the slips.
+        evaluation.u_max = std::max(evaluation.u_max, v.norm());
+    // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
+    // Dirichlet misfit in TFETI), relative to the largest displacement. Only the equality rows:
+    // the contact rows of B u − c are the gaps and the slips.
     const auto residual = dual->constraint_residual(u);
     double     jump     = 0;
     for (unsigned int r = layout.first_equality(); r < residual.size(); ++r)
       jump = std::max(jump, std::abs(residual[r]));
-    summary.set("interface_jump", u_max > 0 ? jump / u_max : jump);
-    // Overflow (a Young's modulus tiny against the loads) gives infinities and NaNs, which
-    // every comparison below would let pass.
-    const unsigned int n_not_finite = count_not_finite(vertex_u, lambda);
-    summary.set("values_not_finite", n_not_finite);
-    check_quantity("values_not_finite",
-                   "displacements or multipliers that are not finite numbers (overflow?), count",
-                   n_not_finite,
-                   0);
-
-    std::vector<Tensor<1, 3>> contact_forces(bodies.size());
+    evaluation.interface_jump = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
+    evaluation.contact_forces.resize(bodies.size());
     if (!contact_nodes.empty())
-      {
-        ContactCheck check;
-        const bool   tresca =
-          parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-        const auto results =
-          evaluate_contact(contact_nodes,
-                           layout,
-                           lambda,
-                           vertex_u,
-                           check,
-                           tresca ? std::optional<double>(parameters.contact_solver.slip_bound) :
-                                    std::nullopt);
-        // The independent check counts every vertex of the bodies in front of a rigid plane too.
-        check.penetration =
-          std::max(check.penetration,
-                   surface_penetration(parameters.contact, contact_triangles, bodies, vertex_u));
-        // Inside an obstacle by more than 1 % of the largest displacement.
-        check_quantity("kkt.penetration",
-                       "a penetration into an obstacle, relative to the largest displacement,",
-                       check.penetration,
-                       1e-2);
-        // Before any file is written: a scene that does not fit the comparison is refused
-        // without result files.
-        if (parameters.verification.hertz.enabled)
-          run_statistics.hertz = compare_with_hertz(parameters, contact_nodes, results);
-        contact_forces = contact_forces_on_bodies(contact_nodes, results, bodies);
-        on_all_ranks([&]() {
-          if (rank != 0)
-            return;
-          write_contact_csv(result_files.open(parameters.output.directory + "/contact.csv"),
-                            contact_nodes,
-                            results);
-          if (parameters.output.write_fclib)
-            {
-              std::string title = "feticontact:";
-              for (const auto &body : bodies)
-                title += (body->index > 0 ? ", " : " ") + body->parameters.name;
-              const std::string file =
-                result_files.reserve(parameters.output.directory + "/fclib_problem.hdf5");
-              const FclibProblem problem = assemble_fclib_problem(bodies,
-                                                                  contact_nodes,
-                                                                  results,
-                                                                  vertex_u,
-                                                                  mapping,
-                                                                  fe,
-                                                                  parameters.output.fclib_units);
-              try
-                {
-                  write_fclib(file,
-                              problem,
-                              title,
-                              "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
-                              "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
-                }
-              catch (const std::runtime_error &e)
-                {
-                  throw OutputError("Cannot write the output file <" + parameters.output.directory +
-                                    "/fclib_problem.hdf5>: " + e.what());
-                }
-            }
-          if (parameters.output.write_vtu)
-            write_contact_surface_vtu(result_files,
-                                      parameters.output.directory,
-                                      bodies,
-                                      contact_nodes,
-                                      results,
-                                      contact_triangles);
-        });
-        summary.set("kkt", check.json());
-        JsonObject totals;
-        totals
-          .set("normal_force",
-               std::vector<double>(check.normal_force.begin_raw(), check.normal_force.end_raw()))
-          .set("tangential_force",
-               std::vector<double>(check.tangential_force.begin_raw(),
-                                   check.tangential_force.end_raw()))
-          .set("open", check.n_open)
-          .set("stick", check.n_stick)
-          .set("slip", check.n_slip);
-        summary.set("contact", totals);
-        pcout << "Contact: " << check.n_open << " open, " << check.n_stick << " stick, "
-              << check.n_slip << " slip; force of the contact on the bodies "
-              << check.normal_force + check.tangential_force << std::endl;
-        pcout << "Check: penetration " << check.penetration << ", cone violation "
-              << check.cone_violation << ", complementarity " << check.complementarity
-              << ", slip angle " << check.slip_angle << std::endl;
-        if (run_statistics.hertz)
-          {
-            if (pcout.is_active())
-              run_statistics.hertz->print(pcout.get_stream());
-            summary.set("hertz", run_statistics.hertz->json());
-          }
-      }
-
-    JsonObject              equilibrium;
-    std::vector<JsonObject> body_records;
-    double                  worst = 0;
-    const auto              balance =
-      compute_force_balance(comm, bodies.size(), owned, u, mapping, contact_forces);
-    for (const auto &body : bodies)
-      {
-        const auto &fb = balance[body->index];
-        JsonObject  b;
-        b.set("index", body->index + 1).set("name", body->parameters.name);
-        b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
-        b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
-        b.set("contact_force", std::vector<double>{fb.contact[0], fb.contact[1], fb.contact[2]});
-        b.set("relative_imbalance", fb.relative_imbalance);
-        body_records.push_back(b);
-        worst = std::max(worst, fb.relative_imbalance);
-        pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
-              << ", support force " << fb.support << ", contact force " << fb.contact
-              << ", relative imbalance " << fb.relative_imbalance << std::endl;
-      }
-    equilibrium.set("bodies", body_records).set("largest_relative_imbalance", worst);
-    summary.set("equilibrium", equilibrium);
-    // Gλ = e is restored to rounding after every solve (measured imbalances 1e-16 … 5e-13);
-    // the interface jump is the QP's tolerance times the conditioning (measured up to 6e-7).
-    check_quantity("equilibrium.largest_relative_imbalance",
-                   "a force imbalance of a body (applied + support + contact forces, relative "
-                   "to the largest of them) of",
-                   worst,
-                   1e-6);
-    check_quantity("interface_jump",
-                   "a jump of the displacements across subdomain interfaces, relative to the "
-                   "largest displacement, of",
-                   u_max > 0 ? jump / u_max : jump,
-                   1e-2);
-
-    if (parameters.verification.compare_with_monolithic && !contact_nodes.empty())
-      pcout << "Comparison with a monolithic solve skipped: it is a linear solve and the scene "
-               "has contact."
-            << std::endl;
-    else if (parameters.verification.compare_with_monolithic)
-      {
-        double difference = 0;
-        if (rank == 0)
-          {
-            double diff2 = 0, norm2 = 0;
-            for (const auto &body : bodies)
-              {
-                const auto mono = solve_monolithic(*body, mapping, fe);
-                for (unsigned int v = 0; v < mono.size(); ++v)
-                  {
-                    diff2 += (mono[v] - vertex_u[body->index][v]).norm_square();
-                    norm2 += mono[v].norm_square();
-                  }
-              }
-            difference = norm2 > 0 ? std::sqrt(diff2 / norm2) : std::sqrt(diff2);
-          }
-        difference = Utilities::MPI::broadcast(comm, difference, 0);
-        summary.set("monolithic_difference", difference);
-        pcout << "Relative difference to the monolithic solve: " << difference << std::endl;
-      }
-
-    if (!parameters.verification.reference_displacements.empty())
-      {
-        const auto difference =
-          compare_with_reference(comm, owned, mapping, vertex_u, reference_displacements);
-        summary.set("reference_difference",
-                    JsonObject()
-                      .set("max_relative", difference.max_relative)
-                      .set("energy_relative", difference.energy_relative)
-                      .set("vertices", difference.n_vertices));
-        pcout << "Difference from the reference displacements: " << difference.max_relative
-              << " (maximum), " << difference.energy_relative << " (energy norm), relative"
-              << std::endl;
-      }
-
-    const std::string &dir = parameters.output.directory;
-    if (parameters.output.write_vtu)
-      on_all_ranks([&]() {
-        write_solution_vtu(result_files, comm, owned, u, first_subdomain.back(), mapping, dir);
-      });
-    on_all_ranks([&]() {
-      if (!parameters.output.write_displacement_csv || rank != 0)
-        return;
-      std::ostream &csv = result_files.open(dir + "/displacements.csv");
-      csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
-      for (const auto &body : bodies)
-        for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
-          if (body->mesh.get_used_vertices()[v])
-            {
-              const auto &x = body->mesh.get_vertices()[v];
-              const auto &d = vertex_u[body->index][v];
-              csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0] << ','
-                  << d[1] << ',' << d[2] << '\n';
-            }
-    });
+      evaluate_contact(evaluation);
+    return evaluation;
   }
 
   void
-  Simulator::write_summary()
+  Simulator::evaluate_contact(Evaluation &evaluation) const
   {
-    unsigned int n_primal = 0, n_primal_feti = 0;
-    for (const auto &body : bodies)
-      n_primal += body->n_free_dofs();
-    for (auto *s : owned)
-      n_primal_feti += s->n_unknowns();
-    n_primal_feti = Utilities::MPI::sum(n_primal_feti, comm);
+    const bool tresca =
+      parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
+    evaluation.contact_results =
+      FetiContact::evaluate_contact(contact_nodes,
+                                    layout,
+                                    lambda,
+                                    evaluation.vertex_u,
+                                    evaluation.contact_check,
+                                    tresca ?
+                                      std::optional<double>(parameters.contact_solver.slip_bound) :
+                                      std::nullopt);
+    // The independent check counts every vertex of the bodies in front of a rigid plane too.
+    evaluation.contact_check.penetration = std::max(
+      evaluation.contact_check.penetration,
+      surface_penetration(parameters.contact, contact_triangles, bodies, evaluation.vertex_u));
+    evaluation.contact_forces =
+      contact_forces_on_bodies(contact_nodes, evaluation.contact_results, bodies);
+  }
 
+  bool
+  Simulator::finish()
+  {
+    summarize_run();
+    on_all_ranks([&]() {
+      if (rank == 0)
+        summary.write(summary_file, parameters.output.directory);
+    });
+    timer.print_summary();
+    commit_results();
+    return converged;
+  }
+
+  JsonObject
+  Simulator::summarize_times(double &total) const
+  {
     const auto times = timer.get_summary_data(TimerOutput::total_wall_time);
     const auto time  = [&](const std::string &name) {
       const auto it = times.find(name);
@@ -728,7 +632,7 @@ namespace FetiContact
       .set("solve", time("solve"))
       .set("primal_recovery", time("primal recovery"))
       .set("output", time("output"));
-    double total = 0;
+    total = 0;
     for (const auto &[name, value] : times)
       total += value;
     t.set("total", total);
@@ -747,15 +651,17 @@ namespace FetiContact
     const double local_fastest = Utilities::MPI::min(solve_F_local_time, comm);
     // The lumped preconditioner (zero when off), the slowest rank.
     const double preconditioner_time = Utilities::MPI::max(solve_preconditioner_time, comm);
+    const double bookkeeping         = time("solve") - hessian_time - preconditioner_time;
+    const double over_floor          = floor > 0 ? (total - time("output")) / floor : 0.0;
     t.set("hessian_applications", hessian_time)
       .set("hessian_local_slowest_rank", local_slowest)
       .set("hessian_local_fastest_rank", local_fastest)
       .set("preconditioner", preconditioner_time)
       .set("preconditioner_applications", solve_preconditioner_applications)
-      .set("qp_bookkeeping", time("solve") - hessian_time - preconditioner_time)
+      .set("qp_bookkeeping", bookkeeping)
       .set("one_hessian_application", mean_F)
       .set("cost_floor", floor)
-      .set("total_over_floor", floor > 0 ? (total - time("output")) / floor : 0.0);
+      .set("total_over_floor", over_floor);
     // (A stream of its own: the precision of the solver's lines must not carry over.)
     std::ostringstream line;
     line << std::setprecision(4) << "Time: solve " << time("solve") << " s = applications of F "
@@ -765,24 +671,16 @@ namespace FetiContact
     if (solve_preconditioner_applications > 0)
       line << " + preconditioner " << preconditioner_time << " s ("
            << solve_preconditioner_applications << ")";
-    line << " + QP bookkeeping " << time("solve") - hessian_time - preconditioner_time
+    line << " + QP bookkeeping " << bookkeeping
          << " s; cost floor (factorization + n_A × one application of F) " << floor
-         << " s, run without output / floor "
-         << (floor > 0 ? (total - time("output")) / floor : 0.);
+         << " s, run without output / floor " << over_floor;
     pcout << line.str() << std::endl;
+    return t;
+  }
 
-    double h_min = std::numeric_limits<double>::max();
-    for (const auto &body : bodies)
-      h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
-    run_statistics.n_primal         = n_primal;
-    run_statistics.n_contact_nodes  = contact_nodes.size();
-    run_statistics.outer_iterations = iterations;
-    run_statistics.hessian_multiplications =
-      contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
-    run_statistics.h_min               = h_min;
-    run_statistics.solve_time          = time("solve");
-    run_statistics.time_without_output = total - time("output");
-
+  JsonObject
+  Simulator::summarize_memory() const
+  {
     // Peak resident memory of every rank (the process's high-water mark: replicated meshes,
     // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library).
     Utilities::System::MemoryStats stats;
@@ -799,7 +697,12 @@ namespace FetiContact
     for (const double p : peak_mib)
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;
     pcout << std::endl;
+    return memory;
+  }
 
+  JsonObject
+  Simulator::summarize_local_work() const
+  {
     // How the local work of the multiplications by F was split: shared by the node's ranks
     // (SharedLocalWork: the subdomain solves each rank made, the shared memory it allocated),
     // or every rank its own subdomains.
@@ -812,88 +715,99 @@ namespace FetiContact
     local_work.set("shared", shared != nullptr)
       .set("subdomain_solves_per_rank", local_solves)
       .set("shared_mib_per_rank", shared_mib);
-    if (shared)
-      {
-        pcout << "Local work: a reserve of " << std::lround(100 * parameters.feti.shared_local_work)
-              << " % of the subdomains shared by the node's " << n_ranks
-              << " ranks (FETI/Shared local work); subdomain solves per rank";
-        for (const double n : local_solves)
-          pcout << " " << static_cast<unsigned long>(n);
-        pcout << "; shared memory per rank (factors, B, slots)";
-        for (const double mib : shared_mib)
-          pcout << " " << std::fixed << std::setprecision(0) << mib << " MiB" << std::defaultfloat;
-        pcout << std::endl;
-      }
+    if (!shared)
+      return local_work;
+    pcout << "Local work: a reserve of " << std::lround(100 * parameters.feti.shared_local_work)
+          << " % of the subdomains shared by the node's " << n_ranks
+          << " ranks (FETI/Shared local work); subdomain solves per rank";
+    for (const double n : local_solves)
+      pcout << " " << static_cast<unsigned long>(n);
+    pcout << "; shared memory per rank (factors, B, slots)";
+    for (const double mib : shared_mib)
+      pcout << " " << std::fixed << std::setprecision(0) << mib << " MiB" << std::defaultfloat;
+    pcout << std::endl;
+    return local_work;
+  }
 
-    JsonObject s;
-    s.set("converged", converged)
-      .set("n_primal", n_primal)
-      .set("n_primal_feti", n_primal_feti)
-      .set("n_subdomains", first_subdomain.back())
-      .set("n_rigid_modes", mode_offset.back())
-      .set("h_min", h_min)
-      .set("m_total", dual->size())
-      .set("m_equality", layout.n_equality)
-      .set("m_contact", layout.n_normal + layout.n_tangential)
-      .set("iterations", iterations)
-      .set("outer_iterations", iterations)
-      .set("hessian_multiplications",
-           JsonObject()
-             .set("bound", contact_nodes.empty() ? dual->n_F_applications : n_bound)
-             .set("disc", n_disc)
-             .set("total", contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc)
-             .set("F_applications", dual->n_F_applications))
-      .set("n_mpi_ranks", n_ranks)
-      .set("threads_per_rank", SubdomainThreads::n_threads())
-      .set("dirichlet_treatment",
-           parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal ?
-             "primal" :
-             "total")
-      .set("local_solver", parameters.feti.local_solver)
-      .set("local_work", local_work)
-      .set("times", t)
-      .set("memory", memory)
-      .append(summary);
-    on_all_ranks([&]() {
-      if (rank == 0)
-        summary_file.open(parameters.output.directory + "/summary.json") << s.str() << '\n';
-    });
+  void
+  Simulator::summarize_run()
+  {
+    unsigned int n_primal = 0, n_primal_feti = 0;
+    for (const auto &body : bodies)
+      n_primal += body->n_free_dofs();
+    for (auto *s : owned)
+      n_primal_feti += s->n_unknowns();
+    n_primal_feti = Utilities::MPI::sum(n_primal_feti, comm);
+    double h_min  = std::numeric_limits<double>::max();
+    for (const auto &body : bodies)
+      h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
+    const unsigned int n_bound_total = contact_nodes.empty() ? dual->n_F_applications : n_bound;
+    const unsigned int n_A = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
+
+    double           total_time = 0;
+    const JsonObject times      = summarize_times(total_time);
+    const JsonObject memory     = summarize_memory();
+    const JsonObject local_work = summarize_local_work();
+    summary.set_leading("converged", converged)
+      .set_leading("n_primal", n_primal)
+      .set_leading("n_primal_feti", n_primal_feti)
+      .set_leading("n_subdomains", first_subdomain.back())
+      .set_leading("n_rigid_modes", mode_offset.back())
+      .set_leading("h_min", h_min)
+      .set_leading("m_total", dual->size())
+      .set_leading("m_equality", layout.n_equality)
+      .set_leading("m_contact", layout.n_normal + layout.n_tangential)
+      .set_leading("iterations", iterations)
+      .set_leading("outer_iterations", iterations)
+      .set_leading("hessian_multiplications",
+                   JsonObject()
+                     .set("bound", n_bound_total)
+                     .set("disc", n_disc)
+                     .set("total", n_A)
+                     .set("F_applications", dual->n_F_applications))
+      .set_leading("n_mpi_ranks", n_ranks)
+      .set_leading("threads_per_rank", SubdomainThreads::n_threads())
+      .set_leading("dirichlet_treatment",
+                   parameters.feti.dirichlet_treatment ==
+                       Parameters::Feti::DirichletTreatment::primal ?
+                     "primal" :
+                     "total")
+      .set_leading("local_solver", parameters.feti.local_solver)
+      .set_leading("local_work", local_work)
+      .set_leading("times", times)
+      .set_leading("memory", memory);
+
+    const auto timer_data                  = timer.get_summary_data(TimerOutput::total_wall_time);
+    const auto solve_time                  = timer_data.find("solve");
+    const auto output_time                 = timer_data.find("output");
+    run_statistics.n_primal                = n_primal;
+    run_statistics.n_contact_nodes         = contact_nodes.size();
+    run_statistics.outer_iterations        = iterations;
+    run_statistics.hessian_multiplications = n_A;
+    run_statistics.h_min                   = h_min;
+    run_statistics.solve_time = solve_time == timer_data.end() ? 0.0 : solve_time->second;
+    run_statistics.time_without_output =
+      total_time - (output_time == timer_data.end() ? 0.0 : output_time->second);
   }
 
   bool
   Simulator::run()
   {
+    // Rank 0 writes the log. The contact solver prints to the tee directly (not through pcout),
+    // so the other ranks' tee must have no destination, or every iteration line would appear
+    // once per rank on the terminal.
+    if (rank == 0)
+      tee.add(std::cout);
     prepare_output_directory();
-    setup_bodies();
-    setup_contact();
+    set_up_scene();
+    test_load_balance();
     if (equilibrium_impossible)
-      {
-        write_no_equilibrium_summary();
-        timer.print_summary();
-        commit_results();
-        return false;
-      }
-    distribute_subdomains();
-    build_subdomains();
+      return stop_without_equilibrium();
+    set_up_subdomains();
+    assemble();
     factorize();
-    build_dual_problem();
-    pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
-          << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
-          << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
-    check_log();
     solve();
-    check_log();
-    solve_F_time                      = dual->F_time;
-    solve_F_local_time                = dual->F_local_time;
-    solve_F_applications              = dual->n_F_applications;
-    solve_preconditioner_time         = dual->lumped_time;
-    solve_preconditioner_applications = dual->n_lumped_applications;
-    // Without equilibrium the multipliers are not a solution: no displacement or contact files.
-    if (!equilibrium_impossible)
-      postprocess();
-    write_summary();
-    timer.print_summary();
-    commit_results();
-    return converged;
+    postprocess();
+    return finish();
   }
 } // namespace FetiContact

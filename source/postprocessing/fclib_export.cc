@@ -127,6 +127,70 @@ namespace FetiContact
     problem.scales = scales;
   }
 
+  namespace
+  {
+    /**
+     * H and w, one frame [n, t1, t2] per contact node: û_c = −e_c·(u_slave − u_master) (+ d),
+     * and the forces r and the friction coefficients μ of the nodes, into @p problem, whose
+     * @p n_free free DoFs are numbered by @p body_dofs.
+     */
+    void
+    add_contact_frames(FclibProblem                             &problem,
+                       const int                                 n_free,
+                       const std::vector<std::unique_ptr<Body>> &bodies,
+                       const std::vector<BodyDofs>              &body_dofs,
+                       const std::vector<ContactNode>           &nodes,
+                       const std::vector<ContactNodeResult>     &results)
+    {
+      auto &H     = problem.H;
+      H.n_rows    = n_free;
+      H.n_columns = 3 * nodes.size();
+      H.column_start.push_back(0);
+      problem.w.assign(3 * nodes.size(), 0.0);
+      problem.r.assign(3 * nodes.size(), 0.0);
+      problem.mu.resize(nodes.size());
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        {
+          const auto                               &node = nodes[k];
+          const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
+          problem.mu[k]        = node.friction;
+          problem.w[3 * k]     = node.gap;
+          problem.r[3 * k]     = results[k].lambda_N;
+          problem.r[3 * k + 1] = results[k].lambda_T[0];
+          problem.r[3 * k + 2] = results[k].lambda_T[1];
+          // (body, vertex, sign) of the slave and of the master.
+          std::vector<std::tuple<unsigned int, unsigned int, double>> ends{
+            {node.body, node.vertex, -1.0}};
+          if (node.master)
+            ends.emplace_back(node.master->first, node.master->second, 1.0);
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              std::vector<std::pair<int, double>> column;
+              for (const auto &[b, vertex, sign] : ends)
+                for (unsigned int d = 0; d < 3; ++d)
+                  {
+                    const double coefficient = sign * (*frame[c])[d];
+                    const int    i           = body_dofs[b].free_index[vertex][d];
+                    if (i >= 0)
+                      {
+                        if (coefficient != 0)
+                          column.emplace_back(i, coefficient);
+                      }
+                    else
+                      problem.w[3 * k + c] += coefficient * *bodies[b]->prescribed.at(vertex)[d];
+                  }
+              std::sort(column.begin(), column.end());
+              for (const auto &[i, value] : column)
+                {
+                  H.row.push_back(i);
+                  H.value.push_back(value);
+                }
+              H.column_start.push_back(H.row.size());
+            }
+        }
+    }
+  } // namespace
+
   FclibProblem
   assemble_fclib_problem(const std::vector<std::unique_ptr<Body>>     &bodies,
                          const std::vector<ContactNode>               &nodes,
@@ -207,56 +271,11 @@ namespace FetiContact
         M.column_start.push_back(M.row.size());
       }
 
-    // H and w, one frame [n, t1, t2] per contact node: û_c = −e_c·(u_slave − u_master) (+ d).
-    auto &H     = problem.H;
-    H.n_rows    = offset;
-    H.n_columns = 3 * nodes.size();
-    H.column_start.push_back(0);
-    problem.w.assign(3 * nodes.size(), 0.0);
-    problem.r.assign(3 * nodes.size(), 0.0);
-    problem.mu.resize(nodes.size());
-    for (unsigned int k = 0; k < nodes.size(); ++k)
-      {
-        const auto                               &node = nodes[k];
-        const std::array<const Tensor<1, 3> *, 3> frame{{&node.n, &node.t1, &node.t2}};
-        problem.mu[k]        = node.friction;
-        problem.w[3 * k]     = node.gap;
-        problem.r[3 * k]     = results[k].lambda_N;
-        problem.r[3 * k + 1] = results[k].lambda_T[0];
-        problem.r[3 * k + 2] = results[k].lambda_T[1];
-        // (body, vertex, sign) of the slave and of the master.
-        std::vector<std::tuple<unsigned int, unsigned int, double>> ends{
-          {node.body, node.vertex, -1.0}};
-        if (node.master)
-          ends.emplace_back(node.master->first, node.master->second, 1.0);
-        for (unsigned int c = 0; c < 3; ++c)
-          {
-            std::vector<std::pair<int, double>> column;
-            for (const auto &[b, vertex, sign] : ends)
-              for (unsigned int d = 0; d < 3; ++d)
-                {
-                  const double coefficient = sign * (*frame[c])[d];
-                  const int    i           = body_dofs[b].free_index[vertex][d];
-                  if (i >= 0)
-                    {
-                      if (coefficient != 0)
-                        column.emplace_back(i, coefficient);
-                    }
-                  else
-                    problem.w[3 * k + c] += coefficient * *bodies[b]->prescribed.at(vertex)[d];
-                }
-            std::sort(column.begin(), column.end());
-            for (const auto &[i, value] : column)
-              {
-                H.row.push_back(i);
-                H.value.push_back(value);
-              }
-            H.column_start.push_back(H.row.size());
-          }
-      }
+    add_contact_frames(problem, offset, bodies, body_dofs, nodes, results);
 
     // u = Hᵀ v + w.
-    problem.u = problem.w;
+    problem.u     = problem.w;
+    const auto &H = problem.H;
     for (int j = 0; j < H.n_columns; ++j)
       for (int p = H.column_start[j]; p < H.column_start[j + 1]; ++p)
         problem.u[j] += H.value[p] * problem.v[H.row[p]];

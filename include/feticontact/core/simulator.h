@@ -6,16 +6,17 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/lac/vector.h>
 
-#include <feticontact/base/json_writer.h>
 #include <feticontact/base/output_files.h>
 #include <feticontact/base/tee_stream.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/contact/load_balance.h>
 #include <feticontact/core/memory_estimate.h>
+#include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
+#include <feticontact/postprocessing/interface.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -31,9 +32,13 @@
 namespace FetiContact
 {
   /**
-   * A run of the program on one parameter file: builds the bodies and their subdomains (this
-   * rank's share), the FETI dual problem, solves it, recovers the displacements and writes the
-   * output (log.txt, summary.json, ParaView files). Phases are timed with TimerOutput.
+   * A run of the program on one parameter file, in phases (run()): the set-up of the scene (the
+   * memory estimate, the bodies, the contact nodes, the load-balance test), the subdomains (this
+   * rank's share) and their assembly, the factorization with the coarse problem, the solve, and
+   * the postprocessing: the primal recovery, then the postprocessors the parameter file selects
+   * (Postprocessing::create()). The phases and the postprocessors fill the Summary, written once
+   * at the end with the other result files (log.txt, summary.json, ParaView files). Phases are
+   * timed with TimerOutput.
    */
   class Simulator
   {
@@ -55,6 +60,15 @@ namespace FetiContact
      */
     bool
     run();
+
+    /**
+     * --validate: the set-up of run() (the memory estimate, the bodies and the checks that they
+     * are held, the reference displacements, the contact nodes and what the output asks of
+     * them) without creating the output directory or writing any file or log line. Throws
+     * InputError as run() would.
+     */
+    void
+    validate();
 
     /**
      * The contact solver's closing message ("converged", or why it stopped). When it proved
@@ -93,46 +107,94 @@ namespace FetiContact
     }
 
   private:
+    /** Creates the output directory's input files and log.txt (rank 0). */
     void
     prepare_output_directory();
-    void
-    setup_bodies();
     /**
-     * The contact nodes of every zone, and the test that contact forces within the friction
-     * law's sets can balance the loads on the free rigid motions (LoadBalanceTest): a proof
-     * of the contrary sets no_equilibrium() before any subdomain is built.
+     * The set-up of the scene: the memory estimate, the bodies (and that each is held), the
+     * reference displacements, the contact nodes (set_up_contact_nodes()).
      */
     void
-    setup_contact();
-    /** summary.json of a run that stops in setup_contact() without equilibrium. */
+    set_up_scene();
+    /** The memory estimate of the run's peak, checked before any mesh is built. */
     void
-    write_no_equilibrium_summary();
+    estimate_memory();
+    void
+    set_up_bodies();
+    /** The contact nodes of every zone, and what Verification/Hertz and FCLIB ask of them. */
+    void
+    set_up_contact_nodes();
+    /**
+     * The test that contact forces within the friction law's sets can balance the loads on the
+     * free rigid motions (LoadBalanceTest): a proof of the contrary sets no_equilibrium() before
+     * any subdomain is built.
+     */
+    void
+    test_load_balance();
+    /** The message of a load balance proved impossible. */
+    static std::string
+    no_equilibrium_message(const LoadBalance &balance, const bool tresca);
+    /** Writes the summary of a run that stops without equilibrium before the solve. */
+    bool
+    stop_without_equilibrium();
+    /** This rank's subdomains, their meshes and DoFs, and the rows of B. */
+    void
+    set_up_subdomains();
     void
     distribute_subdomains();
     void
-    build_subdomains();
+    build_dual_rows();
+    void
+    assemble();
+    /** The local factors and the coarse problem (the dual problem). */
     void
     factorize();
+    void
+    factorize_subdomains();
     void
     build_dual_problem();
     void
     solve();
     void
+    solve_linear();
+    void
     solve_contact();
+    /** The primal recovery, the evaluation of the solution and the postprocessors. */
     void
     postprocess();
+    void
+    recover_primal();
     /**
-     * The independent check of a converged run: a solution whose @p value (a quantity of
-     * summary.json, named by @p key) exceeds @p limit is no solution, whatever the solver's
-     * residuals say; the run becomes not converged with a message naming the quantity.
+     * The quantities of the solution every postprocessor reads: the displacements per body
+     * vertex, the interface jump, the contact nodes' results, checks and forces.
      */
+    struct Evaluation
+    {
+      std::vector<std::vector<dealii::Tensor<1, 3>>> vertex_u;
+      double                                         u_max = 0, interface_jump = 0;
+      std::vector<ContactNodeResult>                 contact_results;
+      ContactCheck                                   contact_check;
+      std::vector<dealii::Tensor<1, 3>>              contact_forces;
+    };
+    Evaluation
+    evaluate_solution() const;
     void
-    check_quantity(const std::string &key,
-                   const std::string &description,
-                   double             value,
-                   double             limit);
+    evaluate_contact(Evaluation &evaluation) const;
+    /** Writes summary.json, prints the timer table and commits the result files. */
+    bool
+    finish();
+    /** The leading members of summary.json; records statistics(). */
     void
-    write_summary();
+    summarize_run();
+    /** The times of the phases and of the parts of the solve (summary.json: times). */
+    JsonObject
+    summarize_times(double &total_time) const;
+    /** The peak memory of every rank and the estimate (summary.json: memory). */
+    JsonObject
+    summarize_memory() const;
+    /** How the subdomain solves were shared among the ranks (summary.json: local_work). */
+    JsonObject
+    summarize_local_work() const;
     /** Renames every rank's result files to their final names, summary.json last. */
     void
     commit_results();
@@ -190,13 +252,14 @@ namespace FetiContact
     dealii::Vector<double>              alpha;
     bool                                alpha_given = false;
     std::vector<dealii::Vector<double>> u;
-    JsonObject                          summary;
-    bool                                converged              = false;
-    bool                                equilibrium_impossible = false;
-    std::string                         message;
-    unsigned int                        iterations = 0;
-    unsigned int                        n_bound = 0, n_disc = 0;
-    Statistics                          run_statistics;
+    /** summary.json under construction. */
+    Summary      summary;
+    bool         converged              = false;
+    bool         equilibrium_impossible = false;
+    std::string  message;
+    unsigned int iterations = 0;
+    unsigned int n_bound = 0, n_disc = 0;
+    Statistics   run_statistics;
     /** Time in and number of applications of F up to the end of the solve. */
     double       solve_F_time         = 0;
     double       solve_F_local_time   = 0;

@@ -1,0 +1,359 @@
+#include <deal.II/base/mpi.h>
+
+#include <feticontact/postprocessing/contact_output.h>
+#include <feticontact/postprocessing/fclib_export.h>
+#include <feticontact/postprocessing/postprocessors.h>
+#include <feticontact/postprocessing/solution_output.h>
+#include <feticontact/postprocessing/verification.h>
+
+#include <cmath>
+#include <iomanip>
+#include <stdexcept>
+
+namespace FetiContact::Postprocessing
+{
+  using namespace dealii;
+
+  bool
+  Input::root() const
+  {
+    return Utilities::MPI::this_mpi_process(comm) == 0;
+  }
+
+  void
+  Input::on_all_ranks(const std::function<void()> &write) const
+  {
+    std::string error;
+    try
+      {
+        write();
+      }
+    catch (const OutputError &e)
+      {
+        error = e.what();
+      }
+    OutputFiles::throw_if_any_failed(comm, error);
+  }
+
+  void
+  Input::check(const std::string &key,
+               const std::string &description,
+               const double       value,
+               const double       limit) const
+  {
+    if (summary.check(key, description, value, limit))
+      pcout << "Check failed: " << summary.check_failure() << std::endl;
+  }
+
+  std::vector<std::unique_ptr<Interface>>
+  create(const Parameters::Scene &parameters, const bool has_contact)
+  {
+    std::vector<std::unique_ptr<Interface>> list;
+    list.push_back(std::make_unique<ConstraintCheck>());
+    if (has_contact)
+      list.push_back(std::make_unique<ContactConditions>());
+    if (parameters.verification.hertz.enabled)
+      list.push_back(std::make_unique<HertzComparison>());
+    list.push_back(std::make_unique<EquilibriumCheck>());
+    if (parameters.verification.compare_with_monolithic)
+      list.push_back(std::make_unique<MonolithicComparison>());
+    if (!parameters.verification.reference_displacements.empty())
+      list.push_back(std::make_unique<ReferenceComparison>());
+    if (has_contact)
+      list.push_back(std::make_unique<ContactOutput>());
+    if (parameters.output.write_fclib)
+      list.push_back(std::make_unique<FclibExport>());
+    if (parameters.output.write_vtu)
+      list.push_back(std::make_unique<SolutionOutput>());
+    if (parameters.output.write_displacement_csv)
+      list.push_back(std::make_unique<DisplacementCsv>());
+    return list;
+  }
+
+  std::string
+  ConstraintCheck::name() const
+  {
+    return "constraint check";
+  }
+
+  void
+  ConstraintCheck::execute(const Input &input)
+  {
+    input.summary.set("interface_jump", input.interface_jump);
+    unsigned int n_not_finite = 0;
+    for (const auto &body : input.vertex_u)
+      for (const auto &v : body)
+        for (unsigned int d = 0; d < 3; ++d)
+          n_not_finite += !std::isfinite(v[d]);
+    for (const double l : input.lambda)
+      n_not_finite += !std::isfinite(l);
+    input.summary.set("values_not_finite", n_not_finite);
+    input.check("values_not_finite",
+                "displacements or multipliers that are not finite numbers (overflow?), count",
+                n_not_finite,
+                0);
+  }
+
+  std::string
+  ContactConditions::name() const
+  {
+    return "contact conditions";
+  }
+
+  void
+  ContactConditions::execute(const Input &input)
+  {
+    const ContactCheck &check = input.contact_check;
+    // Inside an obstacle by more than 1 % of the largest displacement.
+    input.check("kkt.penetration",
+                "a penetration into an obstacle, relative to the largest displacement,",
+                check.penetration,
+                1e-2);
+    input.summary.set("kkt", check.json());
+    JsonObject totals;
+    totals
+      .set("normal_force",
+           std::vector<double>(check.normal_force.begin_raw(), check.normal_force.end_raw()))
+      .set("tangential_force",
+           std::vector<double>(check.tangential_force.begin_raw(),
+                               check.tangential_force.end_raw()))
+      .set("open", check.n_open)
+      .set("stick", check.n_stick)
+      .set("slip", check.n_slip);
+    input.summary.set("contact", totals);
+    input.pcout << "Contact: " << check.n_open << " open, " << check.n_stick << " stick, "
+                << check.n_slip << " slip; force of the contact on the bodies "
+                << check.normal_force + check.tangential_force << std::endl;
+    input.pcout << "Check: penetration " << check.penetration << ", cone violation "
+                << check.cone_violation << ", complementarity " << check.complementarity
+                << ", slip angle " << check.slip_angle << std::endl;
+  }
+
+  std::string
+  HertzComparison::name() const
+  {
+    return "Hertz comparison";
+  }
+
+  void
+  HertzComparison::execute(const Input &input)
+  {
+    hertz = compare_with_hertz(input.parameters, input.contact_nodes, input.contact_results);
+    if (input.pcout.is_active())
+      hertz->print(input.pcout.get_stream());
+    input.summary.set("hertz", hertz->json());
+  }
+
+  std::string
+  EquilibriumCheck::name() const
+  {
+    return "equilibrium check";
+  }
+
+  void
+  EquilibriumCheck::execute(const Input &input)
+  {
+    std::vector<JsonObject> body_records;
+    double                  worst   = 0;
+    const auto              balance = compute_force_balance(
+      input.comm, input.bodies.size(), input.owned, input.u, input.mapping, input.contact_forces);
+    for (const auto &body : input.bodies)
+      {
+        const auto &fb = balance[body->index];
+        JsonObject  b;
+        b.set("index", body->index + 1).set("name", body->parameters.name);
+        b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
+        b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
+        b.set("contact_force", std::vector<double>{fb.contact[0], fb.contact[1], fb.contact[2]});
+        b.set("relative_imbalance", fb.relative_imbalance);
+        body_records.push_back(b);
+        worst = std::max(worst, fb.relative_imbalance);
+        input.pcout << "Body '" << body->parameters.name << "': applied force " << fb.applied
+                    << ", support force " << fb.support << ", contact force " << fb.contact
+                    << ", relative imbalance " << fb.relative_imbalance << std::endl;
+      }
+    input.summary.set(
+      "equilibrium",
+      JsonObject().set("bodies", body_records).set("largest_relative_imbalance", worst));
+    // Gλ = e is restored to rounding after every solve (measured imbalances 1e-16 … 5e-13);
+    // the interface jump is the QP's tolerance times the conditioning (measured up to 6e-7).
+    input.check("equilibrium.largest_relative_imbalance",
+                "a force imbalance of a body (applied + support + contact forces, relative "
+                "to the largest of them) of",
+                worst,
+                1e-6);
+    input.check("interface_jump",
+                "a jump of the displacements across subdomain interfaces, relative to the "
+                "largest displacement, of",
+                input.interface_jump,
+                1e-2);
+  }
+
+  std::string
+  MonolithicComparison::name() const
+  {
+    return "comparison with a monolithic solve";
+  }
+
+  void
+  MonolithicComparison::execute(const Input &input)
+  {
+    if (!input.contact_nodes.empty())
+      {
+        input.pcout << "Comparison with a monolithic solve skipped: it is a linear solve and the "
+                       "scene has contact."
+                    << std::endl;
+        return;
+      }
+    double difference = 0;
+    if (input.root())
+      {
+        double diff2 = 0, norm2 = 0;
+        for (const auto &body : input.bodies)
+          {
+            const auto mono = solve_monolithic(*body, input.mapping, input.fe);
+            for (unsigned int v = 0; v < mono.size(); ++v)
+              {
+                diff2 += (mono[v] - input.vertex_u[body->index][v]).norm_square();
+                norm2 += mono[v].norm_square();
+              }
+          }
+        difference = norm2 > 0 ? std::sqrt(diff2 / norm2) : std::sqrt(diff2);
+      }
+    difference = Utilities::MPI::broadcast(input.comm, difference, 0);
+    input.summary.set("monolithic_difference", difference);
+    input.pcout << "Relative difference to the monolithic solve: " << difference << std::endl;
+  }
+
+  std::string
+  ReferenceComparison::name() const
+  {
+    return "comparison with the reference displacements";
+  }
+
+  void
+  ReferenceComparison::execute(const Input &input)
+  {
+    const auto difference = compare_with_reference(
+      input.comm, input.owned, input.mapping, input.vertex_u, input.reference_displacements);
+    input.summary.set("reference_difference",
+                      JsonObject()
+                        .set("max_relative", difference.max_relative)
+                        .set("energy_relative", difference.energy_relative)
+                        .set("vertices", difference.n_vertices));
+    input.pcout << "Difference from the reference displacements: " << difference.max_relative
+                << " (maximum), " << difference.energy_relative << " (energy norm), relative"
+                << std::endl;
+  }
+
+  std::string
+  ContactOutput::name() const
+  {
+    return "contact output";
+  }
+
+  void
+  ContactOutput::execute(const Input &input)
+  {
+    input.on_all_ranks([&]() {
+      if (!input.root())
+        return;
+      write_contact_csv(input.result_files.open(input.output_directory + "/contact.csv"),
+                        input.contact_nodes,
+                        input.contact_results);
+      if (input.parameters.output.write_vtu)
+        write_contact_surface_vtu(input.result_files,
+                                  input.output_directory,
+                                  input.bodies,
+                                  input.contact_nodes,
+                                  input.contact_results,
+                                  input.contact_triangles);
+    });
+  }
+
+  std::string
+  FclibExport::name() const
+  {
+    return "FCLIB export";
+  }
+
+  void
+  FclibExport::execute(const Input &input)
+  {
+    input.on_all_ranks([&]() {
+      if (!input.root())
+        return;
+      std::string title = "feticontact:";
+      for (const auto &body : input.bodies)
+        title += (body->index > 0 ? ", " : " ") + body->parameters.name;
+      const std::string file =
+        input.result_files.reserve(input.output_directory + "/fclib_problem.hdf5");
+      const FclibProblem problem = assemble_fclib_problem(input.bodies,
+                                                          input.contact_nodes,
+                                                          input.contact_results,
+                                                          input.vertex_u,
+                                                          input.mapping,
+                                                          input.fe,
+                                                          input.parameters.output.fclib_units);
+      try
+        {
+          write_fclib(file,
+                      problem,
+                      title,
+                      "P1 tetrahedral elasticity, Coulomb friction; v, u: displacements, "
+                      "r: forces (λ_N, λ_T1, λ_T2) in the frames [n, t1, t2].");
+        }
+      catch (const std::runtime_error &e)
+        {
+          throw OutputError("Cannot write the output file <" + input.output_directory +
+                            "/fclib_problem.hdf5>: " + e.what());
+        }
+    });
+  }
+
+  std::string
+  SolutionOutput::name() const
+  {
+    return "solution output";
+  }
+
+  void
+  SolutionOutput::execute(const Input &input)
+  {
+    input.on_all_ranks([&]() {
+      write_solution_vtu(input.result_files,
+                         input.comm,
+                         input.owned,
+                         input.u,
+                         input.first_subdomain.back(),
+                         input.mapping,
+                         input.output_directory);
+    });
+  }
+
+  std::string
+  DisplacementCsv::name() const
+  {
+    return "displacement CSV";
+  }
+
+  void
+  DisplacementCsv::execute(const Input &input)
+  {
+    input.on_all_ranks([&]() {
+      if (!input.root())
+        return;
+      std::ostream &csv = input.result_files.open(input.output_directory + "/displacements.csv");
+      csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
+      for (const auto &body : input.bodies)
+        for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
+          if (body->mesh.get_used_vertices()[v])
+            {
+              const auto &x = body->mesh.get_vertices()[v];
+              const auto &d = input.vertex_u[body->index][v];
+              csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0] << ','
+                  << d[1] << ',' << d[2] << '\n';
+            }
+    });
+  }
+} // namespace FetiContact::Postprocessing

@@ -7,8 +7,8 @@ namespace FetiContact
   using namespace dealii;
 
   CombinedLoop::CombinedLoop(
-    TrescaProblem                                                      &tresca,
-    const Parameters::ContactSolver                                    &parameters,
+    TrescaProblem                                                     &tresca,
+    const Parameters::ContactSolver                                   &parameters,
     std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of)
     : tresca(tresca)
     , parameters(parameters)

@@ -16,13 +16,11 @@ namespace FetiContact
                                const DualLayout                &layout,
                                const std::vector<ContactNode>  &nodes,
                                const Parameters::ContactSolver &parameters,
-                               std::ostream                    &out,
-                               std::ostream                    *history)
+                               std::ostream                    &out)
     : layout(layout)
     , nodes(nodes)
     , parameters(parameters)
     , out(out)
-    , history(history)
     , law(parameters.friction_law == Parameters::ContactSolver::FrictionLaw::tresca ?
             FrictionLaw::tresca(parameters.slip_bound) :
             FrictionLaw::coulomb())
@@ -163,8 +161,6 @@ namespace FetiContact
     if (parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2 &&
         law.depends_on_normal_force() && layout.n_tangential > 0)
       result.outer_iterations = result.smalbe_iterations;
-    if (history != nullptr)
-      write_history(result.history, *history);
     return result;
   }
 

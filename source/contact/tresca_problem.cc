@@ -127,8 +127,7 @@ namespace FetiContact
                                                Vector<double>       &y) { dual.apply_F(x, y); },
                                            layout.size(),
                                            10);
-    rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) :
-                       feti_norm;
+    rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) : feti_norm;
     // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
     // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
     hessian_norm =
@@ -306,8 +305,7 @@ namespace FetiContact
     for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
       {
         // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
-        const auto rc =
-          solve_block(A, b, lambda, n_T, n_c, set_c, tolerance / 2, counts.n_bound);
+        const auto rc = solve_block(A, b, lambda, n_T, n_c, set_c, tolerance / 2, counts.n_bound);
         report.iterations += rc.iterations;
         report.converged &= rc.converged;
         if (n_T == 0)
@@ -362,7 +360,7 @@ namespace FetiContact
     data.inner                      = mpgp_data();
     if (moving_set)
       data.max_inner_calls = 1;
-    const bool     split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
+    const bool split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
                        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2;
     Vector<double> last_lambda;
     QP::SMALBE     smalbe(data);
@@ -392,8 +390,7 @@ namespace FetiContact
         return r;
       });
     if (monitor)
-      smalbe.set_monitor(
-        [&](const QP::SMALBE::Step &step) { monitor(step, last_lambda); });
+      smalbe.set_monitor([&](const QP::SMALBE::Step &step) { monitor(step, last_lambda); });
     const QP::SMALBE::Statistics report = smalbe.solve(problem, lambda, nu);
     counts.smalbe_iterations += report.iterations;
     return report;

@@ -257,7 +257,7 @@ namespace FetiContact
   {
     std::ostringstream text;
     text << "no equilibrium: the loads cannot be balanced by contact forces within "
-         << (tresca ? "the bounds λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca)" : "the friction cones ‖λ_T‖ ≤ F λ_N")
+         << (tresca ? "the bounds λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca)" : "the friction cones ‖λ_T‖ ≤ μ λ_N")
          << ". On the rigid motion with " << balance.motion << " the loads do the work "
          << InputParsing::number_text(balance.load_work) << " J per metre of that motion, and ";
     if (std::isfinite(balance.force_bound))
@@ -434,24 +434,24 @@ namespace FetiContact
   Simulator::solve_linear()
   {
     TimerOutput::Scope scope(timer, "solve");
-    lambda            = dual->coarse.least_norm_solution(dual->e);
-    const auto report = QP::projected_conjugate_gradient(
-      [this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
-      [this](Vector<double> &x) { dual->coarse.project(x); },
-      dual->h,
-      lambda,
-      parameters.feti.relative_tolerance,
-      parameters.feti.max_iterations,
-      [this](unsigned int it, double residual) {
-        if (it % 50 == 0)
-          pcout << "  PCG iteration " << std::setw(5) << it
-                << "   ‖P(Fλ − h)‖ / ‖Ph‖ = " << std::scientific << std::setprecision(3) << residual
-                << std::defaultfloat << std::endl;
-      },
-      parameters.feti.lumped_preconditioner ?
-        QP::Operator(
-          [this](const Vector<double> &x, Vector<double> &y) { dual->apply_lumped(x, y); }) :
-        QP::Operator());
+    lambda = dual->coarse.least_norm_solution(dual->e);
+    const auto report =
+      QP::ProjectedCG(parameters.feti.projected_cg)
+        .solve([this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
+               [this](Vector<double> &x) { dual->coarse.project(x); },
+               dual->h,
+               lambda,
+               [this](unsigned int it, double residual) {
+                 if (it % 50 == 0)
+                   pcout << "  PCG iteration " << std::setw(5) << it
+                         << "   ‖P(Fλ − h)‖ / ‖Ph‖ = " << std::scientific << std::setprecision(3)
+                         << residual << std::defaultfloat << std::endl;
+               },
+               parameters.feti.lumped_preconditioner ?
+                 QP::Operator([this](const Vector<double> &x, Vector<double> &y) {
+                   dual->apply_lumped(x, y);
+                 }) :
+                 QP::Operator());
     const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
@@ -466,18 +466,20 @@ namespace FetiContact
   Simulator::solve_contact()
   {
     TimerOutput::Scope scope(timer, "solve");
-    std::ostream      *history = nullptr;
-    on_all_ranks([&]() {
-      if (rank == 0)
-        history = &result_files.open(parameters.output.directory + "/history.csv");
-    });
-    ContactSolver solver(
-      *dual, layout, contact_nodes, parameters.contact_solver, pcout.get_stream(), history);
+    ContactSolver      solver(
+      *dual, layout, contact_nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
       solver.set_equilibrium_test(
         [this](const std::vector<double> &g) { return load_balance_test->tresca(g); });
     const auto result = solver.solve();
-    lambda            = result.lambda;
+    // The iteration history, also when the solver proved that no equilibrium exists.
+    on_all_ranks([&]() {
+      if (rank == 0)
+        ContactSolver::write_history(result.history,
+                                     result_files.open(parameters.output.directory +
+                                                       "/history.csv"));
+    });
+    lambda = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.

@@ -10,14 +10,15 @@ namespace FetiContact::Parameters
   Feti::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("FETI");
-    prm.declare_entry("Dirichlet treatment",
-                      "total",
-                      Patterns::Selection("primal|total"),
-                      "'total': TFETI, Dirichlet conditions are rows of B_E and every subdomain "
-                      "floats (robust: the default). 'primal': Dirichlet conditions are "
-                      "eliminated in the subdomains (the seed paper's way: subdomains touching a "
-                      "clamped face are anchored); subdomains that touch Γ_u in a few vertices "
-                      "only are then nearly floating and limit the attainable accuracy.");
+    prm.declare_entry(
+      "Dirichlet treatment",
+      "total",
+      Patterns::Selection("primal|total"),
+      "'total': TFETI, Dirichlet conditions are rows of B_E and every subdomain "
+      "floats (robust: the default). 'primal': Dirichlet conditions are "
+      "eliminated in the subdomains (the way of Kučera, Haslinger and Dostál: subdomains touching a "
+      "clamped face are anchored); subdomains that touch Γ_u in a few vertices "
+      "only are then nearly floating and limit the attainable accuracy.");
     prm.declare_entry("Local solver",
                       "cholmod",
                       Patterns::Selection(LocalSolver::available_backends()),
@@ -56,15 +57,7 @@ namespace FetiContact::Parameters
       "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
       "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
       "313,632 and at 1,037,232.");
-    prm.declare_entry("Relative tolerance",
-                      "1e-10",
-                      Patterns::Double(0, 1),
-                      "Projected CG stops when the projected dual gradient has dropped below "
-                      "this fraction of its value at λ = 0: ‖P(Fλ − h)‖ ≤ tol ‖P h‖.");
-    prm.declare_entry("Maximum iterations",
-                      "5000",
-                      Patterns::Integer(1),
-                      "Largest number of projected CG iterations.");
+    QP::ProjectedCG::AdditionalData::declare_parameters(prm);
     prm.declare_entry("Preconditioner",
                       "lumped",
                       Patterns::Selection("none|lumped"),
@@ -86,10 +79,7 @@ namespace FetiContact::Parameters
     local_solver         = prm.get("Local solver");
     shared_local_work    = prm.get_double("Shared local work");
     average_contact_rows = prm.get("Contact rows at interfaces") == "average";
-    relative_tolerance   = prm.get_double("Relative tolerance");
-    require(relative_tolerance > 0,
-            "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
-    max_iterations        = prm.get_integer("Maximum iterations");
+    projected_cg.parse_parameters(prm);
     lumped_preconditioner = prm.get("Preconditioner") == "lumped";
     prm.leave_subsection();
   }

@@ -1,3 +1,4 @@
+#include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/projected_cg.h>
 
 #include <algorithm>
@@ -8,19 +9,49 @@ namespace FetiContact::QP
 {
   using namespace dealii;
 
-  SolverReport
-  projected_conjugate_gradient(
-    const std::function<void(const Vector<double> &, Vector<double> &)> &A,
-    const std::function<void(Vector<double> &)>                         &P,
-    const Vector<double>                                                &b,
-    Vector<double>                                                      &x,
-    const double                                                         tolerance,
-    const unsigned int                                                   max_iterations,
-    const std::function<void(unsigned int, double)>                     &monitor,
-    const std::function<void(const Vector<double> &, Vector<double> &)> &M)
+  void
+  ProjectedCG::AdditionalData::declare_parameters(ParameterHandler &prm)
   {
-    SolverReport   report;
-    Vector<double> g(b.size()), w(b.size()), p(b.size()), Ap(b.size()), z(b.size());
+    prm.declare_entry("Relative tolerance",
+                      "1e-10",
+                      Patterns::Double(0, 1),
+                      "Projected CG stops when the projected dual gradient has dropped below "
+                      "this fraction of its value at λ = 0: ‖P(Fλ − h)‖ ≤ tol ‖P h‖.");
+    prm.declare_entry("Maximum iterations",
+                      "5000",
+                      Patterns::Integer(1),
+                      "Largest number of projected CG iterations.");
+  }
+
+  void
+  ProjectedCG::AdditionalData::parse_parameters(ParameterHandler &prm)
+  {
+    tolerance = prm.get_double("Relative tolerance");
+    require(tolerance > 0,
+            "FETI/Relative tolerance must be positive; got " + prm.get("Relative tolerance"));
+    max_iterations = prm.get_integer("Maximum iterations");
+  }
+
+  ProjectedCG::ProjectedCG()
+    : additional_data()
+  {}
+
+  ProjectedCG::ProjectedCG(const AdditionalData &data)
+    : additional_data(data)
+  {}
+
+  SolverReport
+  ProjectedCG::solve(const Operator                                  &A,
+                     const Projector                                 &P,
+                     const Vector<double>                            &b,
+                     Vector<double>                                  &x,
+                     const std::function<void(unsigned int, double)> &monitor,
+                     const Operator                                  &M) const
+  {
+    const double       tolerance      = additional_data.tolerance;
+    const unsigned int max_iterations = additional_data.max_iterations;
+    SolverReport       report;
+    Vector<double>     g(b.size()), w(b.size()), p(b.size()), Ap(b.size()), z(b.size());
     // z = P M w (w itself without a preconditioner).
     const auto precondition = [&]() {
       if (M)

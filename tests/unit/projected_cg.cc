@@ -77,7 +77,8 @@ main()
   Vector<double> mu(k), x(n);
   GGt_inv.vmult(mu, e);
   G.Tvmult(x, mu);
-  const auto report = QP::projected_conjugate_gradient(apply_A, project, b, x, 1e-12, 1000);
+  const auto report =
+    QP::ProjectedCG(QP::ProjectedCG::AdditionalData{1e-12, 1000}).solve(apply_A, project, b, x);
   check(report.converged, "converged in " + std::to_string(report.iterations) + " iterations");
   Vector<double> error(x);
   error -= x_exact;
@@ -106,10 +107,9 @@ main()
     };
     Vector<double> x_plain(n), x_pre(n);
     G.Tvmult(x_plain, mu);
-    x_pre            = x_plain;
-    const auto plain = QP::projected_conjugate_gradient(apply_AS, project, b, x_plain, 1e-10, 5000);
-    const auto pre =
-      QP::projected_conjugate_gradient(apply_AS, project, b, x_pre, 1e-10, 5000, {}, jacobi);
+    x_pre                = x_plain;
+    const auto     plain = QP::ProjectedCG().solve(apply_AS, project, b, x_plain);
+    const auto     pre   = QP::ProjectedCG().solve(apply_AS, project, b, x_pre, {}, jacobi);
     Vector<double> ep(x_pre);
     ep -= xs_exact;
     check(pre.converged && ep.l2_norm() <= 1e-7 * xs_exact.l2_norm(),
@@ -133,14 +133,10 @@ main()
   x2 = 0;
   G.Tvmult(x2, mu);
   const Vector<double> x0(x2);
-  const auto           report2 = QP::projected_conjugate_gradient([&](const Vector<double> &v,
-                                                            Vector<double> &w) { I.vmult(w, v); },
-                                                        project,
-                                                        b2,
-                                                        x2,
-                                                        1e-12,
-                                                        100);
-  Vector<double>       d(x2);
+  const auto           report2 =
+    QP::ProjectedCG(QP::ProjectedCG::AdditionalData{1e-12, 100})
+      .solve([&](const Vector<double> &v, Vector<double> &w) { I.vmult(w, v); }, project, b2, x2);
+  Vector<double> d(x2);
   d -= x0;
   check(report2.converged && d.l2_norm() <= 1e-14 * x0.l2_norm(),
         "Pb = 0, A = I: stays at x₀ (‖x − x₀‖ = " + sci(d.l2_norm()) + ")");

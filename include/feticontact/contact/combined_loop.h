@@ -37,8 +37,8 @@ namespace FetiContact
      * @p slip_bound_of gives the target slip bounds μ λ_N (in the units of each node's
      * multipliers) at λ̃.
      */
-    CombinedLoop(TrescaProblem                                                      &tresca,
-                 const Parameters::ContactSolver                                    &parameters,
+    CombinedLoop(TrescaProblem                                                     &tresca,
+                 const Parameters::ContactSolver                                   &parameters,
                  std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of);
 
     /**
@@ -46,9 +46,9 @@ namespace FetiContact
      * @p msa_tolerance; @p monitor after every SMALBE iteration.
      */
     Outcome
-    run(dealii::Vector<double>        &lambda,
-        dealii::Vector<double>        &nu,
-        const double                   msa_tolerance,
+    run(dealii::Vector<double>       &lambda,
+        dealii::Vector<double>       &nu,
+        const double                  msa_tolerance,
         const TrescaProblem::Monitor &monitor);
 
     /** The relative change of the last radius update. */
@@ -60,8 +60,8 @@ namespace FetiContact
     void
     update_radii(const dealii::Vector<double> &lambda);
 
-    TrescaProblem                                                      &tresca;
-    const Parameters::ContactSolver                                    &parameters;
+    TrescaProblem                                                     &tresca;
+    const Parameters::ContactSolver                                   &parameters;
     std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of;
     TrescaProblem::MovingSet                                           moving_set;
     double                                                             change = 0;

@@ -101,15 +101,13 @@ namespace FetiContact
 
     /**
      * The solver for the dual problem @p dual with the contact rows of @p layout for @p nodes;
-     * progress goes to @p out, and the history, if @p history is given, to that stream in CSV
-     * (the columns of HistoryRow) when solve() returns.
+     * progress goes to @p out, the history into Result::history (write_history()).
      */
     ContactSolver(const DualProblem               &dual,
                   const DualLayout                &layout,
                   const std::vector<ContactNode>  &nodes,
                   const Parameters::ContactSolver &parameters,
-                  std::ostream                    &out,
-                  std::ostream                    *history);
+                  std::ostream                    &out);
 
     /** The solvers hold references to this object: not copyable. */
     ContactSolver(const ContactSolver &) = delete;
@@ -170,7 +168,6 @@ namespace FetiContact
     const std::vector<ContactNode>                         &nodes;
     const Parameters::ContactSolver                        &parameters;
     std::ostream                                           &out;
-    std::ostream                                           *history;
     std::function<LoadBalance(const std::vector<double> &)> equilibrium_test;
     FrictionLaw                                             law;
     TrescaProblem                                           tresca;

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/qp/projected_cg.h>
+
 #include <string>
 
 namespace FetiContact::Parameters
@@ -10,7 +12,7 @@ namespace FetiContact::Parameters
   struct Feti
   {
     /**
-     * How Dirichlet conditions enter: `primal` eliminates them in the subdomains (the seed's way:
+     * How Dirichlet conditions enter: `primal` eliminates them in the subdomains (the paper's way:
      * a clamped subdomain has no kernel), `total` (TFETI) writes them as rows of B_E, so every
      * subdomain floats and its kernel is the six rigid body modes.
      */
@@ -42,9 +44,8 @@ namespace FetiContact::Parameters
      */
     bool average_contact_rows = false;
 
-    /** Projected CG stops when ‖P(Fλ − h)‖ ≤ tolerance · ‖P h‖ (relative). */
-    double       relative_tolerance = 1e-10;
-    unsigned int max_iterations     = 5000;
+    /** Projected CG of problems without contact (its tolerance and iteration limit). */
+    QP::ProjectedCG::AdditionalData projected_cg;
     /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).
      */
     bool lumped_preconditioner = true;

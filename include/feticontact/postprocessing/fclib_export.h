@@ -62,7 +62,7 @@ namespace FetiContact
    *   the separation (FCLIB's convention), u_T the tangential displacement of the master relative
    *   to the slave, and r = (λ_N, λ_T1, λ_T2) the force of the obstacle on the slave body in the
    *   frame, pushing it away: the force on the slave is −(r_N n + r_T1 t1 + r_T2 t2);
-   * - μ: the friction coefficient F of each node's zone.
+   * - μ: the friction coefficient of each node's zone.
    *
    * In SI units v, u, w are metres, r, f newtons and M newtons per metre. Nondimensional
    * (fclib_scales(), nondimensionalise()): v, u, w are divided by a length scale L, r and f by

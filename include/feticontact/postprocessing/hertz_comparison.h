@@ -13,7 +13,7 @@ namespace FetiContact
 {
   /**
    * The contact of a body with a spherical bottom on a rigid plane against Hertz's solution
-   * (DESIGN.md §6): E* = E/(1 − ν²), a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
+   * (doc/validation.md): E* = E/(1 − ν²), a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
    * p(r) = p0 √(1 − r²/a²).
    *
    * Measured from the nodal pressures p = λ_N / area of contact zone 1 (the lumped pressure, the

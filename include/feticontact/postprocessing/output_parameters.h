@@ -34,7 +34,7 @@ namespace FetiContact::Parameters
 
   /**
    * `subsection Verification / subsection Hertz`: compare the contact of a body with a spherical
-   * bottom on a rigid plane (contact zone 1) with Hertz's solution (DESIGN.md §6).
+   * bottom on a rigid plane (contact zone 1) with Hertz's solution (doc/validation.md).
    */
   struct HertzComparison
   {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>
 
 #include <functional>
@@ -24,19 +25,59 @@ namespace FetiContact::QP
    * epsilon), so that a problem whose x₀ already solves it stops at once instead of iterating
    * on noise. Knows nothing of meshes: A and P are functions.
    *
-   * @param x  in: x₀ (feasible); out: the solution.
-   * @param monitor called after every iteration with (iteration, relative residual).
-   * @param M a symmetric positive (semi)definite preconditioner, applied as P M P (Farhat–Mandel–
-   *          Roux); empty: none. The stopping test stays on the unpreconditioned ‖P(Ax − b)‖.
+   * An object with its AdditionalData (declared in the caller's prm subsection) whose solve()
+   * returns its statistics (a SolverReport).
    */
-  SolverReport
-  projected_conjugate_gradient(
-    const std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)> &A,
-    const std::function<void(dealii::Vector<double> &)>                                 &P,
-    const dealii::Vector<double>                                                        &b,
-    dealii::Vector<double>                                                              &x,
-    const double                                                                         tolerance,
-    const unsigned int                               max_iterations,
-    const std::function<void(unsigned int, double)> &monitor                               = {},
-    const std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)> &M = {});
+  class ProjectedCG
+  {
+  public:
+    /** The parameters of projected CG. */
+    struct AdditionalData
+    {
+      /** The relative tolerance: ‖P(Ax − b)‖ ≤ tolerance · ‖Pb‖ (see the class). */
+      double tolerance = 1e-10;
+      /** The largest number of iterations. */
+      unsigned int max_iterations = 5000;
+
+      /**
+       * Declares, in the current subsection of @p prm, Relative tolerance and Maximum
+       * iterations.
+       */
+      static void
+      declare_parameters(dealii::ParameterHandler &prm);
+
+      /** Reads the entries of declare_parameters(). */
+      void
+      parse_parameters(dealii::ParameterHandler &prm);
+    };
+
+    /** A symmetric operator y = A x, and the projector applied in place, x ← P x. */
+    using Operator  = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
+    using Projector = std::function<void(dealii::Vector<double> &)>;
+
+    /** With the default AdditionalData. */
+    ProjectedCG();
+
+    explicit ProjectedCG(const AdditionalData &data);
+
+    /**
+     * Solves the problem.
+     *
+     * @param x  in: x₀ (feasible); out: the solution.
+     * @param monitor called after every iteration with (iteration, relative residual).
+     * @param M a symmetric positive (semi)definite preconditioner, applied as P M P (Farhat–
+     *          Mandel–Roux); empty: none. The stopping test stays on the unpreconditioned
+     *          ‖P(Ax − b)‖.
+     */
+    SolverReport
+    solve(const Operator                                  &A,
+          const Projector                                 &P,
+          const dealii::Vector<double>                    &b,
+          dealii::Vector<double>                          &x,
+          const std::function<void(unsigned int, double)> &monitor = {},
+          const Operator                                  &M       = {}) const;
+
+  private:
+    AdditionalData additional_data;
+  };
 } // namespace FetiContact::QP

@@ -9,6 +9,19 @@ namespace FetiContact
     connect();
   }
 
+  TeeStream::~TeeStream()
+  {
+    try
+      {
+        flush();
+      }
+    catch (...)
+      {
+        // A destination that cannot be written was dropped already; nothing left to report.
+      }
+    reset();
+  }
+
   void
   TeeStream::add(std::ostream &out, const std::string &name)
   {

@@ -52,19 +52,28 @@ namespace FetiContact
     row_tier.assign(layout.size(), 0);
     for (unsigned int r = 0; r < layout.first_equality(); ++r)
       row_tier[r] = r < layout.first_normal() ? 2 : 1;
-    original.hessian = [this](const Vector<double> &x, Vector<double> &y) {
+    unscaled.hessian = [this](const Vector<double> &x, Vector<double> &y) {
       this->dual.apply_F(x, y);
     };
-    original.linear_term = dual.h;
-    original.set         = &set;
-    original.G           = [this](const Vector<double> &x, Vector<double> &y) {
-      this->dual.coarse.apply_G_orthonormal(x, y);
+    unscaled.linear_term = dual.h;
+    unscaled.set         = &set;
+    unscaled.G           = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_G(x, y);
     };
-    original.Gt = [this](const Vector<double> &x, Vector<double> &y) {
-      this->dual.coarse.apply_Gt_orthonormal(x, y);
+    unscaled.Gt = [this](const Vector<double> &x, Vector<double> &y) {
+      this->dual.coarse.apply_Gt(x, y);
     };
-    original.e = dual.coarse.orthonormal_rhs(dual.e);
-    problem    = original;
+    unscaled.e = dual.e;
+    QP::Orthonormalization::Factor factor;
+    factor.solve_L = [this](Vector<double> &v) {
+      this->dual.coarse.apply_orthonormalizing_factor(v, false);
+    };
+    factor.solve_Lt = [this](Vector<double> &v) {
+      this->dual.coarse.apply_orthonormalizing_factor(v, true);
+    };
+    orthonormalization.emplace(unscaled, factor);
+    original = orthonormalization->transformed();
+    problem  = original;
     lambda0.reinit(layout.size());
     projector = parameters.smalbe.equality_constraint ==
                   QP::SMALBE::AdditionalData::EqualityConstraint::projector &&
@@ -338,6 +347,7 @@ namespace FetiContact
     Vector<double>          g(gradient);
     const auto              mpgp_report = QP::MPGP(data).solve(counted, b, set, x, &g);
     QP::SMALBE::InnerReport report(mpgp_report);
+    report.capped = !mpgp_report.converged && mpgp_report.iterations >= data.max_iterations;
     counts.count_steps(mpgp_report);
     report.gradient.swap(g);
     counts.n_bound += calls;
@@ -419,6 +429,7 @@ namespace FetiContact
         r -= dual.h;
         projector_enforcement->recover_multiplier(r, nu);
       }
+    nu = orthonormalization->recover_multiplier(nu);
   }
 
   std::array<unsigned int, 3>

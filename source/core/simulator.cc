@@ -483,7 +483,7 @@ namespace FetiContact
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
-    alpha = dual->coarse.multiplier_from_orthonormal(result.mu);
+    alpha = result.mu;
     alpha *= -1.0;
     alpha_given = true;
     converged   = result.converged;

@@ -194,6 +194,13 @@ namespace FetiContact
     return mu;
   }
 
+  void
+  CoarseProblem::apply_orthonormalizing_factor(Vector<double> &v, const bool transpose) const
+  {
+    if (n_rows > 0)
+      GGt.solve_half(v, transpose);
+  }
+
   Vector<double>
   CoarseProblem::orthonormal_rhs(const Vector<double> &e) const
   {

@@ -109,7 +109,7 @@ namespace FetiContact::QP
     const std::string eta_text = InputParsing::trim(prm.get("Recursive gradient tolerance"));
     if (eta_text != "auto")
       {
-        const std::string what       = "MPGP/Recursive gradient tolerance";
+        const std::string what       = "Contact solver/MPGP/Recursive gradient tolerance";
         recursive_gradient_tolerance = InputParsing::parse_double(eta_text, what);
         require(recursive_gradient_tolerance >= 0,
                 what + " must be 'auto' or a number of at least 0; got '" + eta_text + "'.");

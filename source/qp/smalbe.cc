@@ -67,8 +67,8 @@ namespace FetiContact::QP
       "Penalty factor",
       "auto",
       Patterns::Anything(),
-      "The penalty ρ as a multiple of the estimated norm of the FETI part of the Hessian "
-      "(‖PFP‖ for mpgp with the projector, ‖F‖ otherwise), or 'auto': 5 for mpgp, 1 for "
+      "The penalty ρ as a multiple in (0, 1e4] of the estimated norm of the FETI part of the "
+      "Hessian (‖PFP‖ for mpgp with the projector, ‖F‖ otherwise), or 'auto': 5 for mpgp, 1 for "
       "polygonal, 0.1 for algorithm 1, 0.03 for algorithm 2. The block Gauss–Seidel of "
       "algorithms 1 and 2 converges slowly when ρG̃ᵀG̃ couples λ_c and λ_T strongly.");
     prm.declare_entry("Multiplier step factor",
@@ -105,7 +105,7 @@ namespace FetiContact::QP
     const std::string limit_text = InputParsing::trim(prm.get("Maximum iterations"));
     if (limit_text != "auto")
       {
-        const std::string what  = "SMALBE/Maximum iterations";
+        const std::string what  = "Contact solver/SMALBE/Maximum iterations";
         const double      limit = InputParsing::parse_double(limit_text, what);
         require(limit >= 1 && limit == std::floor(limit) && limit <= 1e9,
                 what + " must be 'auto' or a positive integer; got '" + limit_text + "'.");
@@ -114,25 +114,37 @@ namespace FetiContact::QP
     const std::string penalty_text = InputParsing::trim(prm.get("Penalty factor"));
     if (penalty_text != "auto")
       {
-        const std::string what = "SMALBE/Penalty factor";
+        const std::string what = "Contact solver/SMALBE/Penalty factor";
         penalty_factor         = InputParsing::parse_double(penalty_text, what);
         require(penalty_factor > 0,
                 what + " must be 'auto' or a number above 0; got '" + penalty_text + "'.");
+        // The rounding level of the Hessian F + ρG̃ᵀG̃ grows with ρ, and with it the floor of
+        // the relative stopping tests: on the brick (k = 8) a factor of 1e6 left an error of
+        // 3.5e-7 at the reference accuracy (1e-10) while SMALBE reported convergence; 1e4 kept
+        // 2e-9 (and took 15 times the multiplications of the default).
+        require(penalty_factor <= 1e4,
+                what +
+                  " must not exceed 1e4 (the rounding of the Hessian, which grows with the "
+                  "penalty, would then decide when SMALBE stops); got '" +
+                  penalty_text + "'.");
       }
     multiplier_step = prm.get_double("Multiplier step factor");
-    require(multiplier_step > 0 && multiplier_step < 2,
-            "SMALBE/Multiplier step factor must lie in (0, 2) (the method of multipliers "
-            "diverges from 2 on); got " +
-              prm.get("Multiplier step factor") + ".");
+    require(
+      multiplier_step > 0 && multiplier_step < 2,
+      "Contact solver/SMALBE/Multiplier step factor must lie in (0, 2) (the method of multipliers "
+      "diverges from 2 on); got " +
+        prm.get("Multiplier step factor") + ".");
     inner_floor = prm.get_double("Inner tolerance floor");
-    require(inner_floor > 0, "SMALBE/Inner tolerance floor must lie in (0, 1]; got 0.");
+    require(inner_floor > 0,
+            "Contact solver/SMALBE/Inner tolerance floor must lie in (0, 1]; got 0.");
     equality_constraint     = prm.get("Equality constraint") == "projector" ?
                                 EqualityConstraint::projector :
                                 EqualityConstraint::penalty;
     const std::string bound = prm.get("Hessian norm bound");
-    require(bound != "max" || equality_constraint == EqualityConstraint::projector,
-            "SMALBE/Hessian norm bound = max holds only with Equality constraint = projector "
-            "(the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
+    require(
+      bound != "max" || equality_constraint == EqualityConstraint::projector,
+      "Contact solver/SMALBE/Hessian norm bound = max holds only with Equality constraint = projector "
+      "(the Hessian F + ρG̃ᵀG̃ of the penalty variant is bounded by the sum).");
     if (bound != "auto")
       hessian_norm_bound = bound == "max" ? HessianNormBound::max : HessianNormBound::sum;
     if (equality_constraint != EqualityConstraint::projector)
@@ -299,6 +311,7 @@ namespace FetiContact::QP
                  *lambda,
                  &gradient));
     report.gradient.swap(gradient);
+    report.capped = !report.converged && report.iterations >= data.max_iterations;
     return report;
   }
 
@@ -342,8 +355,7 @@ namespace FetiContact::QP
         eta_exhausted |= stuck_at_eta;
         if (stuck_at_eta && norm_gP > inner_target(*lambda) && step.inner_calls < o.max_inner_calls)
           continue;
-        const bool capped =
-          !inner_solver && !last.converged && last.iterations >= o.inner.max_iterations;
+        const bool capped = last.capped;
         if (norm_gP <= inner_target(*lambda) || !last.converged || last.iterations == 0 ||
             step.inner_calls >= o.max_inner_calls)
           return capped;

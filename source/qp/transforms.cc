@@ -8,6 +8,39 @@ namespace FetiContact::QP
 {
   using namespace dealii;
 
+  Orthonormalization::Orthonormalization(const Problem &original, const Factor &factor)
+    : original(original)
+    , factor(factor)
+  {}
+
+  Problem
+  Orthonormalization::transformed() const
+  {
+    Problem        problem(original);
+    const Problem &P0 = original;
+    const Factor   L  = factor;
+    problem.G         = [&P0, L](const Vector<double> &x, Vector<double> &y) {
+      P0.G(x, y);
+      L.solve_L(y);
+    };
+    problem.Gt = [&P0, L](const Vector<double> &x, Vector<double> &y) {
+      Vector<double> z(x);
+      L.solve_Lt(z);
+      P0.Gt(z, y);
+    };
+    problem.e = original.e;
+    factor.solve_L(problem.e);
+    return problem;
+  }
+
+  Vector<double>
+  Orthonormalization::recover_multiplier(const Vector<double> &nu_tilde) const
+  {
+    Vector<double> nu(nu_tilde);
+    factor.solve_Lt(nu);
+    return nu;
+  }
+
   Homogenization::Homogenization(const Problem &original, const Vector<double> &particular)
     : original(original)
     , lambda0(particular)

@@ -12,6 +12,12 @@
  * Strict parsing of the text values of parameter-file entries. Every function throws an
  * ExcMessage that names the parameter and the offending text, so that a user sees which line of
  * the input is wrong. Non-finite numbers (NaN, inf) are rejected: no physical input is NaN.
+ *
+ * Entries that are a plain number, integer, flag or choice are declared with deal.II's Patterns
+ * and read with ParameterHandler's getters. These functions serve the entries that Patterns
+ * cannot describe or whose refusal they cannot word: 'auto' or a number, lists of points and
+ * of face predicates, and lists of numbers where the message names the offending item
+ * ("<a> is not a positive integer") instead of printing the whole list pattern.
  */
 namespace FetiContact
 {

@@ -29,6 +29,12 @@ namespace FetiContact
   public:
     TeeStream();
 
+    /**
+     * Flushes and empties the chain while the destinations still exist (the base class would
+     * flush it after the members it refers to are gone).
+     */
+    ~TeeStream();
+
     /** Adds a destination; @p name is how failed() names it. */
     void
     add(std::ostream &out, const std::string &name = "");

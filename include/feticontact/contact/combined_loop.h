@@ -41,6 +41,11 @@ namespace FetiContact
                  const Parameters::ContactSolver                                   &parameters,
                  std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of);
 
+    /** The loop's callbacks refer to this object: not copyable. */
+    CombinedLoop(const CombinedLoop &) = delete;
+    CombinedLoop &
+    operator=(const CombinedLoop &) = delete;
+
     /**
      * Runs the loop warm from λ̃ = @p lambda, ν = @p nu until the slip bound changes by at most
      * @p msa_tolerance; @p monitor after every SMALBE iteration.

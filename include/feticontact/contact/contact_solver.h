@@ -78,7 +78,7 @@ namespace FetiContact
     struct Result
     {
       dealii::Vector<double> lambda;
-      /** The multiplier μ̃ of G̃λ = ẽ (orthonormalized); α = −PᵀL⁻ᵀμ̃ in the primal recovery. */
+      /** The multiplier ν of Gλ = e; α = −ν in the primal recovery. */
       dealii::Vector<double> mu;
       unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
       unsigned int           smalbe_iterations = 0;

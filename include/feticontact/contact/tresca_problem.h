@@ -121,7 +121,7 @@ namespace FetiContact
     /**
      * The solution of the original problem from λ̃ and the ν of the problem SMALBE solved: λ₀
      * added, Gλ = e restored to rounding with a correction from the gluing rows, ν mapped back
-     * from the projected problem.
+     * from the projected and the orthonormalized problem to the multiplier of Gλ = e.
      */
     void
     recover(dealii::Vector<double> &lambda, dealii::Vector<double> &nu) const;
@@ -200,11 +200,13 @@ namespace FetiContact
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0 and e = 0). */
     bool projector = false;
     /**
-     * The dual problem with orthonormalized equality constraints, min ½λᵀFλ − λᵀh over Ω with
-     * G̃λ = ẽ; with the projector, its homogenization in λ̃ = λ − λ₀ and the projected problem
-     * (PFP, Ph) that SMALBE solves (`problem`; without the projector `problem` = `original`).
+     * The dual problem min ½λᵀFλ − λᵀh over Ω with Gλ = e (`unscaled`), with orthonormalized
+     * equality constraints G̃λ = ẽ (`original`); with the projector, its homogenization in
+     * λ̃ = λ − λ₀ and the projected problem (PFP, Ph) that SMALBE solves (`problem`; without the
+     * projector `problem` = `original`).
      */
-    QP::Problem                             original, homogeneous, problem;
+    QP::Problem                             unscaled, original, homogeneous, problem;
+    std::optional<QP::Orthonormalization>   orthonormalization;
     std::optional<QP::Homogenization>       homogenization;
     std::optional<QP::ProjectorEnforcement> projector_enforcement;
     /** λ₀ (zero without the projector). */

@@ -74,6 +74,12 @@ namespace FetiContact
     /** μ = PᵀL⁻ᵀμ̃: the multiplier of Gλ = e from that of G̃λ = ẽ (Gᵀμ = G̃ᵀμ̃). */
     dealii::Vector<double>
     multiplier_from_orthonormal(const dealii::Vector<double> &mu_tilde) const;
+    /**
+     * v ← L⁻¹P v, or with @p transpose v ← PᵀL⁻ᵀ v: the factor that orthonormalizes G
+     * (QP::Orthonormalization gets it from here).
+     */
+    void
+    apply_orthonormalizing_factor(dealii::Vector<double> &v, const bool transpose) const;
     /** ẽ = L⁻¹P e. */
     dealii::Vector<double>
     orthonormal_rhs(const dealii::Vector<double> &e) const;

@@ -41,7 +41,7 @@ namespace FetiContact::QP
    * residual of least norm over Ω it is one whenever that norm is positive, and SMALBE's iterates
    * approach it when Gλ = e is infeasible): if αᵀe − σ_Ω(Gᵀα) > 1e-6 (|αᵀe| + |σ_Ω(Gᵀα)|),
    * no λ ∈ Ω satisfies Gλ = e and SMALBE stops with Statistics::infeasible.
-   * With AdditionalData::projector, F and h are replaced by PFP and Ph (P = I − GᵀG, e = 0).
+   * ProjectorEnforcement makes the problem with PFP and Ph (P = I − GᵀG, e = 0).
    *
    * Every threshold is relative, so that multiplying F and h by s > 0 leaves λ
    * and the iteration counts unchanged and multiplies μ by s, and scaling G and e leaves λ
@@ -91,6 +91,11 @@ namespace FetiContact::QP
        * tests one only when this holds.
        */
       bool final_set = true;
+      /**
+       * Whether the solve ended at its iteration limit without converging (for the stall test
+       * of Statistics::inner_stalled).
+       */
+      bool capped = false;
     };
 
     /**
@@ -174,17 +179,6 @@ namespace FetiContact::QP
       /** η > 0. 0: η = eta_factor · ‖h‖. */
       double eta        = 0;
       double eta_factor = 0.1;
-      /**
-       * The projector variant (Farhat–Mandel–Roux; Dostál's TFETI contact solvers): for a
-       * homogenized constraint Gλ = 0 (e = 0) with orthonormal rows (GGᵀ = I, so Q = GᵀG and
-       * P = I − Q are orthogonal projectors), minimize ½λᵀPFPλ − λᵀPh instead, which agrees with
-       * the original objective on Gλ = 0. The augmented Lagrangian then has the Hessian PFP + ρQ:
-       * on the range of P the spectrum of the projected FETI operator (the natural coarse space),
-       * on that of Q the penalty ρ, so both the inner iterations and the outer (multiplier)
-       * iterations need fewer steps than with F + ρGᵀG. The μ passed in and out is the
-       * multiplier of the projected problem; that of the original one is μ − G(Fλ − h).
-       */
-      bool projector = false;
       /** ‖F‖ and ‖G‖ if known (0: power method with norm_iterations steps). */
       double       F_norm = 0, G_norm = 0;
       unsigned int norm_iterations = 10;
@@ -286,8 +280,8 @@ namespace FetiContact::QP
     data();
 
     /**
-     * Solves @p problem (its Hessian, linear term, set, G and e; with
-     * AdditionalData::projector, a problem in the form that ProjectorEnforcement makes).
+     * Solves @p problem (its Hessian, linear term, set, G and e; for the projector variant the
+     * problem that ProjectorEnforcement makes).
      *
      * @param lambda in: λ₀ (projected onto Ω by the inner solver); out: λ.
      * @param mu     in: μ₀ (size k, or empty for 0); out: μ.

@@ -7,6 +7,41 @@
 namespace FetiContact::QP
 {
   /**
+   * @brief Orthonormalization of the equality constraints: Gλ = e ⟺ G̃λ = ẽ with G̃G̃ᵀ = I.
+   *
+   * With a factorization of GGᵀ (on the range of G; in FETI the coarse problem's, which knows
+   * the sparsity and the rank of GGᵀ) given as the in-place maps v ← L⁻¹v and v ← L⁻ᵀv:
+   * G̃ = L⁻¹G, G̃ᵀ = GᵀL⁻ᵀ, ẽ = L⁻¹e. With orthonormal rows, ‖G̃‖ = 1 and the penalty ρ of SMALBE
+   * and the projector P = I − G̃ᵀG̃ need no scaling. recover_multiplier() is the step back for
+   * the multiplier: ν = L⁻ᵀν̃ satisfies Gᵀν = G̃ᵀν̃.
+   */
+  class Orthonormalization
+  {
+  public:
+    /** The factor L of GGᵀ = LLᵀ, applied as solves in place. */
+    struct Factor
+    {
+      std::function<void(dealii::Vector<double> &)> solve_L, solve_Lt;
+    };
+
+    Orthonormalization(const Problem &original, const Factor &factor);
+    /** The transform refers to the original problem: no temporaries. */
+    Orthonormalization(Problem &&, const Factor &) = delete;
+
+    /** The problem with G̃ and ẽ. */
+    Problem
+    transformed() const;
+
+    /** ν = L⁻ᵀν̃, the multiplier of Gλ = e from that of G̃λ = ẽ. */
+    dealii::Vector<double>
+    recover_multiplier(const dealii::Vector<double> &nu_tilde) const;
+
+  private:
+    const Problem &original;
+    Factor         factor;
+  };
+
+  /**
    * @brief Homogenization of the equality constraint: λ = λ₀ + λ̃ with Gλ₀ = e.
    *
    * The transformed problem in λ̃ has the linear term h − Fλ₀ and e = 0, and the set Ω − λ₀.
@@ -19,6 +54,8 @@ namespace FetiContact::QP
   public:
     /** @p particular_solution is λ₀, any solution of Gλ₀ = e (e.g. of least norm). */
     Homogenization(const Problem &original, const dealii::Vector<double> &particular_solution);
+    /** The transform refers to the original problem: no temporaries. */
+    Homogenization(Problem &&, const dealii::Vector<double> &) = delete;
 
     /** The problem in λ̃ over @p shifted_set = Ω − λ₀. One multiplication by F (for Fλ₀). */
     Problem
@@ -55,6 +92,8 @@ namespace FetiContact::QP
   public:
     /** Requires e = 0 (apply Homogenization first) and G with orthonormal rows. */
     explicit ProjectorEnforcement(const Problem &homogeneous);
+    /** The transform refers to the homogeneous problem: no temporaries. */
+    explicit ProjectorEnforcement(Problem &&) = delete;
 
     /** The problem with F → PFP and h → Ph. */
     Problem

@@ -1,4 +1,5 @@
-// The FETI operators of the brick (DESIGN.md §5), primal and TFETI, structured and METIS:
+// The FETI operators of the brick benchmark (doc/formulation.md), primal and TFETI, structured and
+// METIS:
 //  - B_E has orthonormal rows (B_E B_Eᵀ = I) and the expected number of rows;
 //  - gluing rows vanish on a continuous field;
 //  - F is symmetric and positive semidefinite, P is a projector onto ker G, Gλ₀ = e (to rounding:
@@ -73,7 +74,7 @@ main(int argc, char **argv)
                 std::to_string(expected) + ")");
         if (primal && expected_primal_rows > 0)
           check(rows.n_rows() == expected_primal_rows,
-                label + ": the seed's brick has 2 interfaces × 25 nodes × 3 = 150 gluing rows");
+                label + ": the paper's brick has 2 interfaces × 25 nodes × 3 = 150 gluing rows");
 
         // B_E B_Eᵀ = I.
         const double deviation = deviation_from_orthonormal(rows);

@@ -1,5 +1,5 @@
-// Subdomain operators of the brick (DESIGN.md §5) for both Dirichlet treatments, structured
-// and METIS decompositions, and every local solver backend:
+// Subdomain operators of the brick benchmark (doc/formulation.md) for both Dirichlet treatments,
+// structured and METIS decompositions, and every local solver backend:
 //   ‖K_i R_i‖ ≤ 1e-12 ‖K_i‖ ‖R_i‖ (Frobenius norms), R_iᵀR_i = I,
 //   ‖K_i K_i⁺ K_i v − K_i v‖ ≤ 1e-10 ‖K_i v‖ for random v,
 //   and the kernel dimension: 0 for a subdomain anchored on the clamped face (primal), 6 else;

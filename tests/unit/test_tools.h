@@ -49,7 +49,8 @@ scene_from_text(const std::string &text)
   return scene;
 }
 
-/** The brick of DESIGN.md §5 (k = 4) with the given decomposition subsection lines. */
+/** The brick benchmark of doc/formulation.md (k = 4) with the given decomposition subsection lines.
+ */
 inline std::string
 brick_text(const std::string &decomposition, const unsigned int k = 4)
 {

@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace
@@ -58,6 +59,172 @@ namespace
     const std::string value = FetiContact::InputParsing::trim(entry);
     return !value.empty() && value.back() == '\\';
   }
+
+  /** What the command line asks for; `exit_status` set when it is answered already. */
+  struct CommandLine
+  {
+    bool                     validate_only = false;
+    std::string              filename;
+    std::vector<std::string> overrides;
+    std::optional<int>       exit_status;
+  };
+
+  /** Reads the options; answers --help and --print-parameters and refuses bad options. */
+  CommandLine
+  parse_command_line(const std::vector<std::string> &args, const bool root)
+  {
+    using namespace FetiContact;
+    CommandLine command;
+    for (unsigned int i = 0; i < args.size() && !command.exit_status; ++i)
+      {
+        const std::string &a = args[i];
+        if (a == "--help" || a == "-h")
+          {
+            if (root)
+              print_usage(std::cout);
+            command.exit_status = 0;
+          }
+        else if (a == "--print-parameters")
+          {
+            dealii::ParameterHandler prm;
+            Parameters::Scene::declare_parameters(prm, 1, 1);
+            if (root)
+              prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
+            command.exit_status = 0;
+          }
+        else if (a == "--validate")
+          command.validate_only = true;
+        else if (a == "--set" && i + 1 < args.size())
+          {
+            command.overrides.push_back(args[++i]);
+            if (ends_in_backslash(command.overrides.back()))
+              {
+                if (root)
+                  std::cerr << "Error: --set <" << command.overrides.back()
+                            << ">: a value must not end in a backslash (a parameter file reads "
+                               "it as a line continuation).\n";
+                command.exit_status = 1;
+              }
+          }
+        else if (!a.empty() && a[0] == '-')
+          {
+            if (root)
+              {
+                std::cerr << "Error: unknown option <" << a << ">.\n\n";
+                print_usage(std::cerr);
+              }
+            command.exit_status = 1;
+          }
+        else if (command.filename.empty())
+          command.filename = a;
+        else
+          {
+            if (root)
+              std::cerr << "Error: more than one parameter file given.\n";
+            command.exit_status = 1;
+          }
+      }
+    if (!command.exit_status && command.filename.empty())
+      {
+        if (root)
+          print_usage(std::cerr);
+        command.exit_status = 1;
+      }
+    return command;
+  }
+
+  /**
+   * A run starts with an output directory free of every file an earlier run wrote there, also
+   * when it then stops on bad input. Collective.
+   */
+  void
+  clean_output_directory(const MPI_Comm comm, const bool root, const CommandLine &command)
+  {
+    using namespace FetiContact;
+    std::string error;
+    try
+      {
+        const std::string directory =
+          Parameters::Scene::output_directory(command.filename, command.overrides);
+        if (root && !directory.empty())
+          OutputFiles::clean(directory, command.filename);
+      }
+    catch (const InputError &e)
+      {
+        error = e.what();
+      }
+    OutputFiles::throw_if_any_failed(comm, error);
+  }
+
+  /** The message and the exit status of a run that did not converge. */
+  int
+  report_failure(const FetiContact::Simulator &simulator, const bool root)
+  {
+    if (root)
+      {
+        if (simulator.no_equilibrium())
+          std::cerr << "Error: " << simulator.solver_message()
+                    << ". No displacement or contact files were written (summary.json and "
+                       "log.txt say why)."
+                    << std::endl;
+        else if (!simulator.solver_message().empty() && simulator.solver_message() != "converged")
+          std::cerr << "Error: " << simulator.solver_message()
+                    << " (see log.txt; summary.json has \"converged\": false)." << std::endl;
+        else
+          std::cerr << "Error: the FETI solver did not converge (see log.txt; "
+                       "summary.json has \"converged\": false)."
+                    << std::endl;
+      }
+    return simulator.no_equilibrium() ? 4 : 2;
+  }
+
+  /** The run (or the validation, or the refinement study) of the parameter file. */
+  int
+  run(const MPI_Comm comm, const bool root, const CommandLine &command)
+  {
+    using namespace FetiContact;
+    // --validate writes nothing and removes nothing.
+    if (!command.validate_only)
+      clean_output_directory(comm, root, command);
+
+    dealii::ParameterHandler prm;
+    std::vector<std::string> warnings;
+    Parameters::Scene::read_parameter_file(prm, command.filename, command.overrides, &warnings);
+    if (root)
+      for (const auto &w : warnings)
+        std::cerr << "Warning: " << w << std::endl;
+    Parameters::Scene scene;
+    scene.parse_parameters(prm, std::filesystem::path(command.filename).parent_path().string());
+
+    if (command.validate_only)
+      {
+        // The set-up of a run (the meshes, boundary parts, contact surfaces and the files the
+        // scene names) without solving, if they fit into memory, and without writing a file.
+        Simulator(comm, scene, "", "").validate();
+        if (root)
+          std::cout << "The parameter file <" << command.filename << "> is valid." << std::endl;
+        return 0;
+      }
+
+    std::ifstream      in(command.filename);
+    std::ostringstream verbatim;
+    verbatim << in.rdbuf();
+
+    if (!scene.refinement_study.subdivision_factors.empty())
+      {
+        RefinementStudy study(comm, command.filename, command.overrides, verbatim.str());
+        if (study.run())
+          return 0;
+        if (root)
+          std::cerr << "Error: " << study.message() << "." << std::endl;
+        return 2;
+      }
+
+    std::ostringstream effective;
+    prm.print_parameters(effective, dealii::ParameterHandler::PRM);
+    Simulator simulator(comm, scene, effective.str(), verbatim.str());
+    return simulator.run() ? 0 : report_failure(simulator, root);
+  }
 } // namespace
 
 int
@@ -71,145 +238,13 @@ main(int argc, char **argv)
   const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   SubdomainThreads::initialize(comm);
 
-  std::vector<std::string> args(argv + 1, argv + argc);
-  bool                     validate_only = false;
-  std::string              filename;
-  std::vector<std::string> overrides;
-  for (unsigned int i = 0; i < args.size(); ++i)
-    {
-      const std::string &a = args[i];
-      if (a == "--help" || a == "-h")
-        {
-          if (root)
-            print_usage(std::cout);
-          return 0;
-        }
-      if (a == "--print-parameters")
-        {
-          dealii::ParameterHandler prm;
-          Parameters::Scene::declare_parameters(prm, 1, 1);
-          if (root)
-            prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
-          return 0;
-        }
-      if (a == "--validate")
-        validate_only = true;
-      else if (a == "--set" && i + 1 < args.size())
-        {
-          overrides.push_back(args[++i]);
-          if (ends_in_backslash(overrides.back()))
-            {
-              if (root)
-                std::cerr << "Error: --set <" << overrides.back()
-                          << ">: a value must not end in a backslash (a parameter file reads it "
-                             "as a line continuation).\n";
-              return 1;
-            }
-        }
-      else if (!a.empty() && a[0] == '-')
-        {
-          if (root)
-            {
-              std::cerr << "Error: unknown option <" << a << ">.\n\n";
-              print_usage(std::cerr);
-            }
-          return 1;
-        }
-      else if (filename.empty())
-        filename = a;
-      else
-        {
-          if (root)
-            std::cerr << "Error: more than one parameter file given.\n";
-          return 1;
-        }
-    }
-  if (filename.empty())
-    {
-      if (root)
-        print_usage(std::cerr);
-      return 1;
-    }
-
+  const CommandLine command =
+    parse_command_line(std::vector<std::string>(argv + 1, argv + argc), root);
+  if (command.exit_status)
+    return *command.exit_status;
   try
     {
-      // A run starts with an output directory free of every file an earlier run wrote there,
-      // also when it then stops on bad input (--validate writes nothing and removes nothing).
-      if (!validate_only)
-        {
-          std::string error;
-          try
-            {
-              const std::string directory =
-                Parameters::Scene::output_directory(filename, overrides);
-              if (root && !directory.empty())
-                OutputFiles::clean(directory, filename);
-            }
-          catch (const InputError &e)
-            {
-              error = e.what();
-            }
-          OutputFiles::throw_if_any_failed(comm, error);
-        }
-
-      dealii::ParameterHandler prm;
-      std::vector<std::string> warnings;
-      Parameters::Scene::read_parameter_file(prm, filename, overrides, &warnings);
-      if (root)
-        for (const auto &w : warnings)
-          std::cerr << "Warning: " << w << std::endl;
-      Parameters::Scene scene;
-      scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
-
-      if (validate_only)
-        {
-          // The set-up of a run (the meshes, boundary parts, contact surfaces and the files the
-          // scene names) without solving, if they fit into memory, and without writing a file.
-          Simulator(comm, scene, "", "").validate();
-          if (root)
-            std::cout << "The parameter file <" << filename << "> is valid." << std::endl;
-          return 0;
-        }
-
-      std::ifstream      in(filename);
-      std::ostringstream verbatim;
-      verbatim << in.rdbuf();
-
-      if (!scene.refinement_study.subdivision_factors.empty())
-        {
-          RefinementStudy study(comm, filename, overrides, verbatim.str());
-          if (!study.run())
-            {
-              if (root)
-                std::cerr << "Error: " << study.message() << "." << std::endl;
-              return 2;
-            }
-          return 0;
-        }
-
-      std::ostringstream effective;
-      prm.print_parameters(effective, dealii::ParameterHandler::PRM);
-
-      Simulator  simulator(comm, scene, effective.str(), verbatim.str());
-      const bool converged = simulator.run();
-      if (!converged)
-        {
-          if (root)
-            {
-              if (simulator.no_equilibrium())
-                std::cerr << "Error: " << simulator.solver_message()
-                          << ". No result files were written (see log.txt)." << std::endl;
-              else if (!simulator.solver_message().empty() &&
-                       simulator.solver_message() != "converged")
-                std::cerr << "Error: " << simulator.solver_message()
-                          << " (see log.txt; summary.json has \"converged\": false)." << std::endl;
-              else
-                std::cerr << "Error: the FETI solver did not converge (see log.txt; "
-                             "summary.json has \"converged\": false)."
-                          << std::endl;
-            }
-          return simulator.no_equilibrium() ? 4 : 2;
-        }
+      return run(comm, root, command);
     }
   catch (const InputError &e)
     {
@@ -224,5 +259,4 @@ main(int argc, char **argv)
       MPI_Abort(comm, 3);
       return 3;
     }
-  return 0;
 }

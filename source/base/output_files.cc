@@ -222,5 +222,20 @@ namespace FetiContact
         return;
       throw OutputError(dealii::Utilities::MPI::broadcast(comm, local_error, first_failed));
     }
+
+    void
+    on_all_ranks(const MPI_Comm comm, const std::function<void()> &write)
+    {
+      std::string error;
+      try
+        {
+          write();
+        }
+      catch (const OutputError &e)
+        {
+          error = e.what();
+        }
+      throw_if_any_failed(comm, error);
+    }
   } // namespace OutputFiles
 } // namespace FetiContact

@@ -102,16 +102,7 @@ namespace FetiContact
   void
   Simulator::on_all_ranks(const std::function<void()> &write)
   {
-    std::string error;
-    try
-      {
-        write();
-      }
-    catch (const OutputError &e)
-      {
-        error = e.what();
-      }
-    OutputFiles::throw_if_any_failed(comm, error);
+    OutputFiles::on_all_ranks(comm, write);
   }
 
   void

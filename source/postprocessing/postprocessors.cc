@@ -23,16 +23,7 @@ namespace FetiContact::Postprocessing
   void
   Input::on_all_ranks(const std::function<void()> &write) const
   {
-    std::string error;
-    try
-      {
-        write();
-      }
-    catch (const OutputError &e)
-      {
-        error = e.what();
-      }
-    OutputFiles::throw_if_any_failed(comm, error);
+    OutputFiles::on_all_ranks(comm, write);
   }
 
   void

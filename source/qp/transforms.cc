@@ -112,20 +112,8 @@ namespace FetiContact::QP
       P0.G(x, work->Gx);
       P0.Gt(work->Gx, y);
     };
-    // PFP x + ρ Q x, with Qx computed once: Px = x − Qx, y = F Px, y ← y − Q y + ρ Qx.
-    problem.augmented_hessian =
-      [work, Q, &P0](const double rho, const Vector<double> &x, Vector<double> &y) {
-        work->Qx.reinit(x.size());
-        Q(x, work->Qx);
-        work->Px = x;
-        work->Px -= work->Qx;
-        P0.hessian(work->Px, y);
-        work->QFPx.reinit(x.size());
-        Q(y, work->QFPx);
-        y -= work->QFPx;
-        y.add(rho, work->Qx);
-      };
-    problem.hessian = [work, Q, &P0](const Vector<double> &x, Vector<double> &y) {
+    // y = PFP x: Px = x − Qx, y = F Px, y ← y − Q y; Qx stays in the work vectors.
+    const auto PFP = [work, Q, &P0](const Vector<double> &x, Vector<double> &y) {
       work->Qx.reinit(x.size());
       Q(x, work->Qx);
       work->Px = x;
@@ -135,6 +123,13 @@ namespace FetiContact::QP
       Q(y, work->QFPx);
       y -= work->QFPx;
     };
+    problem.hessian = PFP;
+    // PFP x + ρ Q x with the Qx of PFP.
+    problem.augmented_hessian =
+      [work, PFP](const double rho, const Vector<double> &x, Vector<double> &y) {
+        PFP(x, y);
+        y.add(rho, work->Qx);
+      };
     return problem;
   }
 

@@ -5,6 +5,7 @@
       [--expect KEY<VALUE | KEY>VALUE | KEY=VALUE]... [--same-displacements TOL]
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
       [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts] [--fewer-multiplications]
+      [--exact-field "BODY: UX, UY, UZ"]... [--exact-tolerance TOL] [--uniform-pressure ZONE=P TOL]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
       [--no-equilibrium]
 
@@ -20,6 +21,11 @@ with scaled loads). --same-counts requires every run to take the same MSA iterat
 multiplications; --fewer-multiplications requires the first run to take fewer Hessian
 multiplications than the --alt-set run (an option that must save work against the setting it
 replaces).
+--exact-field gives the exact displacement of body BODY (1, 2, …) as three Python expressions in
+x, y, z (e.g. a patch test's linear field); every node of every body named must have it to
+--exact-tolerance (default 1e-8) relative to the largest exact displacement (max norm).
+--uniform-pressure requires the pressure λ_N / D_kk of every contact node of ZONE (contact.csv)
+to be P to TOL relative.
 bad: the run must exit with status 1 (no signal, within BAD_INPUT_TIME_LIMIT), print TEXT
 (case-insensitive) on stderr, and leave nothing that looks like a result (summary.json, VTU,
 PVD, CSV) in OUTDIR. With --no-equilibrium the input is valid but the solver proves that no
@@ -160,6 +166,35 @@ def check_contact_vtu(directory, csv_name="contact.csv"):
     return ok
 
 
+def check_exact_field(path, fields, tol):
+    """Every node of the bodies in FIELDS ({body: (ux, uy, uz) expressions}) against the exact
+    displacement, relative to the largest exact displacement."""
+    with open(path) as f:
+        rows = [r for r in csv.DictReader(f) if int(r["body"]) + 1 in fields]
+    scale, diff = 0.0, 0.0
+    for r in rows:
+        where = {"x": float(r["x"]), "y": float(r["y"]), "z": float(r["z"])}
+        exact = [eval(e, {"__builtins__": {}}, where) for e in fields[int(r["body"]) + 1]]
+        scale = max(scale, *(abs(c) for c in exact))
+        diff = max(diff, *(abs(float(r[k]) - c) for k, c in zip(("ux", "uy", "uz"), exact)))
+    good = bool(rows) and scale > 0 and diff <= tol * scale
+    print(f"  exact field of bodies {sorted(fields)} on {len(rows)} nodes: max |u - u_exact| /"
+          f" max |u_exact| = {diff / max(scale, 1e-300):.3e} (tolerance {tol:g})"
+          f" -> {'ok' if good else 'FAILED'}")
+    return good
+
+
+def check_uniform_pressure(directory, zone, pressure, tol):
+    """The pressure of every contact node of ZONE in contact.csv is PRESSURE to TOL relative."""
+    with open(os.path.join(directory, "contact.csv")) as f:
+        values = [float(r["pressure"]) for r in csv.DictReader(f) if r["zone"] == zone]
+    diff = max((abs(v - pressure) for v in values), default=float("inf"))
+    good = bool(values) and diff <= tol * abs(pressure)
+    print(f"  zone {zone}: {len(values)} nodal pressures within {diff / abs(pressure):.3e} of"
+          f" {pressure:g} (tolerance {tol:g}) -> {'ok' if good else 'FAILED'}")
+    return good
+
+
 def check_contact_area(directory, zone, area):
     """The areas lumped at the contact nodes of ZONE add up to the area of its surface, and
     pressure × area = λ_N for every node (contact.csv)."""
@@ -179,7 +214,7 @@ def scene(args):
     nps, expectations, same_tol, sets, reference, alt_sets = [1], [], None, [], None, []
     threads = [None]
     check_vtu, areas, alt_scale, same_counts, counts = False, [], 1.0, False, []
-    fewer = False
+    fewer, exact_fields, exact_tol, pressures = False, {}, 1e-8, []
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -206,6 +241,15 @@ def scene(args):
             i -= 1
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
+        elif args[i] == "--exact-field":
+            body, expressions = args[i + 1].split(":")
+            exact_fields[int(body)] = [e.strip() for e in expressions.split(",")]
+        elif args[i] == "--exact-tolerance":
+            exact_tol = float(args[i + 1])
+        elif args[i] == "--uniform-pressure":
+            zone, value = args[i + 1].split("=")
+            pressures.append((zone, float(value), float(args[i + 2])))
+            i += 1
         elif args[i] == "--same-displacements":
             same_tol = float(args[i + 1])
         elif args[i] == "--reference-displacements":
@@ -221,7 +265,7 @@ def scene(args):
     runs += [(nps[0], threads[0], alt_sets)] if alt_sets else []
     for run_index, (np, t, more) in enumerate(runs):
         d = outdir + (f"_run{run_index}" if len(runs) > 1 else "")
-        want_csv = same_tol is not None or reference is not None
+        want_csv = same_tol is not None or reference is not None or bool(exact_fields)
         extra = sets + more + (["--set", "Output/Write displacement csv=true"] if want_csv else [])
         p = run(exe, prm, d, np, extra, threads=t)
         if p.returncode != 0:
@@ -243,6 +287,10 @@ def scene(args):
             ok &= check_contact_area(d, zone, area)
         if reference is not None:
             ok &= compare_with_reference(os.path.join(d, "displacements.csv"), *reference)
+        if exact_fields:
+            ok &= check_exact_field(os.path.join(d, "displacements.csv"), exact_fields, exact_tol)
+        for zone, value, tol in pressures:
+            ok &= check_uniform_pressure(d, zone, value, tol)
     if same_tol is not None:
         ref = displacements[0]
         scale = max(abs(c) for row in ref for c in row)

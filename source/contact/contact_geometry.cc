@@ -1,7 +1,9 @@
+#include <deal.II/base/bounding_box.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_geometry.h>
+#include <feticontact/contact/mortar.h>
 
 #include <cmath>
 #include <map>
@@ -26,6 +28,19 @@ namespace FetiContact
     return {t1, cross_product_3d(n, t1)};
   }
 
+  std::pair<double, Tensor<1, 3>>
+  obstacle_distance(const Parameters::ContactZone &zone, const Point<3> &x)
+  {
+    using Type = Parameters::ContactZone::Type;
+    if (zone.type == Type::rigid_plane)
+      return {(x - zone.plane_point) * zone.plane_normal, -zone.plane_normal};
+    Tensor<1, 3> v = x - zone.centre;
+    if (zone.type == Type::rigid_cylinder)
+      v -= (v * zone.axis) * zone.axis;
+    const double r = v.norm();
+    return {r - zone.radius, r > 0 ? Tensor<1, 3>(-v / r) : Tensor<1, 3>()};
+  }
+
   namespace
   {
     /**
@@ -39,6 +54,7 @@ namespace FetiContact
       std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
       double                                   mean_edge = 0;
       std::vector<std::array<unsigned int, 3>> triangles;
+      std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
     };
 
     Surface
@@ -61,6 +77,7 @@ namespace FetiContact
                 }
               s.triangles.push_back(
                 {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
+              s.outward.push_back(area_normal);
               s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
               n_edges += 3;
             }
@@ -155,8 +172,8 @@ namespace FetiContact
             continue;
           for (unsigned int a = 0; a < ks.size(); ++a)
             for (unsigned int b = a + 1; b < ks.size(); ++b)
-              if (!dropped[ks[a]] && !dropped[ks[b]] && !nodes[ks[a]].master &&
-                  !nodes[ks[b]].master && nodes[ks[a]].n * nodes[ks[b]].n > 1 - 1e-8)
+              if (!dropped[ks[a]] && !dropped[ks[b]] && !nodes[ks[a]].on_body() &&
+                  !nodes[ks[b]].on_body() && nodes[ks[a]].n * nodes[ks[b]].n > 1 - 1e-8)
                 dropped[nodes[ks[a]].gap <= nodes[ks[b]].gap ? ks[b] : ks[a]] = true;
           // An orthonormal basis of the span of the normals kept at the vertex.
           std::vector<Tensor<1, 3>> basis;
@@ -221,49 +238,86 @@ namespace FetiContact
     {
       // χ(x): the orthogonal projection of x on the plane, so the critical direction
       // is the plane's normal (towards the obstacle) for every node.
-      const double distance = (node.x - zone.plane_point) * zone.plane_normal;
+      const auto [distance, direction] = obstacle_distance(zone, node.x);
       require(distance >= -1e-10 * slave.mean_edge,
               where + "the node at " + point_text(node.x) +
                 " lies inside the rigid obstacle (initial penetration " +
                 InputParsing::number_text(-distance) + ").");
       node.gap = std::max(distance, 0.0);
-      node.n   = -zone.plane_normal;
+      node.n   = direction;
+    }
+
+    /**
+     * The gap and normal of @p node towards a rigid sphere or cylinder: χ(x) is the closest point
+     * of its surface. Returns false for a node farther than the zone's search distance (not a
+     * contact node).
+     */
+    bool
+    place_on_curved_obstacle(ContactNode                   &node,
+                             const Parameters::ContactZone &zone,
+                             const Surface                 &slave,
+                             const std::string             &where)
+    {
+      const auto [distance, direction] = obstacle_distance(zone, node.x);
+      const double allowed             = zone.search_distance.value_or(1e-10 * slave.mean_edge);
+      require(distance >= -allowed,
+              where + "the node at " + point_text(node.x) + " lies inside the rigid " +
+                (zone.type == Parameters::ContactZone::Type::rigid_sphere ? "sphere" : "cylinder") +
+                " (initial penetration " + InputParsing::number_text(-distance) + ", " +
+                (zone.search_distance ? "more than the search distance " +
+                                          InputParsing::number_text(*zone.search_distance) + ")." :
+                                        "and no 'Search distance' that admits it)."));
+      require(direction.norm() > 0,
+              where + "the node at " + point_text(node.x) +
+                " lies on the axis or at the centre of the rigid obstacle.");
+      if (zone.search_distance && distance > *zone.search_distance)
+        return false;
+      node.gap = zone.search_distance ? distance : std::max(distance, 0.0);
+      node.n   = direction;
+      return true;
     }
 
     /**
      * The gap and normal of @p node towards the master surface: χ(x) is the master vertex
-     * opposite x along its outer normal @p outer; the meshes must match node to node.
+     * opposite x along its outer normal @p outer (@p partner if given, else the nearest to the
+     * normal's line); the meshes must match node to node.
      */
     void
-    place_opposite_master(ContactNode                   &node,
-                          const Tensor<1, 3>            &outer,
-                          const Surface                 &slave,
-                          const Surface                 &master,
-                          const Body                    &body,
-                          const Body                    *master_body,
-                          const Parameters::ContactZone &zone,
-                          const std::string             &where)
+    place_opposite_master(ContactNode                       &node,
+                          const Tensor<1, 3>                &outer,
+                          const Surface                     &slave,
+                          const Surface                     &master,
+                          const Body                        &body,
+                          const Body                        *master_body,
+                          const Parameters::ContactZone     &zone,
+                          const std::string                 &where,
+                          const std::optional<unsigned int> &partner = {})
     {
       // χ(x): the master vertex opposite x along the outer normal.
       double       best_offset = std::numeric_limits<double>::max();
       unsigned int best        = numbers::invalid_unsigned_int;
-      for (const auto &[mv, unused] : master.normal_sum)
+      const auto   offset_of   = [&](const unsigned int mv) {
+        const Tensor<1, 3> d = master_body->mesh.get_vertices()[mv] - node.x;
+        return (d - (d * outer) * outer).norm();
+      };
+      if (partner)
         {
-          const Tensor<1, 3> d      = master_body->mesh.get_vertices()[mv] - node.x;
-          const double       along  = d * outer;
-          const double       offset = (d - along * outer).norm();
-          if (offset < best_offset)
+          best        = *partner;
+          best_offset = offset_of(best);
+        }
+      else
+        for (const auto &[mv, unused] : master.normal_sum)
+          if (const double offset = offset_of(mv); offset < best_offset)
             {
               best_offset = offset;
               best        = mv;
             }
-        }
       require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
               where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
                 "' has no node of the master surface of body '" + master_body->parameters.name +
                 "' opposite it: the meshes of the two surfaces do not match (they must "
                 "be conforming node to node).");
-      node.master          = std::make_pair(zone.master_body, best);
+      node.master          = {{zone.master_body, best, 1.0}};
       const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
       const Tensor<1, 3> master_outer =
         master.normal_sum.at(best) / master.normal_sum.at(best).norm();
@@ -330,10 +384,259 @@ namespace FetiContact
     }
   } // namespace
 
+  namespace
+  {
+    /** The slave side of a zone: its body, its surface and the start of every node. */
+    struct ZoneSide
+    {
+      unsigned int                   z;
+      const Parameters::ContactZone &zone;
+      const Body                    &body;
+      const Surface                 &slave;
+      std::string                    where;
+
+      /**
+       * The node at @p vertex with the fields common to every discretization, or nothing if the
+       * vertex is clamped.
+       */
+      std::optional<ContactNode>
+      start_node(const unsigned int vertex) const
+      {
+        const auto prescribed = body.prescribed.find(vertex);
+        if (prescribed != body.prescribed.end() && prescribed->second[0] && prescribed->second[1] &&
+            prescribed->second[2])
+          return {};
+        ContactNode node;
+        node.zone          = z;
+        node.body          = zone.body;
+        node.vertex        = vertex;
+        node.x             = body.mesh.get_vertices()[vertex];
+        node.friction      = zone.friction_coefficient;
+        node.area          = slave.area.at(vertex);
+        node.pressure_area = node.area;
+        return node;
+      }
+
+      /**
+       * Completes @p node with its tangents and appends it to @p nodes, unless a prescribed
+       * component acts along its normal.
+       */
+      void
+      finish_node(ContactNode &node, std::vector<ContactNode> &nodes) const
+      {
+        std::tie(node.t1, node.t2) = tangent_basis(node.n);
+        const auto prescribed      = body.prescribed.find(node.vertex);
+        if (prescribed != body.prescribed.end() && !orient_for_roller(node, prescribed->second))
+          return;
+        nodes.push_back(node);
+      }
+    };
+
+    /** The surface of a zone as the mortar coupling needs it, and the vertex numbers. */
+    struct MortarSurface
+    {
+      Mortar::Surface           surface;
+      std::vector<unsigned int> vertex; ///< local → mesh vertex
+    };
+
+    MortarSurface
+    mortar_surface(const Surface &s, const Triangulation<3> &mesh)
+    {
+      MortarSurface                        m;
+      std::map<unsigned int, unsigned int> local;
+      for (const auto &[v, unused] : s.normal_sum)
+        {
+          local[v] = m.vertex.size();
+          m.vertex.push_back(v);
+          m.surface.points.push_back(mesh.get_vertices()[v]);
+        }
+      for (const auto &t : s.triangles)
+        m.surface.triangles.push_back({{local[t[0]], local[t[1]], local[t[2]]}});
+      Mortar::compute_normals(m.surface, s.outward);
+      return m;
+    }
+
+    /**
+     * The master vertex of each slave vertex if the coupling is that of matching meshes (every
+     * slave vertex fully covered, and M_kj = D_kk for one master vertex j and 0 for the others);
+     * empty otherwise.
+     */
+    std::map<unsigned int, unsigned int>
+    matching_partners(const std::vector<Mortar::NodeCoupling> &couplings,
+                      const MortarSurface                     &slave,
+                      const MortarSurface                     &master)
+    {
+      std::map<unsigned int, unsigned int> partner;
+      for (unsigned int k = 0; k < couplings.size(); ++k)
+        {
+          const auto &c = couplings[k];
+          if (c.covered <= 0 || !c.dual)
+            return {};
+          std::optional<unsigned int> one;
+          for (const auto &[j, m] : c.M)
+            if (std::abs(m / c.D - 1) <= 1e-8 && !one)
+              one = j;
+            else if (std::abs(m / c.D) > 1e-8)
+              return {};
+          if (!one)
+            return {};
+          partner[slave.vertex[k]] = master.vertex[*one];
+        }
+      return partner;
+    }
+
+    /**
+     * Refuses a mortar coupling that found nothing to couple, or an overlap of the bodies deeper
+     * than the search distance. If nothing was coupled, a second coupling without a distance
+     * limit tells why: surfaces facing away from each other, surfaces that do not overlap at
+     * all, or a nearest master triangle beyond the search distance (in front or behind).
+     */
+    void
+    check_mortar_coupling(const ZoneSide           &side,
+                          const Body               &master_body,
+                          const MortarSurface      &slave,
+                          const MortarSurface      &master,
+                          const Mortar::Statistics &statistics,
+                          const double              distance)
+    {
+      const std::string pair = "the surface <" + side.zone.surface.name() + "> of body '" +
+                               side.body.parameters.name + "' and the master surface <" +
+                               side.zone.master_surface.name() + "> of body '" +
+                               master_body.parameters.name + "'";
+      const std::string overlap = side.where + "body '" + side.body.parameters.name +
+                                  "' penetrates body '" + master_body.parameters.name + "' by ";
+      const auto refuse_overlap = [&](const Mortar::Statistics &found) {
+        throw InputError(overlap + InputParsing::number_text(-found.min_distance) + " m near " +
+                         point_text(found.deepest_point) +
+                         " before any load, more than the search distance " +
+                         InputParsing::number_text(distance) +
+                         " m: the bodies overlap (move them apart, or a larger 'Search "
+                         "distance').");
+      };
+      if (statistics.n_segments > 0)
+        {
+          if (statistics.min_distance < -distance)
+            refuse_overlap(statistics);
+          return;
+        }
+      std::vector<Point<3>> all = slave.surface.points;
+      all.insert(all.end(), master.surface.points.begin(), master.surface.points.end());
+      const BoundingBox<3> box(all);
+      Mortar::Statistics   wide;
+      Mortar::couple(slave.surface,
+                     master.surface,
+                     box.side_length(0) + box.side_length(1) + box.side_length(2),
+                     wide);
+      require(wide.n_segments > 0 || wide.n_facing_away == 0,
+              side.where + pair +
+                " face away from each other: where they overlap, their outer normals point "
+                "the same way (they must point towards each other; is the master surface the "
+                "other side of its body?).");
+      require(wide.n_segments > 0,
+              side.where + pair +
+                " do not overlap: no master triangle lies opposite a slave triangle (the right "
+                "surfaces?).");
+      if (wide.min_distance < 0)
+        refuse_overlap(wide);
+      throw InputError(side.where + pair + " are too far apart: the nearest master triangle lies " +
+                       InputParsing::number_text(wide.min_distance) +
+                       " m in front of the slave surface, beyond the search distance " +
+                       InputParsing::number_text(distance) +
+                       " m (a larger 'Search distance', if the gap may close).");
+    }
+
+    /** The mortar nodes of a zone from the coupling of its surfaces. */
+    void
+    add_mortar_nodes(const ZoneSide                          &side,
+                     const std::vector<Mortar::NodeCoupling> &couplings,
+                     const MortarSurface                     &slave,
+                     const MortarSurface                     &master,
+                     std::vector<ContactNode>                &nodes,
+                     ZoneReport                              &report)
+    {
+      for (unsigned int k = 0; k < couplings.size(); ++k)
+        {
+          auto node = side.start_node(slave.vertex[k]);
+          if (!node)
+            continue;
+          const auto &c = couplings[k];
+          if (c.covered <= 0)
+            {
+              ++report.n_uncovered;
+              continue;
+            }
+          node->n             = slave.surface.point_normals[k];
+          node->gap           = c.weighted_gap / c.D;
+          node->pressure_area = c.D;
+          node->mortar        = true;
+          for (const auto &[j, m] : c.M)
+            node->master.push_back({side.zone.master_body, master.vertex[j], m / c.D});
+          report.n_partly_covered += c.dual ? 0 : 1;
+          report.n_overlapping += node->gap < 0 ? 1 : 0;
+          side.finish_node(*node, nodes);
+        }
+    }
+
+    /** The nodes of a body-pair zone, node to node or mortar. */
+    void
+    add_body_pair_nodes(const ZoneSide                           &side,
+                        const std::vector<std::unique_ptr<Body>> &bodies,
+                        std::vector<ContactNode>                 &nodes,
+                        ZoneReport                               &report)
+    {
+      using Discretization         = Parameters::ContactZone::Discretization;
+      const auto      &zone        = side.zone;
+      const Body      &master_body = *bodies[zone.master_body];
+      BoundarySelector master_selector(zone.master_surface);
+      master_selector.resolve(master_body.mesh, master_body.parameters.name);
+      const Surface master = collect_surface(master_body.mesh, master_selector);
+
+      std::map<unsigned int, unsigned int> partner;
+      if (zone.discretization != Discretization::node_to_node)
+        {
+          const MortarSurface slave_m  = mortar_surface(side.slave, side.body.mesh);
+          const MortarSurface master_m = mortar_surface(master, master_body.mesh);
+          report.search_distance       = zone.search_distance.value_or(side.slave.mean_edge);
+          Mortar::Statistics statistics;
+          const auto         couplings =
+            Mortar::couple(slave_m.surface, master_m.surface, report.search_distance, statistics);
+          report.n_segments = statistics.n_segments;
+          check_mortar_coupling(
+            side, master_body, slave_m, master_m, statistics, report.search_distance);
+          if (zone.discretization == Discretization::automatic)
+            partner = matching_partners(couplings, slave_m, master_m);
+          if (partner.empty())
+            {
+              report.discretization = "mortar";
+              add_mortar_nodes(side, couplings, slave_m, master_m, nodes, report);
+              return;
+            }
+        }
+      report.discretization = "node to node";
+      for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
+        if (auto node = side.start_node(vertex))
+          {
+            const auto hint = partner.find(vertex);
+            place_opposite_master(*node,
+                                  normal_sum / normal_sum.norm(),
+                                  side.slave,
+                                  master,
+                                  side.body,
+                                  &master_body,
+                                  zone,
+                                  side.where,
+                                  hint != partner.end() ? std::optional(hint->second) :
+                                                          std::nullopt);
+            side.finish_node(*node, nodes);
+          }
+    }
+  } // namespace
+
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
-                     std::vector<ContactTriangle>             *triangles)
+                     std::vector<ContactTriangle>             *triangles,
+                     std::vector<ZoneReport>                  *reports)
   {
     std::vector<ContactNode> nodes;
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
@@ -355,55 +658,68 @@ namespace FetiContact
           for (const auto &t : slave.triangles)
             triangles->push_back({z, zone.body, t});
 
-        Surface     master;
-        const Body *master_body = nullptr;
-        if (zone.type == Parameters::ContactZone::Type::body)
-          {
-            master_body = bodies[zone.master_body].get();
-            BoundarySelector master_surface(zone.master_surface);
-            master_surface.resolve(master_body->mesh, master_body->parameters.name);
-            master = collect_surface(master_body->mesh, master_surface);
-          }
-
+        const ZoneSide     side{z, zone, body, slave, where};
+        ZoneReport         report;
+        const unsigned int first = nodes.size();
         if (zone.type == Parameters::ContactZone::Type::rigid_plane)
-          check_plane_faces_body(slave, body, zone, where);
-
-        unsigned int n_in_zone = 0;
-        for (const auto &[vertex, normal_sum] : slave.normal_sum)
           {
-            const auto prescribed = body.prescribed.find(vertex);
-            if (prescribed != body.prescribed.end() && prescribed->second[0] &&
-                prescribed->second[1] && prescribed->second[2])
-              continue; // clamped
-            ContactNode node;
-            node.zone                = z;
-            node.body                = zone.body;
-            node.vertex              = vertex;
-            node.x                   = body.mesh.get_vertices()[vertex];
-            node.friction            = zone.friction_coefficient;
-            node.area                = slave.area.at(vertex);
-            const Tensor<1, 3> outer = normal_sum / normal_sum.norm();
-            if (zone.type == Parameters::ContactZone::Type::rigid_plane)
-              {
-                place_on_plane(node, zone, slave, where);
-              }
-            else
-              {
-                place_opposite_master(node, outer, slave, master, body, master_body, zone, where);
-              }
-            std::tie(node.t1, node.t2) = tangent_basis(node.n);
-            if (prescribed != body.prescribed.end() && !orient_for_roller(node, prescribed->second))
-              continue;
-            nodes.push_back(node);
-            ++n_in_zone;
+            report.discretization = "rigid plane";
+            check_plane_faces_body(slave, body, zone, where);
+            for (const auto &[vertex, normal_sum] : slave.normal_sum)
+              if (auto node = side.start_node(vertex))
+                {
+                  place_on_plane(*node, zone, slave, where);
+                  side.finish_node(*node, nodes);
+                }
           }
-        require(n_in_zone > 0,
+        else if (zone.rigid())
+          {
+            report.discretization  = "rigid obstacle";
+            report.search_distance = zone.search_distance.value_or(0);
+            for (const auto &[vertex, normal_sum] : slave.normal_sum)
+              if (auto node = side.start_node(vertex))
+                {
+                  if (!place_on_curved_obstacle(*node, zone, slave, where))
+                    {
+                      ++report.n_uncovered;
+                      continue;
+                    }
+                  report.n_overlapping += node->gap < 0 ? 1 : 0;
+                  side.finish_node(*node, nodes);
+                }
+          }
+        else
+          add_body_pair_nodes(side, bodies, nodes, report);
+        report.n_nodes = nodes.size() - first;
+        require(report.n_nodes > 0,
                 where + "the surface <" + zone.surface.name() + "> of body '" +
                   body.parameters.name +
-                  "' has no contact node (all its vertices are Dirichlet vertices).");
+                  "' has no contact node (all its vertices are Dirichlet vertices" +
+                  (report.n_uncovered > 0 ? ", or have no master surface opposite them)." : ")."));
+        if (reports != nullptr)
+          reports->push_back(report);
       }
     combine_shared_vertices(nodes);
     return nodes;
+  }
+
+  Tensor<1, 3>
+  relative_displacement(const ContactNode                            &node,
+                        const std::vector<std::vector<Tensor<1, 3>>> &vertex_u)
+  {
+    Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
+    for (const auto &m : node.master)
+      relative -= m.weight * vertex_u[m.body][m.vertex];
+    return relative;
+  }
+
+  Point<3>
+  master_point(const ContactNode &node, const std::vector<std::unique_ptr<Body>> &bodies)
+  {
+    Point<3> y;
+    for (const auto &m : node.master)
+      y += m.weight * bodies[m.body]->mesh.get_vertices()[m.vertex];
+    return y;
   }
 
   std::vector<double>

@@ -102,13 +102,23 @@ namespace FetiContact
     double     worst      = 0;
     const auto penetrates = [&](const Parameters::ContactZone &zone, const unsigned int v) {
       const Point<3> &x = bodies[zone.body]->mesh.get_vertices()[v];
-      return -((x + vertex_u[zone.body][v] - zone.plane_point) * zone.plane_normal);
+      return -obstacle_distance(zone, x + vertex_u[zone.body][v]).first;
     };
-    // Every vertex of the zone's surface, also those that start a rounding error behind it.
+    // Every vertex of the zone's surface, also those that start a rounding error behind it (or,
+    // on a curved obstacle, inside it by up to the search distance).
     for (const auto &t : triangles)
-      if (contact.zones[t.zone].type == Parameters::ContactZone::Type::rigid_plane)
+      if (contact.zones[t.zone].rigid())
         for (const unsigned int v : t.vertices)
           worst = std::max(worst, penetrates(contact.zones[t.zone], v));
+    // Every other vertex of a body that starts outside a sphere or cylinder: it must end outside.
+    for (const auto &zone : contact.zones)
+      if (zone.rigid() && zone.type != Parameters::ContactZone::Type::rigid_plane)
+        {
+          const auto &vertices = bodies[zone.body]->mesh.get_vertices();
+          for (unsigned int v = 0; v < vertices.size(); ++v)
+            if (obstacle_distance(zone, vertices[v]).first >= 0)
+              worst = std::max(worst, penetrates(zone, v));
+        }
     // Every other vertex of a body that starts in front of its rigid planes: a surface chosen
     // too small lets the body through a plane elsewhere. Such a vertex counts by the least of
     // its depths behind the body's planes, so that it must end behind all of them: several
@@ -179,10 +189,8 @@ namespace FetiContact
                   r.lambda_T[1] += sigma * std::sin(angle) * lambda[first + j];
                 }
           }
-        Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
-        if (node.master)
-          relative -= vertex_u[node.master->first][node.master->second];
-        r.gap = node.gap - relative * node.n;
+        const Tensor<1, 3> relative = relative_displacement(node, vertex_u);
+        r.gap                       = node.gap - relative * node.n;
         // A node whose friction acts through the rows of its vertex's keeper slips along the
         // keeper's tangents.
         const ContactNode &frame = node.keeper ? nodes[*node.keeper] : node;
@@ -250,7 +258,8 @@ namespace FetiContact
                     const std::vector<ContactNode>       &nodes,
                     const std::vector<ContactNodeResult> &results)
   {
-    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure\n"
+    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure,"
+           "weighted_gap,D_kk\n"
         << std::setprecision(12);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
@@ -259,7 +268,8 @@ namespace FetiContact
         out << n.zone + 1 << ',' << n.body + 1 << ',' << n.x[0] << ',' << n.x[1] << ',' << n.x[2]
             << ',' << r.lambda_N << ',' << r.lambda_T[0] << ',' << r.lambda_T[1] << ',' << r.gap
             << ',' << r.slip[0] << ',' << r.slip[1] << ',' << to_string(r.status) << ',' << n.area
-            << ',' << r.lambda_N / n.area << '\n';
+            << ',' << r.lambda_N / n.pressure_area << ',' << n.gap * n.pressure_area << ','
+            << n.pressure_area << '\n';
       }
   }
 } // namespace FetiContact

@@ -35,14 +35,19 @@ namespace FetiContact
       const auto it = bodies[body]->prescribed.find(vertex);
       return it != bodies[body]->prescribed.end() ? it->second[c] : std::optional<double>();
     };
-    // σ_k: the averaged row v·(Σu_slave/p − Σu_master/q) has the length |v|√(1/p + 1/q) against
-    // |v|√2 of the row on single copies (|v| and √(1/p), √1 without a master).
+    // σ_k: the averaged row v·(Σu_slave/p − Σ_j w_j Σu_j/q_j) has the length
+    // |v|√(1/p + Σ_j w_j²/q_j) against |v|√(1 + Σ_j w_j²) of the row on single copies (node to
+    // node: √(1/p + 1/q) against √2; √(1/p) against 1 without a master).
     const auto scale_of = [&](const ContactNode &node) {
-      const double p = n_copies(node.body, node.vertex);
-      if (!node.master)
-        return std::sqrt(p);
-      const double q = n_copies(node.master->first, node.master->second);
-      return std::sqrt(2.0 / (1.0 / p + 1.0 / q));
+      if (!node.on_body())
+        return std::sqrt(static_cast<double>(n_copies(node.body, node.vertex)));
+      double averaged = 1.0 / n_copies(node.body, node.vertex), single = 1;
+      for (const auto &m : node.master)
+        {
+          averaged += m.weight * m.weight / n_copies(m.body, m.vertex);
+          single += m.weight * m.weight;
+        }
+      return std::sqrt(single / averaged);
     };
     const auto add_row =
       [&](DualRows &rows, const ContactNode &node, const Tensor<1, 3> &v, double c_k) {
@@ -64,8 +69,8 @@ namespace FetiContact
                 }
           };
         add_side(node.body, node.vertex, 1.0);
-        if (node.master)
-          add_side(node.master->first, node.master->second, -1.0);
+        for (const auto &m : node.master)
+          add_side(m.body, m.vertex, -m.weight);
         rows.add_row(row, sigma * c_k);
       };
 

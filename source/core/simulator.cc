@@ -48,13 +48,13 @@ namespace FetiContact
             -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
               results[k].lambda_T[1] * node.t2);
           forces[node.body] += force;
-          if (!node.master)
-            continue;
-          const auto &[master, vertex] = *node.master;
-          const auto prescribed        = bodies[master]->prescribed.find(vertex);
-          for (unsigned int c = 0; c < 3; ++c)
-            if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
-              forces[master][c] -= force[c];
+          for (const auto &[master, vertex, weight] : node.master)
+            {
+              const auto prescribed = bodies[master]->prescribed.find(vertex);
+              for (unsigned int c = 0; c < 3; ++c)
+                if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
+                  forces[master][c] -= weight * force[c];
+            }
         }
       return forces;
     }
@@ -196,7 +196,26 @@ namespace FetiContact
   void
   Simulator::set_up_contact_nodes()
   {
-    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles);
+    std::vector<ZoneReport> reports;
+    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles, &reports);
+    for (unsigned int z = 0; z < reports.size(); ++z)
+      {
+        const ZoneReport &r = reports[z];
+        if (r.discretization == "rigid plane")
+          continue;
+        pcout << "Contact zone " << z + 1 << ": " << r.discretization << ", " << r.n_nodes
+              << " nodes";
+        if (r.discretization == "mortar")
+          pcout << " (" << r.n_partly_covered << " partly covered, " << r.n_overlapping
+                << " overlapping initially); " << r.n_uncovered
+                << " slave vertices without a master opposite them; " << r.n_segments
+                << " segments within the search distance "
+                << InputParsing::number_text(r.search_distance) << " m";
+        if (r.discretization == "rigid obstacle")
+          pcout << " (" << r.n_overlapping << " inside it initially); " << r.n_uncovered
+                << " vertices farther than the search distance";
+        pcout << std::endl;
+      }
     require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
             "Verification/Hertz: the scene has no contact nodes.");
     require(!contact_nodes.empty() || !parameters.output.write_fclib,

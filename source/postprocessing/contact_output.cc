@@ -88,7 +88,7 @@ namespace FetiContact
       out << "</DataArray>\n";
     };
     scalar("normal_force", [&](int k) { return results[k].lambda_N; });
-    scalar("pressure", [&](int k) { return results[k].lambda_N / nodes[k].area; });
+    scalar("pressure", [&](int k) { return results[k].lambda_N / nodes[k].pressure_area; });
     const auto tangential = [&](int k) {
       return Tensor<1, 3>(
         -(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));
@@ -105,6 +105,7 @@ namespace FetiContact
       out << (node_of[p] < 0 ? -1 : static_cast<int>(results[node_of[p]].status)) << '\n';
     out << "</DataArray>\n";
     scalar("zone", [&](int k) { return nodes[k].zone + 1; });
+    scalar("D_kk", [&](int k) { return nodes[k].pressure_area; });
     out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
 
     files.write(directory + "/contact_surface.pvd", [](std::ostream &pvd) {

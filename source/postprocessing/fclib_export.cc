@@ -161,8 +161,8 @@ namespace FetiContact
           // (body, vertex, sign) of the slave and of the master.
           std::vector<std::tuple<unsigned int, unsigned int, double>> ends{
             {node.body, node.vertex, -1.0}};
-          if (node.master)
-            ends.emplace_back(node.master->first, node.master->second, 1.0);
+          for (const auto &m : node.master)
+            ends.emplace_back(m.body, m.vertex, m.weight);
           for (unsigned int c = 0; c < 3; ++c)
             {
               std::vector<std::pair<int, double>> column;

@@ -47,26 +47,49 @@ namespace FetiContact
         << " N" << std::endl;
   }
 
+  double
+  hertz_radius(const Parameters::Scene &scene)
+  {
+    require(!scene.contact.zones.empty() &&
+              scene.contact.zones[0].type != Parameters::ContactZone::Type::rigid_cylinder,
+            "Verification/Hertz: contact zone 1 must be a rigid plane, a rigid sphere or a body "
+            "pair.");
+    const auto  &zone = scene.contact.zones[0];
+    const auto  &body = scene.bodies[zone.body];
+    const double R =
+      scene.verification.hertz.sphere_radius > 0 ? scene.verification.hertz.sphere_radius :
+      zone.type == Parameters::ContactZone::Type::rigid_sphere ? zone.radius :
+                                                                 body.mesh.spherical_bottom_radius;
+    require(R > 0,
+            "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or give "
+            "body '" +
+              body.name + "' a Spherical bottom radius).");
+    return R;
+  }
+
+  double
+  hertz_modulus(const Parameters::Scene &scene)
+  {
+    const auto &zone       = scene.contact.zones[0];
+    const auto  compliance = [&](const unsigned int b) {
+      const auto &m = scene.bodies[b].material;
+      return (1 - m.poissons_ratio * m.poissons_ratio) / m.youngs_modulus;
+    };
+    return 1 / (compliance(zone.body) + (zone.type == Parameters::ContactZone::Type::body ?
+                                           compliance(zone.master_body) :
+                                           0.0));
+  }
+
   HertzResult
   compare_with_hertz(const Parameters::Scene              &scene,
                      const std::vector<ContactNode>       &nodes,
                      const std::vector<ContactNodeResult> &results)
   {
     const auto &parameters = scene.verification.hertz;
-    require(!scene.contact.zones.empty() &&
-              scene.contact.zones[0].type == Parameters::ContactZone::Type::rigid_plane,
-            "Verification/Hertz: contact zone 1 must be a rigid plane.");
-    const auto &zone = scene.contact.zones[0];
-    const auto &body = scene.bodies[zone.body];
 
     HertzResult h;
-    h.R =
-      parameters.sphere_radius > 0 ? parameters.sphere_radius : body.mesh.spherical_bottom_radius;
-    require(h.R > 0,
-            "Verification/Hertz: no sphere radius (set Sphere radius, or give body '" + body.name +
-              "' a Spherical bottom radius).");
-    const double nu = body.material.poissons_ratio;
-    h.E_star        = body.material.youngs_modulus / (1 - nu * nu);
+    h.R      = hertz_radius(scene);
+    h.E_star = hertz_modulus(scene);
 
     // The nodes of zone 1 and their pressures.
     std::vector<unsigned int> zone_nodes;
@@ -74,7 +97,9 @@ namespace FetiContact
       if (nodes[k].zone == 0)
         zone_nodes.push_back(k);
     require(!zone_nodes.empty(), "Verification/Hertz: contact zone 1 has no nodes.");
-    const auto pressure = [&](const unsigned int k) { return results[k].lambda_N / nodes[k].area; };
+    const auto pressure = [&](const unsigned int k) {
+      return results[k].lambda_N / nodes[k].pressure_area;
+    };
     for (const unsigned int k : zone_nodes)
       h.total_normal_force += results[k].lambda_N;
     h.total_normal_force *= parameters.symmetry_factor;
@@ -93,7 +118,7 @@ namespace FetiContact
     const Tensor<1, 3> &n     = nodes[centre].n;
     Tensor<1, 3>        dir   = Tensor<1, 3>({1., 0., 0.}) - n[0] * n;
     require(dir.norm() > 1e-6,
-            "Verification/Hertz: the plane's normal is along x; the ray needs another direction.");
+            "Verification/Hertz: the contact normal is along x; the ray needs another direction.");
     dir /= dir.norm();
     const Tensor<1, 3> across = cross_product_3d(n, dir);
     double             extent = 0;

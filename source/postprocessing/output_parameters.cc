@@ -113,9 +113,11 @@ namespace FetiContact::Parameters
                       "false",
                       Patterns::Bool(),
                       "Compare the contact of zone 1 (a body with a spherical bottom on a rigid "
-                      "plane) with Hertz's solution a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²), "
-                      "E* = E/(1 − ν²): the contact radius and the peak pressure measured from the "
-                      "nodal pressures λ_N / area (log.txt, summary.json: hertz).");
+                      "plane or on another body's flat face, or a body under a rigid sphere) "
+                      "with Hertz's solution a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²), "
+                      "1/E* = (1 − ν₁²)/E₁ (+ (1 − ν₂²)/E₂ of the master body): the contact "
+                      "radius and the peak pressure measured from the nodal pressures "
+                      "λ_N / D_kk (log.txt, summary.json: hertz).");
     prm.declare_entry("Total force",
                       "0",
                       Patterns::Double(0),

@@ -63,9 +63,10 @@ namespace FetiContact::Parameters
     prm.declare_entry("Focus",
                       "",
                       Patterns::Anything(),
-                      "Box: x, y of the point of the bottom face z = zmin the grading shrinks "
-                      "towards and the spherical bottom touches the plane z = zmin at (inside "
-                      "the face or on its edges). Empty: the lower corner (xmin, ymin).");
+                      "Box: the point the grading shrinks towards, 'x, y' in the bottom face "
+                      "z = zmin (where the spherical bottom touches the plane z = zmin) or "
+                      "'x, y, z' anywhere in the box (on a face: a block refined towards a point "
+                      "of its top). Empty: the lower corner.");
     prm.declare_entry("File",
                       "",
                       Patterns::Anything(),
@@ -98,15 +99,19 @@ namespace FetiContact::Parameters
         const std::string focus_text = InputParsing::trim(prm.get("Focus"));
         if (!focus_text.empty())
           {
-            const auto xy = InputParsing::parse_doubles(focus_text, 2, "Mesh/Focus");
-            for (unsigned int d = 0; d < 2; ++d)
+            const unsigned int n_given = InputParsing::split(focus_text, ',').size() == 3 ? 3 : 2;
+            const auto         xyz = InputParsing::parse_doubles(focus_text, n_given, "Mesh/Focus");
+            for (unsigned int d = 0; d < n_given; ++d)
               {
-                require(xy[d] >= lower_corner[d] && xy[d] <= upper_corner[d],
+                require(xyz[d] >= lower_corner[d] && xyz[d] <= upper_corner[d],
                         "Mesh/Focus: the point (" + focus_text +
-                          ") must lie in the bottom face of the box (coordinate " +
-                          std::to_string(d) + " outside [lower corner, upper corner]).");
-                focus[d] = xy[d];
+                          ") must lie in the box (coordinate " + std::to_string(d) +
+                          " outside [lower corner, upper corner]).");
+                focus[d] = xyz[d];
               }
+            require(spherical_bottom_radius == 0 || focus[2] == lower_corner[2],
+                    "Mesh/Focus: with a Spherical bottom radius the focus must lie in the bottom "
+                    "face (z = zmin), where the sphere touches.");
           }
         const double R  = spherical_bottom_radius;
         double       r2 = 0; // the largest squared distance from the focus to a bottom corner

@@ -10,10 +10,11 @@ namespace FetiContact::Parameters
   {
     prm.declare_entry("Type",
                       "rigid plane",
-                      Patterns::Selection("rigid plane|body"),
-                      "What the surface may touch: a 'rigid plane' (an obstacle given by a point "
-                      "and a normal) or another 'body' (its 'Master surface', matched node by "
-                      "node: the meshes must be conforming there).");
+                      Patterns::Selection("rigid plane|rigid sphere|rigid cylinder|body"),
+                      "What the surface may touch: a 'rigid plane' (given by a point and a "
+                      "normal), a 'rigid sphere' (a centre and a radius), a 'rigid cylinder' (a "
+                      "point of its axis, the axis and a radius), or another 'body' (its 'Master "
+                      "surface').");
     prm.declare_entry("Body",
                       "1",
                       Patterns::Integer(1),
@@ -38,18 +39,51 @@ namespace FetiContact::Parameters
                       Patterns::Anything(),
                       "Rigid plane: its normal pointing out of the obstacle, towards the body "
                       "(normalized on input).");
+    prm.declare_entry("Centre",
+                      "0, 0, 0",
+                      Patterns::Anything(),
+                      "Rigid sphere: its centre; rigid cylinder: a point of its axis (m).");
+    prm.declare_entry("Axis",
+                      "0, 0, 1",
+                      Patterns::Anything(),
+                      "Rigid cylinder: the direction of its axis (normalized on input).");
+    prm.declare_entry("Radius",
+                      "1",
+                      Patterns::Double(0),
+                      "Rigid sphere and rigid cylinder: the radius (m), > 0.");
     prm.declare_entry("Master body", "2", Patterns::Integer(1), "Body pair: the other body.");
     prm.declare_entry("Master surface",
                       "z = zmax",
                       Patterns::Anything(),
                       "Body pair: the surface of the other body facing this one.");
+    prm.declare_entry("Discretization",
+                      "automatic",
+                      Patterns::Selection("automatic|node to node|mortar"),
+                      "Body pair: how the rows couple the two surfaces. 'node to node': each "
+                      "node against the master vertex opposite it (the meshes must match there); "
+                      "'mortar': dual mortar rows, for meshes that do not match; 'automatic': "
+                      "node to node where the surfaces match node for node, mortar otherwise.");
+    prm.declare_entry("Search distance",
+                      "auto",
+                      Patterns::Anything(),
+                      "Body pair, mortar: how far in front of a slave triangle a master triangle "
+                      "is still coupled with it, and how deep the master surface may lie behind "
+                      "the slave surface before any load (an overlap the solve removes) (m); "
+                      "'auto': the mean edge length of the slave surface. Rigid sphere and "
+                      "cylinder: nodes farther from the obstacle are not contact nodes, nodes up "
+                      "to this deep inside it before any load are pushed out by the solve; "
+                      "'auto': every node is a contact node and none may start inside.");
   }
 
   void
   ContactZone::parse_parameters(ParameterHandler &prm, const unsigned int n_bodies)
   {
-    type = prm.get("Type") == "rigid plane" ? Type::rigid_plane : Type::body;
-    body = prm.get_integer("Body") - 1;
+    const std::string type_text = prm.get("Type");
+    type                        = type_text == "rigid plane"    ? Type::rigid_plane :
+                                  type_text == "rigid sphere"   ? Type::rigid_sphere :
+                                  type_text == "rigid cylinder" ? Type::rigid_cylinder :
+                                                                  Type::body;
+    body                        = prm.get_integer("Body") - 1;
     require(body < n_bodies,
             "Body = " + prm.get("Body") + " but the scene has " + std::to_string(n_bodies) +
               " bodies.");
@@ -66,6 +100,18 @@ namespace FetiContact::Parameters
         require(plane_normal.norm() > 0, "Plane normal must not be the zero vector.");
         plane_normal /= plane_normal.norm();
       }
+    else if (type != Type::body)
+      {
+        centre = InputParsing::parse_point(prm.get("Centre"), "Centre");
+        radius = prm.get_double("Radius");
+        require(radius > 0, "Radius must be positive; got " + prm.get("Radius") + ".");
+        if (type == Type::rigid_cylinder)
+          {
+            axis = InputParsing::parse_vector(prm.get("Axis"), "Axis");
+            require(axis.norm() > 0, "Axis must not be the zero vector.");
+            axis /= axis.norm();
+          }
+      }
     else
       {
         master_body = prm.get_integer("Master body") - 1;
@@ -74,6 +120,17 @@ namespace FetiContact::Parameters
                   std::to_string(n_bodies) + " bodies.");
         require(master_body != body, "Master body must differ from Body.");
         master_surface = BoundarySelector::parse(prm.get("Master surface"), "Master surface");
+        const std::string method = prm.get("Discretization");
+        discretization           = method == "mortar"       ? Discretization::mortar :
+                                   method == "node to node" ? Discretization::node_to_node :
+                                                              Discretization::automatic;
+      }
+    const std::string distance = InputParsing::trim(prm.get("Search distance"));
+    if (distance != "auto")
+      {
+        search_distance = InputParsing::parse_double(distance, "Search distance");
+        require(*search_distance >= 0,
+                "Search distance must not be negative (or 'auto'); got " + distance + ".");
       }
   }
 

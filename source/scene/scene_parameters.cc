@@ -65,10 +65,14 @@ namespace FetiContact::Parameters
     refinement_study.parse_parameters(prm);
     if (verification.hertz.enabled)
       {
-        require(!contact.zones.empty() && contact.zones[0].type == ContactZone::Type::rigid_plane,
-                "Verification/Hertz: contact zone 1 must be a rigid plane.");
-        const auto &body = bodies[contact.zones[0].body];
-        require(verification.hertz.sphere_radius > 0 || body.mesh.spherical_bottom_radius > 0,
+        require(!contact.zones.empty() &&
+                  contact.zones[0].type != ContactZone::Type::rigid_cylinder,
+                "Verification/Hertz: contact zone 1 must be a rigid plane, a rigid sphere or a "
+                "body pair.");
+        const auto &zone = contact.zones[0];
+        const auto &body = bodies[zone.body];
+        require(verification.hertz.sphere_radius > 0 || body.mesh.spherical_bottom_radius > 0 ||
+                  zone.type == ContactZone::Type::rigid_sphere,
                 "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or "
                 "give body '" +
                   body.name + "' a Spherical bottom radius).");

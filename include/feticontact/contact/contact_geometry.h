@@ -9,38 +9,105 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace FetiContact
 {
+  /** A master vertex of a contact node's row and its weight M_kj / D_kk. */
+  struct MasterPoint
+  {
+    unsigned int body;
+    unsigned int vertex;
+    double       weight;
+
+    bool
+    operator==(const MasterPoint &other) const
+    {
+      return body == other.body && vertex == other.vertex && weight == other.weight;
+    }
+  };
+
   /**
    * A contact node x_k of a slave surface Γ_c (doc/formulation.md, "The continuous problem"): the
-   * vertex, its partner χ(x_k) (a vertex of the master surface, or the projection on a rigid
-   * plane), the critical direction n_k, tangents t1_k, t2_k ({n, t1, t2} orthonormal), the initial
-   * gap d_k = (χ(x_k) − x_k)·n_k and the coefficient of friction F of its zone.
+   * vertex, what it is held against, the critical direction n_k, tangents t1_k, t2_k ({n, t1, t2}
+   * orthonormal), the initial gap d_k and the coefficient of friction μ of its zone.
+   *
+   * Its rows are v·(u(x_k) − Σ_j w_j u(y_j)) ≤ c for v = t1_k, t2_k (c = 0) and n_k (c = d_k),
+   * with the master vertices y_j and weights w_j of @p master: one vertex χ(x_k) of weight 1
+   * for a body pair discretized node to node, the mortar weights M_kj / D_kk (doc/contact.md,
+   * "Non-matching meshes") for a mortar pair, none for a rigid obstacle. The weights sum to 1.
    */
   struct ContactNode
   {
     unsigned int zone;
     unsigned int body;
     unsigned int vertex;
-    /** Body pair: the master body and vertex χ(x_k); empty for a rigid obstacle. */
-    std::optional<std::pair<unsigned int, unsigned int>> master;
-    dealii::Point<3>                                     x;
-    dealii::Tensor<1, 3>                                 n, t1, t2;
-    double                                               gap;
-    double                                               friction;
+    /** The master vertices and their weights; empty for a rigid obstacle. */
+    std::vector<MasterPoint> master;
+    dealii::Point<3>         x;
+    dealii::Tensor<1, 3>     n, t1, t2;
+    /**
+     * The initial gap: (χ(x_k) − x_k)·n_k node to node and on an obstacle; the weighted gap
+     * g̃_k / D_kk for a mortar node (negative: an initial overlap, which the solve removes).
+     */
+    double gap      = 0;
+    double friction = 0;
     /**
      * The area of the slave surface lumped at the node (a third of each adjacent triangle):
      * λ_N / area is the mean contact pressure around the node.
      */
     double area = 0;
     /**
+     * The area that turns the node's forces into pressures: D_kk of the mortar rows (the
+     * dual-basis area; the covered part of the lumped area at the edge of a mortar zone), the
+     * lumped area otherwise.
+     */
+    double pressure_area = 0;
+    /** Whether the node's rows are mortar rows. */
+    bool mortar = false;
+    /**
      * For a node at a vertex shared with other zones whose tangential rows another node of the
      * vertex carries (combine_shared_vertices): that node's index. This node's μ λ_N adds to
      * that node's slip bound (slip_bounds()).
      */
     std::optional<unsigned int> keeper;
+
+    /** Whether the node is held against another body (node to node or mortar). */
+    bool
+    on_body() const
+    {
+      return !master.empty();
+    }
+  };
+
+  /**
+   * The displacement of node @p node relative to what it is held against,
+   * u(x_k) − Σ_j w_j u(y_j), from the vertex displacements of every body.
+   */
+  dealii::Tensor<1, 3>
+  relative_displacement(const ContactNode                                    &node,
+                        const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
+
+  /** Σ_j w_j y_j: the point of the master surface that node @p node is held against. */
+  dealii::Point<3>
+  master_point(const ContactNode &node, const std::vector<std::unique_ptr<Body>> &bodies);
+
+  /** How a zone's rows were built: for the log and summary.json. */
+  struct ZoneReport
+  {
+    /** "rigid plane", "node to node" or "mortar". */
+    std::string  discretization;
+    unsigned int n_nodes = 0;
+    /** Mortar: slave vertices that no master triangle covers (not contact nodes). */
+    unsigned int n_uncovered = 0;
+    /** Mortar: nodes covered in part (weighted by φ_k instead of ψ_k). */
+    unsigned int n_partly_covered = 0;
+    /** Nodes with a negative initial gap (mortar: an overlap within the search distance). */
+    unsigned int n_overlapping = 0;
+    /** Mortar: the search distance used and the segments integrated. */
+    double       search_distance = 0;
+    unsigned int n_segments      = 0;
   };
 
   /** A triangle of a zone's slave surface (body-mesh vertices), for output. */
@@ -61,14 +128,27 @@ namespace FetiContact
    * the orthogonal projection of x_k on the plane and n_k the plane's normal pointing into the
    * obstacle. Body pair: n_k is from x_k towards χ(x_k) when the gap is positive and the outer unit
    * normal of Γ_c (the area-weighted mean of the adjacent face normals) when it is zero. For a body
-   * pair every slave node must have a master vertex opposite it along its normal; otherwise the
-   * surfaces do not match and InputError names the node. If @p triangles is given, the triangles of
-   * every zone's surface are appended to it (for the contact-surface output).
+   * pair discretized node to node every slave node must have a master vertex opposite it along
+   * its normal; otherwise the surfaces do not match and InputError names the node. A mortar pair
+   * (doc/contact.md, "Non-matching meshes") has the slave vertices that the master surface
+   * covers within the search distance, with n_k the mean outer normal at the vertex. If
+   * @p triangles is given, the triangles of every zone's surface are appended to it (for the
+   * contact-surface output); if @p reports is given, one report per zone.
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
-                     std::vector<ContactTriangle>             *triangles = nullptr);
+                     std::vector<ContactTriangle>             *triangles = nullptr,
+                     std::vector<ZoneReport>                  *reports   = nullptr);
+
+  /**
+   * The signed distance of @p x from the surface of the rigid obstacle of @p zone (a plane, a
+   * sphere or a cylinder; negative inside the obstacle) and the unit direction from @p x towards
+   * the closest point of that surface, into the obstacle (the critical direction n_k of a node at
+   * @p x). On a sphere's centre or a cylinder's axis the direction is undefined (zero).
+   */
+  std::pair<double, dealii::Tensor<1, 3>>
+  obstacle_distance(const Parameters::ContactZone &zone, const dealii::Point<3> &x);
 
   /** Unit vectors t1, t2 completing the unit vector n to a right-handed orthonormal basis. */
   std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>

@@ -117,7 +117,8 @@ namespace FetiContact
 
   /**
    * Writes contact.csv: zone, body, x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status, the
-   * lumped area and the pressure λ_N / area per node.
+   * lumped area, the pressure λ_N / D_kk, the weighted initial gap g̃_k = D_kk d_k and D_kk per
+   * node (D_kk: the dual-basis area of a mortar node, the lumped area otherwise).
    */
   void
   write_contact_csv(std::ostream                         &out,

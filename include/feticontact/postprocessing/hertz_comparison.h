@@ -47,10 +47,23 @@ namespace FetiContact
   };
 
   /**
-   * Evaluates zone 1 of @p scene (it must be a rigid plane; its body's material and, unless
-   * `Verification/Hertz/Sphere radius` is given, its `Spherical bottom radius` are used).
-   * Throws InputError when the scene does not fit (no rigid plane, no radius, fewer than two
-   * nodes on the ray, nothing in contact).
+   * The radius R of Hertz's sphere for zone 1 of @p scene: `Verification/Hertz/Sphere radius`,
+   * else the radius of a rigid sphere, else the `Spherical bottom radius` of the zone's body.
+   */
+  double
+  hertz_radius(const Parameters::Scene &scene);
+
+  /**
+   * Hertz's E* for zone 1 of @p scene: 1/E* = (1 − ν₁²)/E₁ for a rigid obstacle, plus
+   * (1 − ν₂²)/E₂ of the master body for a body pair.
+   */
+  double
+  hertz_modulus(const Parameters::Scene &scene);
+
+  /**
+   * Evaluates zone 1 of @p scene (a rigid plane or sphere, or a body pair, with hertz_radius()
+   * and hertz_modulus()) from the pressures λ_N / D_kk of its nodes. Throws InputError when the
+   * scene does not fit (no radius, fewer than two nodes on the ray, nothing in contact).
    */
   HertzResult
   compare_with_hertz(const Parameters::Scene              &scene,

@@ -6,6 +6,7 @@
 
 #include <feticontact/scene/boundary_selector.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ namespace FetiContact::Parameters
     enum class Type
     {
       rigid_plane,
+      rigid_sphere,
+      rigid_cylinder,
       body
     };
     Type type = Type::rigid_plane;
@@ -36,9 +39,45 @@ namespace FetiContact::Parameters
     dealii::Point<3>     plane_point;
     dealii::Tensor<1, 3> plane_normal;
 
-    /** Body pair: the master body (0-based) and its surface, matched node by node. */
+    /**
+     * Rigid sphere and rigid cylinder: the centre (a point of the cylinder's axis), the unit
+     * direction of the cylinder's axis and the radius. The obstacle is the solid ball or the solid
+     * infinite cylinder.
+     */
+    dealii::Point<3>     centre;
+    dealii::Tensor<1, 3> axis;
+    double               radius = 0;
+
+    /** Whether the obstacle is rigid (a plane, a sphere or a cylinder). */
+    bool
+    rigid() const
+    {
+      return type != Type::body;
+    }
+
+    /** Body pair: the master body (0-based) and its surface. */
     unsigned int     master_body = 0;
     BoundarySelector master_surface;
+
+    /** Body pair: how the rows couple the two surfaces. */
+    enum class Discretization
+    {
+      /** Node to node where the surfaces match node for node, mortar otherwise. */
+      automatic,
+      /** Each slave node against the master vertex opposite it (matching meshes only). */
+      node_to_node,
+      /** Dual mortar rows (non-matching meshes). */
+      mortar
+    };
+    Discretization discretization = Discretization::automatic;
+    /**
+     * Body pair: how far in front of a slave triangle a master triangle is still coupled with it,
+     * and how deep it may lie behind it initially (m); empty: the mean edge length of the slave
+     * surface. Rigid sphere and cylinder: nodes farther from the obstacle are not contact nodes,
+     * and nodes up to this deep inside it initially are pushed out by the solve; empty: every
+     * node is a contact node and none may start inside.
+     */
+    std::optional<double> search_distance;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -25,11 +25,11 @@ import time
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 PY = "/usr/bin/python3"
-# The defaults of the contact solver spelt out, with penalty factor 3: the setting of the tables
-# at fixed H/h (doc/performance.md, "MPI on this machine").
-FACTOR3 = ["--expansion", "projected cg", "--hessian-norm-bound", "max",
-           "--inexact-msa-factor", "0.001", "--recursive-gradient-tolerance", "0.1",
-           "--arc-scale", "mean diagonal", "--penalty-factor", "3"]
+# The defaults of the contact solver spelt out (the penalty factor is left to the program): the
+# setting of the tables at fixed H/h (doc/performance.md, "MPI on this machine").
+DEFAULTS = ["--expansion", "projected cg", "--hessian-norm-bound", "max",
+            "--inexact-msa-factor", "0.001", "--recursive-gradient-tolerance", "0.1",
+            "--arc-scale", "mean diagonal"]
 
 
 def steps(exe):
@@ -62,17 +62,16 @@ def steps(exe):
         ("scaling_linear", "15 min", "doc/data/scaling_linear.csv, doc/data/scaling.md",
          [[PY, b + "scaling.py", "--monolithic", "build/benchmarks/monolithic_solve",
            "--a", "1,2,3,4,5,6", "--linear-only", "--merge"]]),
-        ("scaling_mpi", "25 min", "doc/data/scaling_mpi.{csv,md}",
+        ("scaling_mpi", "5 min", "doc/data/scaling_mpi.{csv,md}",
          [[PY, b + "scaling.py", "--exe", exe, "--a", "3,4", "--np", "1,2", "--repeats", "3",
            "--paper-k", "", "--coarse-a", "", "--csv", "doc/data/scaling_mpi.csv",
-           "--markdown", "doc/data/scaling_mpi.md", *FACTOR3]]),
-        ("scaling_k48", "25 min", "doc/data/scaling_k48.{csv,md}",
+           "--markdown", "doc/data/scaling_mpi.md", *DEFAULTS]]),
+        ("scaling_k48", "5 min", "doc/data/scaling_k48.{csv,md}",
          [[PY, b + "scaling.py", "--exe", exe, "--a", "6", "--np", "1,2", "--repeats", "1",
            "--paper-k", "", "--coarse-a", "", "--csv", "doc/data/scaling_k48.csv",
-           "--markdown", "doc/data/scaling_k48.md", *FACTOR3]]),
-        ("iteration_growth", "1 h", "doc/data/iteration_growth.{csv,md}, doc/iteration_growth.png",
-         [[PY, b + "iteration_growth.py", "--exe", exe, "--a", "1,2,3,4,6", "--jobs", "2",
-           "--penalty-factor", "3"],
+           "--markdown", "doc/data/scaling_k48.md", *DEFAULTS]]),
+        ("iteration_growth", "20 min", "doc/data/iteration_growth.{csv,md}, doc/iteration_growth.png",
+         [[PY, b + "iteration_growth.py", "--exe", exe, "--a", "1,2,3,4,6", "--jobs", "2"],
           [PY, b + "iteration_growth.py", "--plot", "doc/data/iteration_growth.csv",
            "doc/iteration_growth.png"]]),
         ("shared_local_work", "10 min", "doc/data/shared_local_work.{csv,md}",

@@ -5,8 +5,13 @@ c = a (1 − Q/(μP))^(1/3), and full sliding for Q > μP.
     python3 benchmarks/cattaneo_mindlin.py [--exe build/feticontact] [--n 16]
         [--ratios 0,0.2,0.4,0.6,0.8,0.9] [--sliding 1.2] [--poisson 0.3]
         [--markdown doc/data/cattaneo_mindlin.md] [--csv doc/data/cattaneo_mindlin.csv]
+        [--prm prm/cattaneo_mindlin_pair.prm]
     /usr/bin/python3 benchmarks/cattaneo_mindlin.py --plot doc/data/cattaneo_mindlin.csv \\
         doc/cattaneo_mindlin.png
+
+--prm prm/cattaneo_mindlin_pair.prm: the indenter on an elastic steel block (mortar rows) instead
+of the rigid flat; the block's subdivisions are 5/4 of the indenter's, both bodies get --poisson,
+and 1/E* = 2 (1 − ν²)/E.
 
 The half indenter is held by its top face (moved down by δ, prm/cattaneo_mindlin.prm), so P is
 the reaction: a first run with Q = 0 gives P, and then Q = q μ P is applied for every ratio q
@@ -19,7 +24,7 @@ of --ratios as the traction Q / (4 L²) on the top face (L = 7 mm). Each run's c
   slip_Q0   for q = 0: the slipping nodes already there (Spence: a deformable sphere on a rigid
             flat slips inwards near the edge under the normal load alone).
 c_meas / a_meas is compared with (1 − q_meas)^(1/3); a_meas with the Hertz a = (3PR/(4E*))^(1/3)
-of the measured P. For --sliding q > 1 the run must stop with exit status 2 and "no equilibrium".
+of the measured P. For --sliding q > 1 the run must stop with exit status 4 and "no equilibrium".
 --poisson ν changes Poisson's ratio (the coupling of normal and tangential tractions of an
 elastic sphere on a rigid flat is measured by Dundurs' β = (1 − 2ν)/(2(1 − ν)), 0 at ν = 0.5).
 The measurement part uses the standard library only; --plot needs matplotlib.
@@ -36,8 +41,10 @@ from cli import arguments, option
 
 R, E, MU, L = 0.02, 2.1e11, 0.3, 0.007
 NU = float(sys.argv[sys.argv.index("--poisson") + 1]) if "--poisson" in sys.argv else 0.3
-E_STAR = E / (1 - NU ** 2)
-PRM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "cattaneo_mindlin.prm")
+PRM = (sys.argv[sys.argv.index("--prm") + 1] if "--prm" in sys.argv else
+       os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "prm", "cattaneo_mindlin.prm"))
+PAIR = "pair" in os.path.basename(PRM)
+E_STAR = E / (1 - NU ** 2) / (2 if PAIR else 1)
 FIELDS = ["n", "nu", "q", "q_meas", "P", "Q", "a_hertz", "a_meas", "c_meas", "c_over_a", "c_theory",
           "x_stick", "stick", "slip", "n_A", "time", "status"]
 
@@ -47,6 +54,10 @@ def solve(exe, n, traction_x, outdir):
            "--set", f"Body 1/Boundary conditions/Tractions=5: {traction_x!r}, 0, 0",
            "--set", f"Body 1/Material/Poisson's ratio={NU}",
            "--set", f"Output/Directory={outdir}", "--set", "Output/Write vtu=false", PRM]
+    if PAIR:
+        m = 5 * n // 4
+        cmd[-1:-1] = ["--set", f"Body 2/Mesh/Subdivisions={2 * m}, {m}, {m}",
+                      "--set", f"Body 2/Material/Poisson's ratio={NU}"]
     p = subprocess.run(cmd, capture_output=True, text=True,
                        env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
     with open(os.path.join(outdir, "summary.json")) as f:
@@ -76,7 +87,7 @@ def measure(exe, n, ratios, sliding):
             out = os.path.join(work, f"q{q}")
             p, summary = solve(exe, n, traction, out)
             if q > 1:
-                ok = p.returncode == 2 and "no equilibrium" in p.stderr
+                ok = p.returncode == 4 and "no equilibrium" in p.stderr
                 rows.append(dict(n=n, nu=NU, q=q, status=("no equilibrium reported" if ok else
                                                    f"exit {p.returncode}: {p.stderr.strip()[:200]}"),
                                  n_A=summary["hessian_multiplications"]["total"],
@@ -86,8 +97,10 @@ def measure(exe, n, ratios, sliding):
             if p.returncode != 0:
                 raise SystemExit(f"q = {q}: exit {p.returncode}\n{p.stderr}")
             c = summary["contact"]
-            P_run = 2 * c["normal_force"][2]
-            Q_run = -2 * c["tangential_force"][0]
+            # The forces on the slave: the indenter on the rigid flat, the block in the pair.
+            side = -1 if PAIR else 1
+            P_run = 2 * side * c["normal_force"][2]
+            Q_run = -2 * side * c["tangential_force"][0]
             if P is None:
                 P = P_run
             m = measure_run(out)
@@ -150,7 +163,7 @@ def plot(csv_path, png_path):
     ax.set_ylim(0, 1.05)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title("Sphere on a rigid flat, μ = 0.3")
+    ax.set_title("Sphere on a steel block, μ = 0.3" if PAIR else "Sphere on a rigid flat, μ = 0.3")
     fig.tight_layout()
     fig.savefig(png_path, dpi=120)
 
@@ -161,7 +174,7 @@ def main():
         plot(sys.argv[i + 1], sys.argv[i + 2])
         return
     arguments(__doc__, ["--csv", "--exe", "--markdown", "--n", "--ratios", "--sliding",
-              "--poisson"], [])
+              "--poisson", "--prm"], [])
     exe = option("--exe", "build/feticontact")
     ns = [int(v) for v in option("--n", "16").split(",")]
     ratios = [float(v) for v in option("--ratios", "0,0.2,0.4,0.6,0.8,0.9").split(",")]

@@ -3,7 +3,13 @@
 
     python3 benchmarks/hertz.py [--exe build/feticontact] [--n 12,16,24,32,40]
         [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv] [--work DIR]
+        [--prm prm/hertz_two_bodies.prm]
     /usr/bin/python3 benchmarks/hertz.py --plot doc/data/hertz_profile.csv doc/hertz_pressure.png
+        [--prm prm/hertz_two_bodies.prm]
+
+--prm prm/hertz_two_bodies.prm studies the two elastic bodies of that scene (mortar rows) instead
+of the body on a rigid flat: 1/E* = 2 (1 − ν²)/E, the pressures of the indenter's nodes
+(λ_N / D_kk).
 
 The study is feticontact's own (`Refinement study/Subdivision factors` = n/16 with
 Verification/Hertz of prm/hertz.prm): it solves the scene for every n (subdivisions per edge, the
@@ -34,14 +40,25 @@ from cli import arguments, option
 R, E, NU, P = 0.02, 2.1e11, 0.3, 5e3
 L = 0.007            # edge of the quarter box (prm/hertz.prm)
 GRADING = 6.0      # β of prm/hertz.prm
+PRM = "prm/hertz.prm"
 E_STAR = E / (1 - NU ** 2)
 A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
 P0 = 3 * P / (2 * math.pi * A ** 2)
 
 
+def configure(prm):
+    """The scene and its Hertz values: two elastic steel bodies for prm/hertz_two_bodies.prm."""
+    global PRM, E_STAR, A, P0
+    PRM = prm
+    E_STAR = E / (1 - NU ** 2) / (2 if "two_bodies" in prm else 1)
+    A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
+    P0 = 3 * P / (2 * math.pi * A ** 2)
+
+
 def read_contact(outdir):
     with open(os.path.join(outdir, "contact.csv")) as f:
-        return [dict(r=math.hypot(float(r["x"]), float(r["y"])), y=float(r["y"]),
+        return [dict(zone=int(r["zone"]), r=math.hypot(float(r["x"]), float(r["y"])),
+                     y=float(r["y"]),
                      x=float(r["x"]), force=float(r["lambda_N"]), p=float(r["pressure"]))
                 for r in csv.DictReader(f)]
 
@@ -65,7 +82,8 @@ def contact_radius(rows):
 
 
 def study():
-    arguments(__doc__, ["--csv", "--exe", "--markdown", "--n", "--work"], [])
+    arguments(__doc__, ["--csv", "--exe", "--markdown", "--n", "--work", "--prm"], [])
+    configure(option("--prm", PRM))
     exe = option("--exe", "build/feticontact")
     ns = [int(v) for v in option("--n", "12,16,24,32,40").split(",")]
     md_path = option("--markdown", "doc/data/hertz.md")
@@ -73,8 +91,7 @@ def study():
     work = option("--work", tempfile.mkdtemp(prefix="hertz_"))
     factors = ", ".join(f"{n / 16:g}" for n in ns)
     command = [exe, "--set", f"Refinement study/Subdivision factors={factors}",
-               "--set", f"Output/Directory={work}", "--set", "Output/Write vtu=false",
-               "prm/hertz.prm"]
+               "--set", f"Output/Directory={work}", "--set", "Output/Write vtu=false", PRM]
     run = subprocess.run(command, capture_output=True, text=True,
                          env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
     if run.returncode != 0:
@@ -86,7 +103,7 @@ def study():
         outdir = os.path.join(work, f"cycle-{cycle}")
         with open(os.path.join(outdir, "summary.json")) as f:
             summary = json.load(f)
-        rows = read_contact(outdir)
+        rows = [r for r in read_contact(outdir) if r["zone"] == 1]
         centre = min(rows, key=lambda r: r["r"])
         a, r_in, r_out = contact_radius(rows)
         hertz = summary["hertz"]
@@ -127,7 +144,7 @@ def markdown_table(org):
 
 def table(results, convergence_table, command):
     out = ["<!-- written by benchmarks/hertz.py -->", "",
-           f"Command: `{command}` (feticontact's refinement study of prm/hertz.prm).", "",
+           f"Command: `{command}` (feticontact's refinement study of {PRM}).", "",
            f"Hertz: a = {A:.5e} m (a/R = {A / R:.3f}), p0 = {P0:.5e} Pa, P = {P:g} N.", "",
            "deal.II ConvergenceTable written by feticontact (output/hertz/convergence_table.org;"
            " errors relative, rates log(e_{i−1}/e_i)/log(n_i/n_{i−1})):", "",
@@ -158,15 +175,17 @@ def plot(csv_path, png_path):
     ax.plot(xs, [math.sqrt(max(0, 1 - x * x)) for x in xs], "k-", lw=1.2,
             label="Hertz p0 √(1 − r²/a²)")
     ax.set_xlabel("r / a (Hertz)")
-    ax.set_ylabel("λ_N / area  /  p0 (Hertz)")
+    ax.set_ylabel("λ_N / D_kk  /  p0 (Hertz)")
     ax.set_xlim(0, 1.5)
     ax.legend(fontsize=8)
-    ax.set_title("Hertz: nodal contact pressure against radius (prm/hertz.prm)")
+    ax.set_title(f"Hertz: nodal pressure against radius ({os.path.basename(PRM)})")
     fig.tight_layout()
     fig.savefig(png_path, dpi=130)
 
 
 if __name__ == "__main__":
+    if "--prm" in sys.argv:
+        configure(sys.argv[sys.argv.index("--prm") + 1])
     if "--plot" in sys.argv:
         i = sys.argv.index("--plot")
         plot(sys.argv[i + 1], sys.argv[i + 2])

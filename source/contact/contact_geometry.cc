@@ -358,7 +358,8 @@ namespace FetiContact
       // orthogonal to the normal: a symmetry (roller) condition tangential to the contact
       // surface, as on the symmetry planes of a quarter or half model. With friction the
       // tangent t2 is then the prescribed axis: its row acts on no free DoF (contact rows
-      // skip prescribed components), λ_T2 stays 0, and the disc ‖λ_T‖ ≤ g becomes the
+      // skip the slave's prescribed components, and on the master side the components along
+      // them), λ_T2 stays 0, and the disc ‖λ_T‖ ≤ g becomes the
       // interval |λ_T1| ≤ g along the free tangent t1 (the symmetric solution has no
       // tangential force across the symmetry plane).
       bool         conflicts = false;
@@ -424,8 +425,20 @@ namespace FetiContact
       void
       finish_node(ContactNode &node, std::vector<ContactNode> &nodes) const
       {
+        const auto prescribed = body.prescribed.find(node.vertex);
+        // A node of a body pair on a symmetry plane (a roller condition): the mean normal of its
+        // triangles, of which the model has only those on one side of the plane, is turned into
+        // the plane, as the mirrored triangles would turn it.
+        if (node.on_body() && prescribed != body.prescribed.end())
+          {
+            Tensor<1, 3> n = node.n;
+            for (unsigned int d = 0; d < 3; ++d)
+              if (prescribed->second[d])
+                n[d] = 0;
+            if (n != node.n && n.norm() > 1e-3)
+              node.n = n / n.norm();
+          }
         std::tie(node.t1, node.t2) = tangent_basis(node.n);
-        const auto prescribed      = body.prescribed.find(node.vertex);
         if (prescribed != body.prescribed.end() && !orient_for_roller(node, prescribed->second))
           return;
         nodes.push_back(node);

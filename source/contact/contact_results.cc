@@ -22,11 +22,12 @@ namespace FetiContact
                   const std::vector<ContactNodeResult> &results,
                   const std::vector<double>            &bound,
                   const double                          lambda_max,
-                  const double                          bound_max)
+                  const double                          bound_max,
+                  const double                          u_max)
     {
       std::vector<bool> pressed(nodes.size());
       for (unsigned int k = 0; k < nodes.size(); ++k)
-        pressed[k] = is_pressed(results[k].lambda_N, lambda_max);
+        pressed[k] = is_pressed(results[k].lambda_N, lambda_max, results[k].gap, u_max);
       for (unsigned int k = 0; k < nodes.size(); ++k)
         if (nodes[k].keeper && pressed[k])
           pressed[*nodes[k].keeper] = true;
@@ -45,9 +46,13 @@ namespace FetiContact
   } // namespace
 
   bool
-  is_pressed(const double normal_force, const double largest_normal_force)
+  is_pressed(const double normal_force,
+             const double largest_normal_force,
+             const double gap,
+             const double largest_displacement)
   {
-    return normal_force > 1e-8 * largest_normal_force;
+    return normal_force > 1e-8 * largest_normal_force &&
+           normal_force * largest_displacement >= gap * largest_normal_force;
   }
 
   ContactStatus
@@ -209,7 +214,7 @@ namespace FetiContact
           bounds[k] = *tresca_slip_bound;
         bound_max = std::max(bound_max, bounds[k]);
       }
-    const auto status = node_statuses(nodes, results, bounds, lambda_max, bound_max);
+    const auto status = node_statuses(nodes, results, bounds, lambda_max, bound_max, u_max);
 
     check = ContactCheck();
     for (unsigned int k = 0; k < nodes.size(); ++k)

@@ -52,25 +52,35 @@ namespace FetiContact
     const auto add_row =
       [&](DualRows &rows, const ContactNode &node, const Tensor<1, 3> &v, double c_k) {
         std::vector<DualRowEntry> row;
-        const double              sigma = scale_of(node);
-        const auto                add_side =
-          [&](const unsigned int body, const unsigned int vertex, const double sign) {
-            const auto        &copies = parts[body][vertex];
-            const unsigned int p      = n_copies(body, vertex);
-            for (unsigned int c = 0; c < 3; ++c)
-              if (v[c] != 0)
-                {
-                  if (const auto prescribed_value = prescribed(body, vertex, c))
-                    c_k -= sign * v[c] * *prescribed_value;
-                  else
-                    for (unsigned int j = 0; j < p; ++j)
-                      row.push_back(
-                        {first_subdomain[body] + copies[j], vertex, c, sigma * sign * v[c] / p});
-                }
-          };
-        add_side(node.body, node.vertex, 1.0);
+        const double              sigma    = scale_of(node);
+        const auto                add_side = [&](const unsigned int  body,
+                                  const unsigned int  vertex,
+                                  const double        sign,
+                                  const Tensor<1, 3> &w) {
+          const auto        &copies = parts[body][vertex];
+          const unsigned int p      = n_copies(body, vertex);
+          for (unsigned int c = 0; c < 3; ++c)
+            if (w[c] != 0)
+              {
+                if (const auto prescribed_value = prescribed(body, vertex, c))
+                  c_k -= sign * w[c] * *prescribed_value;
+                else
+                  for (unsigned int j = 0; j < p; ++j)
+                    row.push_back(
+                      {first_subdomain[body] + copies[j], vertex, c, sigma * sign * w[c] / p});
+              }
+        };
+        add_side(node.body, node.vertex, 1.0, v);
+        // Along a prescribed axis of the slave vertex (a roller condition) the support takes the
+        // slave's force: the master side acts along the other components of v only, so that no
+        // force reaches the master without its reaction on the slave (the row along that axis,
+        // t2 of a roller node, is then empty and its multiplier stays 0).
+        Tensor<1, 3> w = v;
+        for (unsigned int c = 0; c < 3; ++c)
+          if (prescribed(node.body, node.vertex, c))
+            w[c] = 0;
         for (const auto &m : node.master)
-          add_side(m.body, m.vertex, -m.weight);
+          add_side(m.body, m.vertex, -m.weight, w);
         rows.add_row(row, sigma * c_k);
       };
 

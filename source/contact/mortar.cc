@@ -95,15 +95,15 @@ namespace FetiContact::Mortar
     /** The integrals of one slave point, with ψ_k and with φ_k, before the choice between them. */
     struct Accumulator
     {
-      double                                          covered = 0, gap_dual = 0, gap_nodal = 0;
+      double                                            covered = 0, gap_dual = 0, gap_nodal = 0;
       std::map<unsigned int, std::pair<double, double>> M; ///< j → (∫ψ_k φ_j, ∫φ_k φ_j)
     };
 
     /** A slave triangle in the plane through its first vertex, with its frame. */
     struct SlaveFrame
     {
-      Point<3>               origin;
-      Tensor<1, 3>           e1, e2, normal;
+      Point<3>              origin;
+      Tensor<1, 3>          e1, e2, normal;
       std::array<Point2, 3> vertices;
 
       Point2
@@ -130,15 +130,15 @@ namespace FetiContact::Mortar
 
     /** Integrates one segment: the polygon @p polygon of slave triangle @p s under master @p m. */
     void
-    integrate_segment(const Surface              &slave,
-                      const Surface              &master,
-                      const unsigned int          s,
-                      const unsigned int          m,
-                      const SlaveFrame           &frame,
+    integrate_segment(const Surface               &slave,
+                      const Surface               &master,
+                      const unsigned int           s,
+                      const unsigned int           m,
+                      const SlaveFrame            &frame,
                       const std::array<Point2, 3> &master_2d,
                       const std::array<double, 3> &height,
-                      const std::vector<Point2>  &polygon,
-                      std::vector<Accumulator>   &accumulators)
+                      const std::vector<Point2>   &polygon,
+                      std::vector<Accumulator>    &accumulators)
     {
       static const QGaussSimplex<2> rule(3); // degree 5
       for (unsigned int p = 1; p + 1 < polygon.size(); ++p)
@@ -150,8 +150,8 @@ namespace FetiContact::Mortar
               const double xi = rule.point(q)[0], eta = rule.point(q)[1];
               const Point2 x{{a[0] + xi * (b[0] - a[0]) + eta * (c[0] - a[0]),
                               a[1] + xi * (b[1] - a[1]) + eta * (c[1] - a[1])}};
-              const double JxW       = rule.weight(q) * jacobian;
-              const auto   phi_slave = barycentric(frame.vertices, x);
+              const double JxW        = rule.weight(q) * jacobian;
+              const auto   phi_slave  = barycentric(frame.vertices, x);
               const auto   phi_master = barycentric(master_2d, x);
               Tensor<1, 3> normal;
               double       h = 0;
@@ -268,8 +268,8 @@ namespace FetiContact::Mortar
       c.covered = acc.covered;
       if (acc.covered <= 0)
         return c;
-      c.dual           = acc.covered >= (1 - 1e-8) * area;
-      c.weighted_gap   = c.dual ? acc.gap_dual : acc.gap_nodal;
+      c.dual            = acc.covered >= (1 - 1e-8) * area;
+      c.weighted_gap    = c.dual ? acc.gap_dual : acc.gap_nodal;
       const double tiny = 1e-14 * area;
       for (const auto &[j, integrals] : acc.M)
         {
@@ -295,8 +295,8 @@ namespace FetiContact::Mortar
       {
         const auto &v = master.triangles[m];
         boxes.emplace_back(BoundingBox<3>(std::vector<Point<3>>{master.points[v[0]],
-                                                                 master.points[v[1]],
-                                                                 master.points[v[2]]}),
+                                                                master.points[v[1]],
+                                                                master.points[v[2]]}),
                            m);
       }
     const auto tree = pack_rtree(boxes);
@@ -309,8 +309,8 @@ namespace FetiContact::Mortar
                          BoundingBox<3>(all_points).side_length(1) +
                          BoundingBox<3>(all_points).side_length(2);
 
-    std::vector<Accumulator> accumulators(slave.points.size());
-    std::vector<double>      area(slave.points.size(), 0.0);
+    std::vector<Accumulator>                             accumulators(slave.points.size());
+    std::vector<double>                                  area(slave.points.size(), 0.0);
     std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
     for (unsigned int s = 0; s < slave.triangles.size(); ++s)
       {

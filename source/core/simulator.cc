@@ -197,7 +197,9 @@ namespace FetiContact
   Simulator::set_up_contact_nodes()
   {
     std::vector<ZoneReport> reports;
+    Timer                   search_timer;
     contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles, &reports);
+    contact_rows_time += search_timer.wall_time();
     for (unsigned int z = 0; z < reports.size(); ++z)
       {
         const ZoneReport &r = reports[z];
@@ -352,12 +354,14 @@ namespace FetiContact
     // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
     const bool polygonal =
       parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
-    rows                    = build_contact_rows(contact_nodes,
+    Timer rows_timer;
+    rows = build_contact_rows(contact_nodes,
                               bodies,
                               first_subdomain,
                               layout,
                               polygonal ? parameters.contact_solver.polygon_directions : 0,
                               parameters.feti.average_contact_rows);
+    contact_rows_time += rows_timer.wall_time();
     const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
     layout.n_equality       = equality.n_rows();
     rows.append(equality);
@@ -643,7 +647,8 @@ namespace FetiContact
       .set("coarse_problem", time("coarse problem"))
       .set("solve", time("solve"))
       .set("primal_recovery", time("primal recovery"))
-      .set("output", time("output"));
+      .set("output", time("output"))
+      .set("contact_rows", Utilities::MPI::max(contact_rows_time, comm));
     total = 0;
     for (const auto &[name, value] : times)
       total += value;

@@ -56,14 +56,18 @@ namespace FetiContact
             "pair.");
     const auto  &zone = scene.contact.zones[0];
     const auto  &body = scene.bodies[zone.body];
-    const double R =
-      scene.verification.hertz.sphere_radius > 0 ? scene.verification.hertz.sphere_radius :
-      zone.type == Parameters::ContactZone::Type::rigid_sphere ? zone.radius :
-                                                                 body.mesh.spherical_bottom_radius;
+    const bool   pair = zone.type == Parameters::ContactZone::Type::body;
+    const double R    = scene.verification.hertz.sphere_radius > 0 ?
+                          scene.verification.hertz.sphere_radius :
+                        zone.type == Parameters::ContactZone::Type::rigid_sphere ?
+                          zone.radius :
+                        body.mesh.spherical_bottom_radius > 0 || !pair ?
+                          body.mesh.spherical_bottom_radius :
+                          scene.bodies[zone.master_body].mesh.spherical_bottom_radius;
     require(R > 0,
             "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or give "
             "body '" +
-              body.name + "' a Spherical bottom radius).");
+              body.name + "' or its master body a Spherical bottom radius).");
     return R;
   }
 

@@ -72,7 +72,9 @@ namespace FetiContact::Parameters
         const auto &zone = contact.zones[0];
         const auto &body = bodies[zone.body];
         require(verification.hertz.sphere_radius > 0 || body.mesh.spherical_bottom_radius > 0 ||
-                  zone.type == ContactZone::Type::rigid_sphere,
+                  zone.type == ContactZone::Type::rigid_sphere ||
+                  (zone.type == ContactZone::Type::body &&
+                   bodies[zone.master_body].mesh.spherical_bottom_radius > 0),
                 "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or "
                 "give body '" +
                   body.name + "' a Spherical bottom radius).");

@@ -63,10 +63,12 @@ namespace
   void
   matching()
   {
-    const auto slave  = square(4, 0, 1, [](double, double) { return 0.25; }, -1, false);
-    const auto master = square(4, 0, 1, [](double, double) { return 0.0; }, 1, false);
+    const auto slave = square(
+      4, 0, 1, [](double, double) { return 0.25; }, -1, false);
+    const auto master = square(
+      4, 0, 1, [](double, double) { return 0.0; }, 1, false);
     Mortar::Statistics statistics;
-    const auto         c = Mortar::couple(slave, master, 0.5, statistics);
+    const auto         c            = Mortar::couple(slave, master, 0.5, statistics);
     double             worst_weight = 0, worst_area = 0, worst_gap = 0;
     bool               all_dual = true;
     for (unsigned int k = 0; k < c.size(); ++k)
@@ -80,17 +82,19 @@ namespace
     check(all_dual, "matching meshes: every slave node covered and dual");
     check(worst_weight < 1e-13, "matching meshes: M = D δ (" + sci(worst_weight) + ")");
     check(worst_area < 1e-13, "matching meshes: D_kk = the lumped area (" + sci(worst_area) + ")");
-    check(worst_gap < 1e-13, "matching meshes: weighted gap / D_kk = 0.25 (" + sci(worst_gap) + ")");
+    check(worst_gap < 1e-13,
+          "matching meshes: weighted gap / D_kk = 0.25 (" + sci(worst_gap) + ")");
   }
 
   void
   non_matching()
   {
     const auto plane = [](double x, double y) { return -0.1 + 0.05 * x + 0.02 * y; };
-    const auto slave  = square(5, 0, 1, [](double, double) { return 0.0; }, -1, false);
-    const auto master = square(7, 0, 1, plane, 1, true);
+    const auto slave = square(
+      5, 0, 1, [](double, double) { return 0.0; }, -1, false);
+    const auto         master = square(7, 0, 1, plane, 1, true);
     Mortar::Statistics statistics;
-    const auto         c = Mortar::couple(slave, master, 0.2, statistics);
+    const auto         c     = Mortar::couple(slave, master, 0.2, statistics);
     double             total = 0, worst_sum = 0, worst_linear = 0, worst_gap = 0;
     bool               all_dual = true;
     for (unsigned int k = 0; k < c.size(); ++k)
@@ -126,10 +130,12 @@ namespace
   partly_covered()
   {
     // The slave [0.5, 1.5]² over the master [0, 1]².
-    const auto slave  = square(4, 0.5, 1, [](double, double) { return 0.0; }, -1, false);
-    const auto master = square(6, 0, 1, [](double, double) { return -0.01; }, 1, false);
+    const auto slave = square(
+      4, 0.5, 1, [](double, double) { return 0.0; }, -1, false);
+    const auto master = square(
+      6, 0, 1, [](double, double) { return -0.01; }, 1, false);
     Mortar::Statistics statistics;
-    const auto         c = Mortar::couple(slave, master, 0.1, statistics);
+    const auto         c         = Mortar::couple(slave, master, 0.1, statistics);
     unsigned int       n_outside = 0, n_partly = 0, n_dual = 0, wrong = 0;
     for (unsigned int k = 0; k < c.size(); ++k)
       {
@@ -167,14 +173,27 @@ namespace
   void
   refused()
   {
-    const auto         slave = square(3, 0, 1, [](double, double) { return 0.0; }, -1, false);
+    const auto slave = square(
+      3, 0, 1, [](double, double) { return 0.0; }, -1, false);
     Mortar::Statistics s;
-    Mortar::couple(slave, square(3, 0, 1, [](double, double) { return -0.01; }, -1, false), 0.1, s);
+    Mortar::couple(slave,
+                   square(
+                     3, 0, 1, [](double, double) { return -0.01; }, -1, false),
+                   0.1,
+                   s);
     check(s.n_segments == 0 && s.n_facing_away > 0,
           "facing away: no segment, " + std::to_string(s.n_facing_away) + " pairs counted");
-    Mortar::couple(slave, square(3, 0, 1, [](double, double) { return -0.3; }, 1, false), 0.1, s);
+    Mortar::couple(slave,
+                   square(
+                     3, 0, 1, [](double, double) { return -0.3; }, 1, false),
+                   0.1,
+                   s);
     check(s.n_segments == 0, "beyond the search distance: no segment");
-    Mortar::couple(slave, square(3, 0, 1, [](double, double) { return 0.3; }, 1, false), 0.1, s);
+    Mortar::couple(slave,
+                   square(
+                     3, 0, 1, [](double, double) { return 0.3; }, 1, false),
+                   0.1,
+                   s);
     check(s.n_segments == 0 && std::abs(s.min_distance + 0.3) < 1e-12,
           "0.3 behind the slave: no segment, the distance " + sci(s.min_distance) + " reported");
   }

@@ -27,11 +27,19 @@ namespace FetiContact
 
   /**
    * Whether a contact node is pressed: its normal force above 1e-8 of the largest normal force
-   * (@p largest_normal_force) of the contact problem. The rule of the statuses exists only here
-   * and in contact_status(); the log, history.csv, contact.csv and the KKT check use it.
+   * (@p largest_normal_force) of the contact problem and, where the gap after the load is known
+   * (after the solve), at least as large relative to the largest normal force as the @p gap
+   * relative to the largest displacement @p largest_displacement: of the two complementary
+   * quantities λ_N and the gap, the one the solver left at its tolerance is the smaller (a node
+   * with a gap of a tenth of the displacements and λ_N at 1e-7 of the largest is open). The rule
+   * of the statuses exists only here and in contact_status(); the log, history.csv (without
+   * the gap), contact.csv and the KKT check use it.
    */
   bool
-  is_pressed(const double normal_force, const double largest_normal_force);
+  is_pressed(const double normal_force,
+             const double largest_normal_force,
+             const double gap                  = 0,
+             const double largest_displacement = 1);
 
   /**
    * The status of a contact node: open unless @p pressed; slip when the norm of its

@@ -261,7 +261,9 @@ namespace FetiContact
     unsigned int n_bound = 0, n_disc = 0;
     Statistics   run_statistics;
     /** Time in and number of applications of F up to the end of the solve. */
-    double       solve_F_time         = 0;
+    double solve_F_time = 0;
+    /** Wall time of the contact search, the mortar integrals and the contact rows (in setup). */
+    double       contact_rows_time    = 0;
     double       solve_F_local_time   = 0;
     unsigned int solve_F_applications = 0;
     /** Time in and number of applications of the lumped preconditioner (part of the solve). */

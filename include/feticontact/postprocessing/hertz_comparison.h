@@ -48,7 +48,8 @@ namespace FetiContact
 
   /**
    * The radius R of Hertz's sphere for zone 1 of @p scene: `Verification/Hertz/Sphere radius`,
-   * else the radius of a rigid sphere, else the `Spherical bottom radius` of the zone's body.
+   * else the radius of a rigid sphere, else the `Spherical bottom radius` of the zone's body or,
+   * for a body pair, of its master body.
    */
   double
   hertz_radius(const Parameters::Scene &scene);

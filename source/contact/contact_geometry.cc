@@ -601,7 +601,14 @@ namespace FetiContact
       const auto      &zone        = side.zone;
       const Body      &master_body = *bodies[zone.master_body];
       BoundarySelector master_selector(zone.master_surface);
-      master_selector.resolve(master_body.mesh, master_body.parameters.name);
+      try
+        {
+          master_selector.resolve(master_body.mesh, master_body.parameters.name);
+        }
+      catch (const InputError &e)
+        {
+          throw InputError(side.where + "Master surface: " + e.what());
+        }
       const Surface master = collect_surface(master_body.mesh, master_selector);
 
       std::map<unsigned int, unsigned int> partner;
@@ -714,6 +721,16 @@ namespace FetiContact
       }
     combine_shared_vertices(nodes);
     return nodes;
+  }
+
+  std::pair<std::vector<std::array<unsigned int, 3>>, std::vector<Tensor<1, 3>>>
+  master_triangles(const std::vector<std::unique_ptr<Body>> &bodies,
+                   const Parameters::ContactZone            &zone)
+  {
+    BoundarySelector selector(zone.master_surface);
+    selector.resolve(bodies[zone.master_body]->mesh, bodies[zone.master_body]->parameters.name);
+    Surface s = collect_surface(bodies[zone.master_body]->mesh, selector);
+    return {std::move(s.triangles), std::move(s.outward)};
   }
 
   Tensor<1, 3>

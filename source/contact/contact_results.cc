@@ -1,3 +1,7 @@
+#include <deal.II/base/bounding_box.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/numerics/rtree.h>
+
 #include <feticontact/contact/contact_results.h>
 
 #include <algorithm>
@@ -5,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <set>
 
 namespace FetiContact
 {
@@ -94,9 +99,86 @@ namespace FetiContact
     return kkt;
   }
 
+  namespace
+  {
+    /**
+     * The deepest penetration, after the load, of a vertex of body-pair zone @p z's slave surface
+     * that is not a contact node of the zone (a vertex beyond the search distance) into the
+     * master body: the depth behind a master triangle (deformed) whose normal projection it lies
+     * in, up to @p reach behind it.
+     */
+    double
+    uncoupled_penetration(const unsigned int                            z,
+                          const Parameters::ContactZone                &zone,
+                          const std::vector<ContactTriangle>           &triangles,
+                          const std::vector<ContactNode>               &nodes,
+                          const std::vector<std::unique_ptr<Body>>     &bodies,
+                          const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                          const double                                  reach)
+    {
+      std::set<unsigned int> coupled, uncoupled;
+      for (const auto &node : nodes)
+        if (node.zone == z)
+          coupled.insert(node.vertex);
+      for (const auto &t : triangles)
+        if (t.zone == z)
+          for (const unsigned int v : t.vertices)
+            if (coupled.count(v) == 0)
+              uncoupled.insert(v);
+      if (uncoupled.empty())
+        return 0;
+      const auto [master, outward] = master_triangles(bodies, zone);
+      const auto &y                = bodies[zone.master_body]->mesh.get_vertices();
+      const auto &u                = vertex_u[zone.master_body];
+      std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
+      for (unsigned int m = 0; m < master.size(); ++m)
+        {
+          std::vector<Point<3>> corners;
+          for (const unsigned int i : master[m])
+            corners.push_back(y[i] + u[i]);
+          boxes.emplace_back(BoundingBox<3>(corners), m);
+        }
+      const auto                                           tree  = pack_rtree(boxes);
+      double                                               worst = 0;
+      std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
+      for (const unsigned int v : uncoupled)
+        {
+          const Point<3> p = bodies[zone.body]->mesh.get_vertices()[v] + vertex_u[zone.body][v];
+          BoundingBox<3> box(std::vector<Point<3>>{p});
+          box.extend(reach);
+          candidates.clear();
+          tree.query(boost::geometry::index::intersects(box), std::back_inserter(candidates));
+          for (const auto &candidate : candidates)
+            {
+              const auto    &t = master[candidate.second];
+              const Point<3> a = y[t[0]] + u[t[0]], b = y[t[1]] + u[t[1]], c = y[t[2]] + u[t[2]];
+              Tensor<1, 3>   n_order    = cross_product_3d(b - a, c - a);
+              const double   twice_area = n_order.norm();
+              if (twice_area == 0)
+                continue;
+              n_order /= twice_area;
+              const Tensor<1, 3> n = n_order * outward[candidate.second] < 0 ? -n_order : n_order;
+              const double       h = (p - a) * n;
+              if (h >= 0 || -h > reach)
+                continue;
+              // Inside the triangle's normal projection: the three sub-areas all on its side.
+              const Point<3> q       = p - h * n;
+              const double   l0      = cross_product_3d(b - q, c - q) * n_order,
+                           l1        = cross_product_3d(c - q, a - q) * n_order,
+                           l2        = cross_product_3d(a - q, b - q) * n_order;
+              const double tolerance = -1e-12 * twice_area;
+              if (l0 >= tolerance && l1 >= tolerance && l2 >= tolerance)
+                worst = std::max(worst, -h);
+            }
+        }
+      return worst;
+    }
+  } // namespace
+
   double
   surface_penetration(const Parameters::Contact                    &contact,
                       const std::vector<ContactTriangle>           &triangles,
+                      const std::vector<ContactNode>               &nodes,
                       const std::vector<std::unique_ptr<Body>>     &bodies,
                       const std::vector<std::vector<Tensor<1, 3>>> &vertex_u)
   {
@@ -155,6 +237,18 @@ namespace FetiContact
             worst = std::max(worst, depth);
           }
       }
+    // Body pairs: the slave vertices that are no contact nodes (beyond the search distance) must
+    // not have passed into the master body. Contact nodes are held by their rows (the KKT check);
+    // the depth searched is what the bodies can have moved against each other.
+    double largest_cell = 0;
+    for (const auto &body : bodies)
+      largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(body->mesh));
+    for (unsigned int z = 0; z < contact.zones.size(); ++z)
+      if (!contact.zones[z].rigid())
+        worst = std::max(
+          worst,
+          uncoupled_penetration(
+            z, contact.zones[z], triangles, nodes, bodies, vertex_u, 2 * u_max + largest_cell));
     return u_max > 0 ? worst / u_max : worst;
   }
 

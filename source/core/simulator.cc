@@ -612,9 +612,12 @@ namespace FetiContact
                                       std::optional<double>(parameters.contact_solver.slip_bound) :
                                       std::nullopt);
     // The independent check counts every vertex of the bodies in front of a rigid plane too.
-    evaluation.contact_check.penetration = std::max(
-      evaluation.contact_check.penetration,
-      surface_penetration(parameters.contact, contact_triangles, bodies, evaluation.vertex_u));
+    evaluation.contact_check.penetration = std::max(evaluation.contact_check.penetration,
+                                                    surface_penetration(parameters.contact,
+                                                                        contact_triangles,
+                                                                        contact_nodes,
+                                                                        bodies,
+                                                                        evaluation.vertex_u));
     evaluation.contact_forces =
       contact_forces_on_bodies(contact_nodes, evaluation.contact_results, bodies);
   }

@@ -89,6 +89,14 @@ namespace FetiContact
   relative_displacement(const ContactNode                                    &node,
                         const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
 
+  /**
+   * The triangles (master-body vertices) of the master surface of the body-pair zone @p zone,
+   * with their outward area normals.
+   */
+  std::pair<std::vector<std::array<unsigned int, 3>>, std::vector<dealii::Tensor<1, 3>>>
+  master_triangles(const std::vector<std::unique_ptr<Body>> &bodies,
+                   const Parameters::ContactZone            &zone);
+
   /** Σ_j w_j y_j: the point of the master surface that node @p node is held against. */
   dealii::Point<3>
   master_point(const ContactNode &node, const std::vector<std::unique_ptr<Body>> &bodies);

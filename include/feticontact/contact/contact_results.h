@@ -99,11 +99,15 @@ namespace FetiContact
    * behind them (inside all of them: several planes may form one convex obstacle). It counts
    * also the vertices that are no contact nodes of the zone, those that are contact nodes of
    * another zone (a node on the edge of two obstacles is checked against both), and those off
-   * the surface that a surface chosen too small lets through the obstacle.
+   * the surface that a surface chosen too small lets through the obstacle. Spheres and cylinders
+   * the same way, each for itself. Body pairs: every vertex of the slave surface that is no
+   * contact node of the zone (beyond the search distance) against the deformed master surface,
+   * its depth behind a master triangle it projects into (up to 2 max |u| plus the largest cell).
    */
   double
   surface_penetration(const Parameters::Contact                            &contact,
                       const std::vector<ContactTriangle>                   &triangles,
+                      const std::vector<ContactNode>                       &nodes,
                       const std::vector<std::unique_ptr<Body>>             &bodies,
                       const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
 

@@ -578,7 +578,7 @@ namespace FetiContact
               ++report.n_uncovered;
               continue;
             }
-          node->n             = slave.surface.point_normals[k];
+          node->n             = c.normal;
           node->gap           = c.weighted_gap / c.D;
           node->pressure_area = c.D;
           node->mortar        = true;

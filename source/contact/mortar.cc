@@ -39,6 +39,9 @@ namespace FetiContact::Mortar
   {
     using Point2 = std::array<double, 2>;
 
+    /** cos 30°: triangles whose normals differ by more lie on two sides of a fold. */
+    const double cos_fold_angle = std::sqrt(3.) / 2;
+
     double
     cross2(const Point2 &a, const Point2 &b, const Point2 &c)
     {
@@ -99,6 +102,74 @@ namespace FetiContact::Mortar
       std::map<unsigned int, std::pair<double, double>> M; ///< j → (∫ψ_k φ_j, ∫φ_k φ_j)
     };
 
+    /**
+     * The normal and the lumped area ∫ φ_k of each slave point over the part of the slave
+     * surface that its coupling belongs to (see fold_frames()).
+     */
+    struct NodeFrames
+    {
+      std::vector<Tensor<1, 3>> normal;
+      std::vector<double>       area;
+    };
+
+    /**
+     * The point normals and lumped areas of the whole slave surface, except at a fold: a point
+     * whose covered triangles (those with a segment) lie within the fold angle of their mean
+     * normal, while some uncovered triangle of its star does not. There the surface beyond the
+     * fold (the side of a block whose bottom is in contact) is no part of the contact surface:
+     * the point's normal is the mean over the triangles within the fold angle, and its area is
+     * theirs. Elsewhere, smooth surfaces included, nothing changes.
+     */
+    NodeFrames
+    fold_frames(const Surface             &slave,
+                const std::vector<bool>   &covered,
+                const std::vector<double> &areas,
+                bool                      &any_fold)
+    {
+      NodeFrames frames{slave.point_normals, std::vector<double>(slave.points.size())};
+      std::vector<std::vector<unsigned int>> star(slave.points.size());
+      for (unsigned int t = 0; t < slave.triangles.size(); ++t)
+        for (const unsigned int i : slave.triangles[t])
+          {
+            star[i].push_back(t);
+            frames.area[i] += areas[t] / 3;
+          }
+      any_fold = false;
+      for (unsigned int k = 0; k < star.size(); ++k)
+        {
+          Tensor<1, 3> covered_normal;
+          for (const unsigned int t : star[k])
+            if (covered[t])
+              covered_normal += areas[t] * slave.triangle_normals[t];
+          if (covered_normal.norm() == 0)
+            continue;
+          covered_normal /= covered_normal.norm();
+          const auto within = [&](const unsigned int t) {
+            return slave.triangle_normals[t] * covered_normal >= cos_fold_angle;
+          };
+          bool covered_within = true, folded = false;
+          for (const unsigned int t : star[k])
+            if (covered[t])
+              covered_within &= within(t);
+            else
+              folded |= !within(t);
+          if (!folded || !covered_within)
+            continue;
+          Tensor<1, 3> normal;
+          double       area = 0;
+          for (const unsigned int t : star[k])
+            if (within(t))
+              {
+                normal += areas[t] * slave.triangle_normals[t];
+                area += areas[t] / 3;
+              }
+          frames.normal[k] = normal / normal.norm();
+          frames.area[k]   = area;
+          any_fold         = true;
+        }
+      return frames;
+    }
+
     /** A slave triangle in the plane through its first vertex, with its frame. */
     struct SlaveFrame
     {
@@ -138,6 +209,7 @@ namespace FetiContact::Mortar
                       const std::array<Point2, 3> &master_2d,
                       const std::array<double, 3> &height,
                       const std::vector<Point2>   &polygon,
+                      const NodeFrames            &nodes,
                       std::vector<Accumulator>    &accumulators)
     {
       static const QGaussSimplex<2> rule(3); // degree 5
@@ -157,7 +229,7 @@ namespace FetiContact::Mortar
               double       h = 0;
               for (unsigned int i = 0; i < 3; ++i)
                 {
-                  normal += phi_slave[i] * slave.point_normals[slave.triangles[s][i]];
+                  normal += phi_slave[i] * nodes.normal[slave.triangles[s][i]];
                   h += phi_master[i] * height[i];
                 }
               const double g = h * (frame.normal * normal) / normal.norm();
@@ -193,6 +265,7 @@ namespace FetiContact::Mortar
                 const SlaveFrame         &frame,
                 const double              search_distance,
                 Statistics               &statistics,
+                const NodeFrames         &nodes,
                 std::vector<Accumulator> *accumulators)
     {
       std::array<Point2, 3> master_2d;
@@ -246,7 +319,8 @@ namespace FetiContact::Mortar
       if (accumulators == nullptr)
         return false;
       ++statistics.n_segments;
-      integrate_segment(slave, master, s, m, frame, master_2d, height, polygon, *accumulators);
+      integrate_segment(
+        slave, master, s, m, frame, master_2d, height, polygon, nodes, *accumulators);
       return true;
     }
 
@@ -310,26 +384,36 @@ namespace FetiContact::Mortar
                          BoundingBox<3>(all_points).side_length(2);
 
     std::vector<Accumulator>                             accumulators(slave.points.size());
-    std::vector<double>                                  area(slave.points.size(), 0.0);
+    NodeFrames                                           nodes{slave.point_normals, {}};
+    std::vector<bool>                                    covered(slave.triangles.size(), false);
+    std::vector<double>                                  areas(slave.triangles.size());
+    std::vector<std::pair<unsigned int, unsigned int>>   segments;
     std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
     for (unsigned int s = 0; s < slave.triangles.size(); ++s)
       {
         const auto           &v     = slave.triangles[s];
         const SlaveFrame      frame = slave_frame(slave, s);
         std::vector<Point<3>> corners{slave.points[v[0]], slave.points[v[1]], slave.points[v[2]]};
-        const double          triangle_area =
-          0.5 * std::abs(cross2(frame.vertices[0], frame.vertices[1], frame.vertices[2]));
-        for (const unsigned int i : v)
-          area[i] += triangle_area / 3;
+        areas[s] = 0.5 * std::abs(cross2(frame.vertices[0], frame.vertices[1], frame.vertices[2]));
         candidates.clear();
         tree.query(boost::geometry::index::intersects(box_around(corners, search_distance)),
                    std::back_inserter(candidates));
         statistics.n_candidate_pairs += candidates.size();
-        bool coupled = false;
         for (const auto &candidate : candidates)
-          coupled |= couple_pair(
-            slave, master, s, candidate.second, frame, search_distance, statistics, &accumulators);
-        if (coupled)
+          if (couple_pair(slave,
+                          master,
+                          s,
+                          candidate.second,
+                          frame,
+                          search_distance,
+                          statistics,
+                          nodes,
+                          &accumulators))
+            {
+              covered[s] = true;
+              segments.emplace_back(s, candidate.second);
+            }
+        if (covered[s])
           continue;
         // Nothing within the search distance: a master surface deeper behind the triangle (inside
         // the slave body) would be an overlap of the bodies that the coupling cannot see.
@@ -340,12 +424,35 @@ namespace FetiContact::Mortar
                    std::back_inserter(candidates));
         for (const auto &candidate : candidates)
           couple_pair(
-            slave, master, s, candidate.second, frame, search_distance, statistics, nullptr);
+            slave, master, s, candidate.second, frame, search_distance, statistics, nodes, nullptr);
+      }
+
+    // At a fold of the slave surface the segments are integrated again with the normals of the
+    // covered side (the gap's cosine uses the interpolated nodal normal).
+    bool any_fold = false;
+    nodes         = fold_frames(slave, covered, areas, any_fold);
+    if (any_fold)
+      {
+        accumulators.assign(slave.points.size(), Accumulator());
+        Statistics again;
+        for (const auto &[s, m] : segments)
+          couple_pair(slave,
+                      master,
+                      s,
+                      m,
+                      slave_frame(slave, s),
+                      search_distance,
+                      again,
+                      nodes,
+                      &accumulators);
       }
 
     std::vector<NodeCoupling> couplings(slave.points.size());
     for (unsigned int k = 0; k < slave.points.size(); ++k)
-      couplings[k] = finish_node(accumulators[k], area[k]);
+      {
+        couplings[k]        = finish_node(accumulators[k], nodes.area[k]);
+        couplings[k].normal = nodes.normal[k];
+      }
     return couplings;
   }
 } // namespace FetiContact::Mortar

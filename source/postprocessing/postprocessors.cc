@@ -129,6 +129,13 @@ namespace FetiContact::Postprocessing
   void
   HertzComparison::execute(const Input &input)
   {
+    // A solution that failed the contact check is no contact solution: the comparison would
+    // measure the failure (or refuse the scene for it) and hide the check's verdict.
+    if (!input.summary.check_failure().empty())
+      {
+        input.pcout << "Hertz comparison skipped: the solution failed a check." << std::endl;
+        return;
+      }
     hertz = compare_with_hertz(input.parameters, input.contact_nodes, input.contact_results);
     if (input.pcout.is_active())
       hertz->print(input.pcout.get_stream());

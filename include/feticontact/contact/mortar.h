@@ -48,7 +48,13 @@ namespace FetiContact::Mortar
   /** The coupling of one slave point with the master surface. */
   struct NodeCoupling
   {
-    /** ∫ φ_k over the slave surface: the area lumped at the node. */
+    /**
+     * The outward unit normal of the node's rows: the point normal, or at a fold of the slave
+     * surface the mean over the triangles on the covered side of the fold.
+     */
+    dealii::Tensor<1, 3> normal;
+    /** ∫ φ_k over the slave surface (on the covered side of a fold): the area lumped at the node.
+     */
     double area = 0;
     /** ∫ φ_k over the part of the slave surface that the master covers. */
     double covered = 0;
@@ -86,6 +92,12 @@ namespace FetiContact::Mortar
    * R-tree) that face it (opposite normals) are clipped and integrated, except where the master
    * triangle lies farther than @p search_distance in front of the slave triangle. A point that no
    * segment covers gets covered = 0 and no M.
+   *
+   * A point at a fold of the slave surface (its star has covered triangles and, beyond an angle
+   * of 30° from their mean normal, uncovered ones: a slave surface that runs round the edge of
+   * its body) belongs to the covered side alone: its normal and its area ∫ φ_k are those of the
+   * triangles within 30° of the covered ones, so a point whose covered side the master covers
+   * whole stays weighted by ψ_k.
    */
   std::vector<NodeCoupling>
   couple(const Surface &slave,

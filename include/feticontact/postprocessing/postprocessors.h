@@ -44,7 +44,8 @@ namespace FetiContact::Postprocessing
   /**
    * Verification/Hertz: the contact radius and the peak pressure against Hertz's solution
    * (compare_with_hertz(); summary.json: hertz). Runs before any postprocessor writes a file,
-   * since a scene that does not fit the comparison is refused without result files.
+   * since a scene that does not fit the comparison is refused without result files. Skipped
+   * when an earlier check (the penetration of ContactConditions) has refuted the solution.
    */
   class HertzComparison : public Interface
   {

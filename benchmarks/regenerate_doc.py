@@ -104,6 +104,8 @@ def steps(exe):
            "--markdown", "doc/data/cattaneo_mindlin_pair.md"],
           [PY, b + "cattaneo_mindlin.py", "--prm", "prm/cattaneo_mindlin_pair.prm", "--plot",
            "doc/data/cattaneo_mindlin_pair.csv", "doc/cattaneo_mindlin_pair.png"]]),
+        ("knife_edge", "1 min", "doc/data/knife_edge.md",
+         [[PY, b + "knife_edge.py", "--exe", exe]]),
         ("mortar_cost", "5 min", "doc/data/mortar_cost.{csv,md}",
          [[PY, b + "mortar_cost.py", "--exe", exe,
            "--coupling", "build/benchmarks/mortar_coupling"]]),

@@ -11,9 +11,11 @@ console output as DIR/<scene>.console.txt. Then it reads the CSV outputs (contac
 history.csv, displacements.csv) and summary.json and writes doc/cookbook_<name>.png. --no-run
 plots from the folders of an earlier run in --outdir. Needs numpy and matplotlib.
 
-Frames: every contact zone of the scenes has the normal (0, 0, −1) into the obstacle, for which
-the code's tangents are t1 = e_x, t2 = −e_y; the tangential force on the body is −λ_T, i.e.
-(−λ_T1, +λ_T2) in (x, y).
+Frames: where the slave's normal is (0, 0, −1) (a body on a floor or a lower body) the code's
+tangents are t1 = e_x, t2 = −e_y, and the tangential force on the slave is −λ_T, i.e.
+(−λ_T1, +λ_T2) in (x, y). Where it is (0, 0, 1) (the flat block under the indenter of
+cattaneo_mindlin_pair) t1 = e_x, t2 = e_y, and the force on the master (the indenter) is
+(λ_T1, λ_T2).
 """
 import argparse
 import csv
@@ -32,7 +34,9 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["brick", "brick_gmsh", "brick_contact", "brick_gmsh_contact", "kucera_table_1",
-          "kucera_table_2", "kucera_table_3", "hertz", "cattaneo_mindlin", "two_blocks"]
+          "kucera_table_2", "kucera_table_3", "hertz", "cattaneo_mindlin", "two_blocks",
+          "two_blocks_nonmatching", "patch_test", "patch_test_unstructured", "hertz_two_bodies",
+          "cattaneo_mindlin_pair"]
 STATUS_COLORS = {"open": "lightgray", "stick": "tab:blue", "slip": "tab:red"}
 
 
@@ -70,15 +74,16 @@ def summary(outdir, scene):
         return json.load(f)
 
 
-def status_map(ax, c, title, arrows=True):
-    """Contact nodes coloured by status, tangential force on the body as arrows."""
+def status_map(ax, c, title, arrows=True, force=None):
+    """Contact nodes coloured by status, tangential force on the body as arrows (by default
+    (−λ_T1, λ_T2), the force on a slave with the normal (0, 0, −1))."""
     for s in ("open", "stick", "slip"):
         m = c["status"] == s
         ax.scatter(c["x"][m], c["y"][m], c=STATUS_COLORS[s], s=14, label=f"{s} ({m.sum()})",
                    zorder=2)
     if arrows:
-        ax.quiver(c["x"], c["y"], -c["lambda_T1"], c["lambda_T2"], color="k", width=0.003,
-                  zorder=3)
+        fx, fy = force if force is not None else (-c["lambda_T1"], c["lambda_T2"])
+        ax.quiver(c["x"], c["y"], fx, fy, color="k", width=0.003, zorder=3)
     ax.legend(loc="upper right", fontsize=7, framealpha=0.9)
     ax.set_title(title, fontsize=10)
     ax.set_aspect("equal")
@@ -205,18 +210,22 @@ def plot_hertz(outdir):
     save(fig, "hertz")
 
 
-def plot_cattaneo_mindlin(outdir):
-    c = contact(outdir, "cattaneo_mindlin")
-    mu, R, E, nu, Q = 0.3, 0.02, 2.1e11, 0.3, 750.0
+def plot_cattaneo_mindlin(outdir, scene="cattaneo_mindlin", Q=750.0, pair=False):
+    """The rigid flat (E* = E/(1 − ν²), the indenter the slave) or the pair of similar bodies
+    (E* = E/(2(1 − ν²)), the block the slave, the force on the indenter (λ_T1, λ_T2))."""
+    c = contact(outdir, scene)
+    mu, R, E, nu = 0.3, 0.02, 2.1e11, 0.3
+    E_star = E / (1 - nu ** 2) / (2 if pair else 1)
     P = 2 * c["lambda_N"].sum()                       # a half model
-    a = (3 * P * R / (4 * E / (1 - nu ** 2))) ** (1 / 3)
+    a = (3 * P * R / (4 * E_star)) ** (1 / 3)
     ratio_q = Q / (mu * P)
     cr = a * (1 - ratio_q) ** (1 / 3)
     r = np.hypot(c["x"], c["y"])
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
     m = r < 1.6 * a
     sub = {k: v[m] for k, v in c.items()}
-    status_map(axes[0], sub, "status and tangential force on the indenter (half model)")
+    status_map(axes[0], sub, "status and tangential force on the indenter (half model)",
+               force=(sub["lambda_T1"], sub["lambda_T2"]) if pair else None)
     th = np.linspace(0, np.pi, 80)
     axes[0].plot(a * np.cos(th), a * np.sin(th), "k--", lw=1)
     axes[0].plot(cr * np.cos(th), cr * np.sin(th), "k:", lw=1)
@@ -228,7 +237,7 @@ def plot_cattaneo_mindlin(outdir):
     rr = np.linspace(0, a * 0.999, 300)
     th_ratio = np.where(rr < cr, 1 - np.sqrt(np.maximum(cr ** 2 - rr ** 2, 0))
                         / np.sqrt(a ** 2 - rr ** 2), 1.0)
-    axes[1].plot(rr * 1e3, th_ratio, "k-", label="Cattaneo–Mindlin (similar bodies)")
+    axes[1].plot(rr * 1e3, th_ratio, "k-", label="Cattaneo–Mindlin")
     axes[1].axvline(cr * 1e3, color="0.5", ls=":")
     axes[1].set_xlabel("r (mm)")
     axes[1].set_ylabel("‖λ_T‖ / (μ λ_N)")
@@ -237,12 +246,14 @@ def plot_cattaneo_mindlin(outdir):
                       fontsize=10)
     axes[1].legend(fontsize=8, loc="lower right")
     axes[1].grid(alpha=0.3)
-    save(fig, "cattaneo_mindlin")
+    fig.suptitle(f"{scene}: " + ("an elastic indenter on an elastic block (same E, ν)" if pair
+                                 else "an elastic indenter on a rigid flat"), fontsize=11)
+    save(fig, scene)
 
 
-def plot_two_blocks(outdir):
-    c = contact(outdir, "two_blocks")
-    d = read_csv(os.path.join(outdir, "two_blocks", "displacements.csv"))
+def plot_two_blocks(outdir, scene="two_blocks"):
+    c = contact(outdir, scene)
+    d = read_csv(os.path.join(outdir, scene, "displacements.csv"))
     fig = plt.figure(figsize=(13, 7.4))
     gs = fig.add_gridspec(2, 2, width_ratios=[2, 1.1])
     ax0 = fig.add_subplot(gs[0, 0])
@@ -255,7 +266,87 @@ def plot_two_blocks(outdir):
     bodies = sorted(set(d["body"]))
     deformed_face(fig, ax2, d, [face(d, b, "y", 0.0) for b in bodies], "x", "z",
                   "face y = 0 of both blocks")
-    save(fig, "two_blocks")
+    if scene != "two_blocks":
+        fig.suptitle(f"{scene}: the upper block meshed 6 × 6 × 3, mortar rows in zone 2",
+                     fontsize=11)
+    save(fig, scene)
+
+
+def plot_patch_tests(outdir):
+    """Per patch test: the face y = 0 of both blocks deformed, and the slave nodes over the
+    master's vertices on the interface, coloured by the pressure λ_N / D_kk."""
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8.6))
+    for row, scene in enumerate(("patch_test", "patch_test_unstructured")):
+        d = read_csv(os.path.join(outdir, scene, "displacements.csv"))
+        c = contact(outdir, scene)
+        # The vertices on y = 0 of a Gmsh mesh lie on the plane only to rounding.
+        deformed_face(fig, axes[row, 0], d, [face(d, b, "y", 0.0, 1e-6) for b in (0, 1)],
+                      "x", "z", f"{scene}: face y = 0")
+        ax = axes[row, 1]
+        m = face(d, 0, "z", 0.5, 1e-6)
+        ax.plot(d["x"][m], d["y"][m], "+", color="0.5", ms=6, label="master vertices (lower block)")
+        sc = ax.scatter(c["x"], c["y"], c=c["pressure"] / 1e8 - 1, cmap="coolwarm", s=26,
+                        label="slave nodes (upper block)", zorder=3)
+        fig.colorbar(sc, ax=ax, label="(λ_N / D_kk − p) / p, p = 1e8 Pa", shrink=0.85,
+                     format="%.1e")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.set_title("interface z = 0.5: slave nodes over the master's vertices", fontsize=10)
+        ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+    save(fig, "patch_tests")
+
+
+def plot_hertz_two_bodies(outdir):
+    c = contact(outdir, "hertz_two_bodies")
+    d = read_csv(os.path.join(outdir, "hertz_two_bodies", "displacements.csv"))
+    h = summary(outdir, "hertz_two_bodies")["hertz"]
+    a, R = h["a_hertz"], 0.02
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.6), gridspec_kw={"width_ratios": [1.1, 1, 1.2]})
+    m = np.hypot(c["x"], c["y"]) < 2.2 * a
+    sub = {k: v[m] for k, v in c.items()}
+    pressure_map(fig, axes[0], sub, "pressure λ_N / D_kk on the block's top (the slave)",
+                 unit=1e9, label="pressure (GPa)")
+    th = np.linspace(0, np.pi / 2, 50)
+    axes[0].plot(a * np.cos(th), a * np.sin(th), "w--", lw=1, label="Hertz radius a")
+    axes[0].legend(fontsize=7, loc="upper right")
+    ax = axes[1]
+    partly = c["D_kk"] < (1 - 1e-8) * c["area"]
+    pressed = c["status"] != "open"
+    for mask, colour, label in ((~partly & ~pressed, "lightgray", "open"),
+                                (pressed, "tab:red", "pressed"),
+                                (partly, "tab:blue", "partly covered (weighted by φ_k)")):
+        ax.scatter(c["x"][mask] * 1e3, c["y"][mask] * 1e3, s=6, c=colour,
+                   label=f"{label} ({mask.sum()})")
+    ax.plot(a * np.cos(th) * 1e3, a * np.sin(th) * 1e3, "k--", lw=1, label="Hertz radius a")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title("the zone's contact nodes (within the search distance)", fontsize=10)
+    ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
+    ax = axes[2]
+    on = np.abs(d["y"]) < 1e-12
+    block = on & (d["body"] == 1) & (np.abs(d["z"]) < 1e-12)
+    indenter = on & (d["body"] == 0) & (d["z"] <= R - np.sqrt(np.maximum(R ** 2 - d["x"] ** 2, 0))
+                                         + 1e-9)
+    for mask, colour, label in ((indenter, "tab:orange", "indenter's bottom"),
+                                (block, "tab:purple", "block's top")):
+        order = np.argsort(d["x"][mask])
+        x, z = d["x"][mask][order], d["z"][mask][order]
+        ux, uz = d["ux"][mask][order], d["uz"][mask][order]
+        near = x < 3 * a
+        ax.plot(x[near] * 1e3, z[near] * 1e6, ":", color=colour, lw=1)
+        ax.plot((x + ux)[near] * 1e3, (z + uz)[near] * 1e6, ".-", color=colour, ms=3,
+                label=f"{label}, deformed (dotted: before)")
+    ax.axvline(a * 1e3, color="0.5", ls="--", lw=1, label="Hertz radius a")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("z (µm)")
+    ax.set_title("the surfaces in the plane y = 0", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(alpha=0.3)
+    fig.suptitle(f"hertz_two_bodies: a = {h['a'] * 1e3:.3f} mm (Hertz {a * 1e3:.3f}), "
+                 f"p0 = {h['p0'] / 1e9:.2f} GPa (Hertz {h['p0_hertz'] / 1e9:.2f})", fontsize=11)
+    save(fig, "hertz_two_bodies")
 
 
 def main():
@@ -288,6 +379,14 @@ def main():
         plot_cattaneo_mindlin(outdir)
     if have("two_blocks"):
         plot_two_blocks(outdir)
+    if have("two_blocks_nonmatching"):
+        plot_two_blocks(outdir, "two_blocks_nonmatching")
+    if have("patch_test", "patch_test_unstructured"):
+        plot_patch_tests(outdir)
+    if have("hertz_two_bodies"):
+        plot_hertz_two_bodies(outdir)
+    if have("cattaneo_mindlin_pair"):
+        plot_cattaneo_mindlin(outdir, "cattaneo_mindlin_pair", Q=1000.0, pair=True)
     print("outputs in", outdir)
 
 

@@ -104,6 +104,8 @@ def steps(exe):
            "--markdown", "doc/data/cattaneo_mindlin_pair.md"],
           [PY, b + "cattaneo_mindlin.py", "--prm", "prm/cattaneo_mindlin_pair.prm", "--plot",
            "doc/data/cattaneo_mindlin_pair.csv", "doc/cattaneo_mindlin_pair.png"]]),
+        ("patch_test", "1 min", "doc/data/patch_test.md, doc/patch_test.png",
+         [[PY, b + "patch_test.py", "--exe", exe]]),
         ("knife_edge", "1 min", "doc/data/knife_edge.md",
          [[PY, b + "knife_edge.py", "--exe", exe]]),
         ("mortar_cost", "5 min", "doc/data/mortar_cost.{csv,md}",

@@ -10,6 +10,12 @@ namespace FetiContact
 {
   using namespace dealii;
 
+  namespace
+  {
+    /** Slip bounds below this fraction of the largest are zero (set_slip_bounds()). */
+    constexpr double negligible_slip_bound = 1e-12;
+  } // namespace
+
   void
   TrescaProblem::Statistics::count_steps(const QP::MPGP::Statistics &r)
   {
@@ -180,7 +186,18 @@ namespace FetiContact
   void
   TrescaProblem::set_slip_bounds(const std::vector<double> &g)
   {
-    slip_bound                = g;
+    slip_bound = g;
+    // A slip bound below 1e-12 of the largest (compared as forces) comes from a normal force that
+    // is zero to the solver's precision (the finest QP tolerance is 1e-10): its disc is a point.
+    // As a disc of radius r it would stall MPGP, whose steps along the circle are limited by the
+    // curvature 1/r (a radius of 4e-21 of the largest: 10,000 inner steps without progress).
+    double largest = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (std::isfinite(g[k]))
+        largest = std::max(largest, g[k] * layout.scale_of_node(k));
+    const auto radius = [&](const unsigned int k) {
+      return g[k] * layout.scale_of_node(k) < negligible_slip_bound * largest ? 0. : g[k];
+    };
     const unsigned int s      = layout.tangential_per_node;
     const double       shrink = std::sin(numbers::PI / (2.0 * s));
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -188,17 +205,18 @@ namespace FetiContact
         const unsigned int t = layout.tangential_row[k];
         if (t == numbers::invalid_unsigned_int)
           continue;
+        const double r = radius(k);
         if (layout.polygonal)
           for (unsigned int j = 0; j < s; ++j)
             {
               const double c = lambda0[t + j];
-              set.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
-              set_t.set_interval(t + j, -shrink * g[k] - c, shrink * g[k] - c);
+              set.set_interval(t + j, -shrink * r - c, shrink * r - c);
+              set_t.set_interval(t + j, -shrink * r - c, shrink * r - c);
             }
         else
           {
-            set.set_disc_radius(disc_of_node[k], g[k]);
-            set_t.set_disc_radius(disc_of_node[k], g[k]);
+            set.set_disc_radius(disc_of_node[k], r);
+            set_t.set_disc_radius(disc_of_node[k], r);
           }
       }
   }

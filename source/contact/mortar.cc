@@ -110,23 +110,44 @@ namespace FetiContact::Mortar
     {
       std::vector<Tensor<1, 3>> normal;
       std::vector<double>       area;
+      /**
+       * Per point, the covered triangles beyond its fold, whose segments are no part of its
+       * integrals (sorted; empty almost everywhere).
+       */
+      std::vector<std::vector<unsigned int>> excluded;
+
+      bool
+      excludes(const unsigned int k, const unsigned int t) const
+      {
+        return !excluded.empty() && !excluded[k].empty() &&
+               std::binary_search(excluded[k].begin(), excluded[k].end(), t);
+      }
     };
 
     /**
-     * The point normals and lumped areas of the whole slave surface, except at a fold: a point
-     * whose covered triangles (those with a segment) lie within the fold angle of their mean
-     * normal, while some uncovered triangle of its star does not. There the surface beyond the
-     * fold (the side of a block whose bottom is in contact) is no part of the contact surface:
-     * the point's normal is the mean over the triangles within the fold angle, and its area is
-     * theirs. Elsewhere, smooth surfaces included, nothing changes.
+     * The point normals and lumped areas of the whole slave surface, except at a fold, where the
+     * surface turns by more than the fold angle within a point's star (a slave surface that runs
+     * round the edge of its body):
+     * - a point whose covered triangles (those with a segment) lie within the fold angle of their
+     *   mean normal while some uncovered triangle does not: the surface beyond the fold (the side
+     *   of a block whose bottom is in contact) is no part of the contact surface there;
+     * - a point covered on both sides of the fold (a block in the corner of an L-shaped master):
+     *   the side whose segments come nearest to the master keeps the point, and the segments of
+     *   the covered triangles of the other side are left out of its integrals (excluded).
+     * The point's normal is then the mean over its triangles within the fold angle of the side
+     * that keeps it, and its area is theirs. Elsewhere, smooth surfaces included, nothing changes.
+     * @p nearest: per slave triangle the smallest distance of its segments (+∞: uncovered).
      */
     NodeFrames
     fold_frames(const Surface             &slave,
-                const std::vector<bool>   &covered,
+                const std::vector<double> &nearest,
                 const std::vector<double> &areas,
                 bool                      &any_fold)
     {
-      NodeFrames frames{slave.point_normals, std::vector<double>(slave.points.size())};
+      const auto covered = [&](const unsigned int t) {
+        return nearest[t] < std::numeric_limits<double>::infinity();
+      };
+      NodeFrames frames{slave.point_normals, std::vector<double>(slave.points.size()), {}};
       std::vector<std::vector<unsigned int>> star(slave.points.size());
       for (unsigned int t = 0; t < slave.triangles.size(); ++t)
         for (const unsigned int i : slave.triangles[t])
@@ -134,35 +155,47 @@ namespace FetiContact::Mortar
             star[i].push_back(t);
             frames.area[i] += areas[t] / 3;
           }
+      frames.excluded.resize(slave.points.size());
       any_fold = false;
       for (unsigned int k = 0; k < star.size(); ++k)
         {
           Tensor<1, 3> covered_normal;
           for (const unsigned int t : star[k])
-            if (covered[t])
+            if (covered(t))
               covered_normal += areas[t] * slave.triangle_normals[t];
           if (covered_normal.norm() == 0)
             continue;
           covered_normal /= covered_normal.norm();
-          const auto within = [&](const unsigned int t) {
-            return slave.triangle_normals[t] * covered_normal >= cos_fold_angle;
+          const auto within = [&](const unsigned int t, const Tensor<1, 3> &n) {
+            return slave.triangle_normals[t] * n >= cos_fold_angle;
           };
           bool covered_within = true, folded = false;
           for (const unsigned int t : star[k])
-            if (covered[t])
-              covered_within &= within(t);
+            if (covered(t))
+              covered_within &= within(t, covered_normal);
             else
-              folded |= !within(t);
-          if (!folded || !covered_within)
+              folded |= !within(t, covered_normal);
+          if (covered_within && !folded)
             continue;
+          Tensor<1, 3> side = covered_normal;
+          if (!covered_within)
+            {
+              unsigned int nearest_triangle = star[k].front();
+              for (const unsigned int t : star[k])
+                if (nearest[t] < nearest[nearest_triangle])
+                  nearest_triangle = t;
+              side = slave.triangle_normals[nearest_triangle];
+            }
           Tensor<1, 3> normal;
           double       area = 0;
           for (const unsigned int t : star[k])
-            if (within(t))
+            if (within(t, side))
               {
                 normal += areas[t] * slave.triangle_normals[t];
                 area += areas[t] / 3;
               }
+            else if (covered(t))
+              frames.excluded[k].push_back(t); // star[k] is increasing: excluded[k] is sorted
           frames.normal[k] = normal / normal.norm();
           frames.area[k]   = area;
           any_fold         = true;
@@ -235,6 +268,8 @@ namespace FetiContact::Mortar
               const double g = h * (frame.normal * normal) / normal.norm();
               for (unsigned int i = 0; i < 3; ++i)
                 {
+                  if (nodes.excludes(slave.triangles[s][i], s))
+                    continue;
                   Accumulator &acc = accumulators[slave.triangles[s][i]];
                   const double phi = phi_slave[i], psi = 4 * phi - 1;
                   acc.covered += phi * JxW;
@@ -253,7 +288,8 @@ namespace FetiContact::Mortar
 
     /**
      * Slave triangle @p s against master triangle @p m: clips, checks and integrates. Returns
-     * whether a segment was integrated. Without @p accumulators only the overlap is measured
+     * whether a segment was integrated, and lowers @p nearest to the segment's smallest distance
+     * in front of the slave triangle. Without @p accumulators only the overlap is measured
      * (the search behind the slave triangle for a master surface deeper than the search
      * distance).
      */
@@ -266,7 +302,8 @@ namespace FetiContact::Mortar
                 const double              search_distance,
                 Statistics               &statistics,
                 const NodeFrames         &nodes,
-                std::vector<Accumulator> *accumulators)
+                std::vector<Accumulator> *accumulators,
+                double                   *nearest = nullptr)
     {
       std::array<Point2, 3> master_2d;
       std::array<double, 3> height;
@@ -319,6 +356,8 @@ namespace FetiContact::Mortar
       if (accumulators == nullptr)
         return false;
       ++statistics.n_segments;
+      if (nearest != nullptr)
+        *nearest = std::min(*nearest, lowest);
       integrate_segment(
         slave, master, s, m, frame, master_2d, height, polygon, nodes, *accumulators);
       return true;
@@ -383,10 +422,10 @@ namespace FetiContact::Mortar
                          BoundingBox<3>(all_points).side_length(1) +
                          BoundingBox<3>(all_points).side_length(2);
 
-    std::vector<Accumulator>                             accumulators(slave.points.size());
-    NodeFrames                                           nodes{slave.point_normals, {}};
-    std::vector<bool>                                    covered(slave.triangles.size(), false);
-    std::vector<double>                                  areas(slave.triangles.size());
+    std::vector<Accumulator> accumulators(slave.points.size());
+    NodeFrames               nodes{slave.point_normals, {}};
+    std::vector<double> nearest(slave.triangles.size(), std::numeric_limits<double>::infinity());
+    std::vector<double> areas(slave.triangles.size());
     std::vector<std::pair<unsigned int, unsigned int>>   segments;
     std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
     for (unsigned int s = 0; s < slave.triangles.size(); ++s)
@@ -408,12 +447,10 @@ namespace FetiContact::Mortar
                           search_distance,
                           statistics,
                           nodes,
-                          &accumulators))
-            {
-              covered[s] = true;
-              segments.emplace_back(s, candidate.second);
-            }
-        if (covered[s])
+                          &accumulators,
+                          &nearest[s]))
+            segments.emplace_back(s, candidate.second);
+        if (nearest[s] < std::numeric_limits<double>::infinity())
           continue;
         // Nothing within the search distance: a master surface deeper behind the triangle (inside
         // the slave body) would be an overlap of the bodies that the coupling cannot see.
@@ -428,9 +465,10 @@ namespace FetiContact::Mortar
       }
 
     // At a fold of the slave surface the segments are integrated again with the normals of the
-    // covered side (the gap's cosine uses the interpolated nodal normal).
+    // side that keeps each point (the gap's cosine uses the interpolated nodal normal), without
+    // the other side's segments.
     bool any_fold = false;
-    nodes         = fold_frames(slave, covered, areas, any_fold);
+    nodes         = fold_frames(slave, nearest, areas, any_fold);
     if (any_fold)
       {
         accumulators.assign(slave.points.size(), Accumulator());

@@ -29,7 +29,8 @@ def run(binary, ranks, sizes, repeats, skip):
     if ranks > 1:
         command = ["mpirun", "--oversubscribe", "-np", str(ranks)] + command
     p = subprocess.run(command, capture_output=True, text=True,
-                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"))
+                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
+                                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
     if p.returncode != 0:
         raise SystemExit(f"{' '.join(command)} failed ({p.returncode}):\n{p.stderr}")
     return list(csv.DictReader(io.StringIO(p.stdout)))

@@ -12,7 +12,8 @@
 // Prints one CSV row per size and method: ranks, subdomains, coarse unknowns (6 N³), entries of
 // G, setup seconds (assembly and factorization), solve seconds (one solve), and the peak
 // resident memory of rank 0 [MiB] after that size (VmHWM: monotone over the run; give one method
-// and increasing sizes to read it per size), and ‖(GGᵀ)⁻¹b‖ for a fixed b (the same for both methods). Run by benchmarks/coarse_problem.py (doc/performance.md).
+// and increasing sizes to read it per size), and ‖(GGᵀ)⁻¹b‖ for a fixed b (the same for both
+// methods). Run by benchmarks/coarse_problem.py (doc/performance.md).
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
@@ -72,10 +73,10 @@ namespace
    */
   struct Column
   {
-    unsigned int           a, b;
-    bool                   glue;
-    std::array<double, 3>  p;
-    unsigned int           component;
+    unsigned int          a, b;
+    bool                  glue;
+    std::array<double, 3> p;
+    unsigned int          component;
   };
 
   /**
@@ -87,12 +88,12 @@ namespace
   columns(const unsigned int n, const Predicate &touches)
   {
     std::vector<Column> result;
-    const auto index = [n](const int i, const int j, const int k) {
+    const auto          index = [n](const int i, const int j, const int k) {
       return static_cast<unsigned int>(i + n * (j + n * k));
     };
-    const auto add_point = [&](const unsigned int a,
-                               const unsigned int b,
-                               const bool         glue,
+    const auto add_point = [&](const unsigned int           a,
+                               const unsigned int           b,
+                               const bool                   glue,
                                const std::array<double, 3> &p) {
       if (!touches(a) && !(glue && touches(b)))
         return;
@@ -119,9 +120,8 @@ namespace
                     const int          n_shift = std::abs(di) + std::abs(dj) + std::abs(dk);
                     // The shared point set: the centre of the shared face/edge/corner,
                     // and on a face three more points around it.
-                    const std::array<double, 3> centre{{i + 0.5 + 0.5 * di,
-                                                        j + 0.5 + 0.5 * dj,
-                                                        k + 0.5 + 0.5 * dk}};
+                    const std::array<double, 3> centre{
+                      {i + 0.5 + 0.5 * di, j + 0.5 + 0.5 * dj, k + 0.5 + 0.5 * dk}};
                     add_point(a, b, true, centre);
                     if (n_shift == 1)
                       for (const double s : {-0.25, 0.25})
@@ -147,8 +147,10 @@ namespace
 
   /** The six rigid modes of unit subdomain @p s at @p p, component @p c. */
   std::array<double, 6>
-  modes(const unsigned int n, const unsigned int s, const std::array<double, 3> &p,
-        const unsigned int c)
+  modes(const unsigned int           n,
+        const unsigned int           s,
+        const std::array<double, 3> &p,
+        const unsigned int           c)
   {
     const std::array<double, 3> centre{{s % n + 0.5, (s / n) % n + 0.5, s / (n * n) + 0.5}};
     const std::array<double, 3> x{{p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]}};
@@ -159,10 +161,9 @@ namespace
       {
         std::array<double, 3> e{};
         e[q]                                 = 1;
-        const std::array<double, 3> rotation = {{e[1] * x[2] - e[2] * x[1],
-                                                 e[2] * x[0] - e[0] * x[2],
-                                                 e[0] * x[1] - e[1] * x[0]}};
-        r[3 + q]                             = rotation[c];
+        const std::array<double, 3> rotation = {
+          {e[1] * x[2] - e[2] * x[1], e[2] * x[0] - e[0] * x[2], e[0] * x[1] - e[1] * x[0]}};
+        r[3 + q] = rotation[c];
       }
     return r;
   }
@@ -172,7 +173,7 @@ namespace
   column_entries(const unsigned int n, const Column &col)
   {
     std::vector<std::pair<unsigned int, double>> e;
-    const auto ra = modes(n, col.a, col.p, col.component);
+    const auto                                   ra = modes(n, col.a, col.p, col.component);
     for (unsigned int q = 0; q < 6; ++q)
       if (ra[q] != 0)
         e.emplace_back(6 * col.a + q, ra[q]);
@@ -207,11 +208,11 @@ namespace
     unsigned int own = 0;
     for (const auto &c : cols)
       own += mine(c.a) ? 1 : 0;
-    unsigned int       first = 0;
+    unsigned int first = 0;
     MPI_Exscan(&own, &first, 1, MPI_UNSIGNED, MPI_SUM, comm);
     if (rank == 0)
       first = 0;
-    const unsigned int total = Utilities::MPI::sum(own, comm);
+    const unsigned int                total = Utilities::MPI::sum(own, comm);
     std::vector<CoarseProblem::Entry> entries;
     unsigned int                      column = first;
     for (const auto &c : cols)
@@ -250,11 +251,11 @@ namespace
   Row
   distributed(const MPI_Comm comm, const unsigned int n, const unsigned int repeats)
   {
-    const unsigned int rank = Utilities::MPI::this_mpi_process(comm);
-    const unsigned int size = Utilities::MPI::n_mpi_processes(comm);
-    const unsigned int N    = n * n * n;
-    const auto first_of = [&](const unsigned int r) { return (r * N + size - 1) / size; };
-    const auto owner    = [&](const unsigned int s) {
+    const unsigned int rank     = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int size     = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int N        = n * n * n;
+    const auto         first_of = [&](const unsigned int r) { return (r * N + size - 1) / size; };
+    const auto         owner    = [&](const unsigned int s) {
       unsigned int r = s * size / N;
       while (r + 1 < size && first_of(r + 1) <= s)
         ++r;
@@ -265,9 +266,8 @@ namespace
     IndexSet owned(6 * N);
     owned.add_range(6 * first_of(rank), 6 * first_of(rank + 1));
     owned.compress();
-    const auto cols =
-      columns(n, [&](const unsigned int s) { return owner(s) == rank; });
-    double own_entries = 0;
+    const auto cols        = columns(n, [&](const unsigned int s) { return owner(s) == rank; });
+    double     own_entries = 0;
     for (const auto &c : cols)
       if (owner(c.a) == rank)
         own_entries += column_entries(n, c).size();
@@ -297,7 +297,7 @@ namespace
         for (const auto &[ij, v] : local)
           GGt.set(ij.first, ij.second, v);
         GGt.compress(VectorOperation::insert);
-        SolverControl                                control(1, 0);
+        SolverControl                                  control(1, 0);
         TrilinosWrappers::SolverDirect::AdditionalData data(false, "Amesos_Mumps");
         TrilinosWrappers::SolverDirect                 solver(control, data);
         solver.initialize(GGt);
@@ -314,7 +314,8 @@ namespace
         solve.push_back(seconds_since(start));
         norm = x.l2_norm();
       }
-    return {"distributed", size, N, 6 * N, g_entries, median(setup), median(solve), peak_mib(), norm};
+    return {
+      "distributed", size, N, 6 * N, g_entries, median(setup), median(solve), peak_mib(), norm};
   }
 } // namespace
 

@@ -52,7 +52,9 @@ namespace FetiContact::InputParsing
     char             *end = nullptr;
     errno                 = 0;
     const double value    = std::strtod(t.c_str(), &end);
-    require(!t.empty() && end != nullptr && *end == '\0',
+    // Decimal notation only: strtod also reads hexadecimal numbers (0x10 = 16, 0x1p4 = 16).
+    require(!t.empty() && end != nullptr && *end == '\0' &&
+              t.find_first_of("xXpP") == std::string::npos,
             (what + ": <" + t + "> is not a number."));
     // strtod reports ERANGE for overflow (±HUGE_VAL) and for underflow (a subnormal or zero).
     require(errno != ERANGE,

@@ -50,7 +50,7 @@ namespace FetiContact::Mortar
   {
     /**
      * The outward unit normal of the node's rows: the point normal, or at a fold of the slave
-     * surface the mean over the triangles on the covered side of the fold.
+     * surface the mean over the triangles on the side of the fold that keeps the node.
      */
     dealii::Tensor<1, 3> normal;
     /** ∫ φ_k over the slave surface (on the covered side of a fold): the area lumped at the node.
@@ -93,11 +93,12 @@ namespace FetiContact::Mortar
    * triangle lies farther than @p search_distance in front of the slave triangle. A point that no
    * segment covers gets covered = 0 and no M.
    *
-   * A point at a fold of the slave surface (its star has covered triangles and, beyond an angle
-   * of 30° from their mean normal, uncovered ones: a slave surface that runs round the edge of
-   * its body) belongs to the covered side alone: its normal and its area ∫ φ_k are those of the
-   * triangles within 30° of the covered ones, so a point whose covered side the master covers
-   * whole stays weighted by ψ_k.
+   * A point at a fold of the slave surface (its triangles turn by more than 30°: a slave surface
+   * that runs round the edge of its body) belongs to one side: the covered side if the master
+   * covers only one, else the side whose segments come nearest to the master (the other side's
+   * segments are left out of its integrals). Its normal and its area ∫ φ_k are those of its
+   * triangles within 30° of that side, so a point whose side the master covers whole stays
+   * weighted by ψ_k.
    */
   std::vector<NodeCoupling>
   couple(const Surface &slave,

@@ -52,7 +52,7 @@ namespace FetiContact
   {
     // Algorithm 2 reports the change of the radius update inside its loop, MSA that of its last
     // step (0 in the first).
-    return [this, &result](const QP::SMALBE::Step &step, const Vector<double> &lambda) {
+    return [this, &result](const QP::SMALBE<DualVector>::Step &step, const Vector<double> &lambda) {
       const bool combined_loop =
         parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2 &&
         law.depends_on_normal_force();
@@ -126,12 +126,12 @@ namespace FetiContact
     return true;
   }
 
-  QP::SMALBE::Statistics
+  QP::SMALBE<DualVector>::Statistics
   ContactSolver::msa_step(Result &result, const double tolerance)
   {
     if (slip_bounds_cannot_hold(result))
       {
-        QP::SMALBE::Statistics report;
+        QP::SMALBE<DualVector>::Statistics report;
         report.infeasible = true;
         return report;
       }

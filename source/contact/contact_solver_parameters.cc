@@ -60,10 +60,10 @@ namespace FetiContact::Parameters
     declare_expert_parameters(prm);
     prm.leave_subsection();
     prm.enter_subsection("MPGP");
-    QP::MPGP::AdditionalData::declare_parameters(prm);
+    QP::MPGPParameters::declare_parameters(prm);
     prm.leave_subsection();
     prm.enter_subsection("SMALBE");
-    QP::SMALBE::AdditionalData::declare_parameters(prm);
+    QP::SMALBEParameters::declare_parameters(prm);
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -162,11 +162,11 @@ namespace FetiContact::Parameters
     // The 'auto' values: the best measured configuration for mpgp, the published one for the
     // paper's algorithms and the polygonal baseline.
     const bool is_mpgp                = algorithm == Algorithm::mpgp;
-    using ArcScale                    = QP::MPGP::AdditionalData::ArcScale;
-    using Expansion                   = QP::MPGP::AdditionalData::Expansion;
-    using Bound                       = QP::SMALBE::AdditionalData::HessianNormBound;
-    using Equality                    = QP::SMALBE::AdditionalData::EqualityConstraint;
-    mpgp                              = QP::MPGP::AdditionalData();
+    using ArcScale                    = QP::MPGPParameters::ArcScale;
+    using Expansion                   = QP::MPGPParameters::Expansion;
+    using Bound                       = QP::SMALBEParameters::HessianNormBound;
+    using Equality                    = QP::SMALBEParameters::EqualityConstraint;
+    mpgp                              = QP::MPGPParameters();
     mpgp.expansion                    = is_mpgp ? Expansion::projected_cg : Expansion::fixed_step;
     mpgp.recursive_gradient_tolerance = is_mpgp ? 0.1 : 0;
     mpgp.arc_scale_estimate           = is_mpgp ? ArcScale::mean_diagonal : ArcScale::norm_bound;
@@ -174,7 +174,7 @@ namespace FetiContact::Parameters
     mpgp.parse_parameters(prm);
     prm.leave_subsection();
 
-    smalbe = QP::SMALBE::AdditionalData();
+    smalbe = QP::SMALBEParameters();
     // Algorithm 2 with Coulomb friction repeats its SMALBE solve warm (CombinedLoop).
     smalbe.max_outer_iterations =
       algorithm == Algorithm::algorithm_2 && friction_law == FrictionLaw::coulomb ? 200 : 2000;

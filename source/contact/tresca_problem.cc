@@ -17,7 +17,7 @@ namespace FetiContact
   } // namespace
 
   void
-  TrescaProblem::Statistics::count_steps(const QP::MPGP::Statistics &r)
+  TrescaProblem::Statistics::count_steps(const QP::MPGP<DualVector>::Statistics &r)
   {
     cg_steps += r.cg_steps;
     expansion_steps += r.expansion_steps;
@@ -70,7 +70,7 @@ namespace FetiContact
       this->dual.coarse.apply_Gt(x, y);
     };
     unscaled.e = dual.e;
-    QP::Orthonormalization::Factor factor;
+    QP::Orthonormalization<DualVector>::Factor factor;
     factor.solve_L = [this](Vector<double> &v) {
       this->dual.coarse.apply_orthonormalizing_factor(v, false);
     };
@@ -82,7 +82,7 @@ namespace FetiContact
     problem  = original;
     lambda0.reinit(layout.size());
     projector = parameters.smalbe.equality_constraint ==
-                  QP::SMALBE::AdditionalData::EqualityConstraint::projector &&
+                  QP::SMALBEParameters::EqualityConstraint::projector &&
                 dual.coarse.n_modes() > 0;
     if (projector)
       {
@@ -127,26 +127,27 @@ namespace FetiContact
     if (parameters.penalty_projected_norm && projector)
       {
         Vector<double> Pv;
-        feti_norm = 1.05 * QP::estimate_norm(
+        feti_norm = 1.05 * QP::estimate_norm<DualVector>(
                              [&](const Vector<double> &x, Vector<double> &y) {
                                Pv = x;
                                apply_P(Pv);
                                dual.apply_F(Pv, y);
                                apply_P(y);
                              },
-                             layout.size(),
+                             dual.c,
                              projected_norm_iterations);
       }
     else
-      feti_norm = 1.05 * QP::estimate_norm([&](const Vector<double> &x,
-                                               Vector<double>       &y) { dual.apply_F(x, y); },
-                                           layout.size(),
-                                           10);
+      feti_norm =
+        1.05 * QP::estimate_norm<DualVector>([&](const Vector<double> &x,
+                                                 Vector<double>       &y) { dual.apply_F(x, y); },
+                                             dual.c,
+                                             10);
     rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) : feti_norm;
     // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
     // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
     hessian_norm =
-      parameters.smalbe.hessian_norm_bound == QP::SMALBE::AdditionalData::HessianNormBound::max &&
+      parameters.smalbe.hessian_norm_bound == QP::SMALBEParameters::HessianNormBound::max &&
           projector ?
         std::max(feti_norm, rho * G_norm * G_norm) :
         feti_norm + rho * G_norm * G_norm;
@@ -154,7 +155,7 @@ namespace FetiContact
       out << "  Penalty: ρ = " << std::scientific << std::setprecision(3) << rho << " ("
           << parameters.smalbe.penalty_factor << " ‖PFP‖; ‖PFP‖ ≈ " << feti_norm << ")"
           << std::defaultfloat << std::endl;
-    if (parameters.mpgp.arc_scale_estimate != QP::MPGP::AdditionalData::ArcScale::mean_diagonal)
+    if (parameters.mpgp.arc_scale_estimate != QP::MPGPParameters::ArcScale::mean_diagonal)
       return;
     // tr(A)/m for A = PFP + ρQ (projector) or F + ρG̃ᵀG̃ (penalty): Hutchinson's estimate of
     // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number
@@ -167,7 +168,7 @@ namespace FetiContact
         apply_P(Pv);
       dual.apply_F(Pv, y);
     };
-    arc_scale = QP::estimate_mean_diagonal(PFP, m, arc_scale_probes) +
+    arc_scale = QP::estimate_mean_diagonal<DualVector>(PFP, dual.c, arc_scale_probes) +
                 rho * G_norm * G_norm * dual.coarse.n_modes() / m;
     out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
         << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
@@ -260,24 +261,24 @@ namespace FetiContact
     return normal_force;
   }
 
-  QP::MPGP::AdditionalData
+  QP::MPGP<DualVector>::AdditionalData
   TrescaProblem::mpgp_data() const
   {
-    QP::MPGP::AdditionalData data = parameters.mpgp;
-    data.step                     = 1.9 / hessian_norm;
-    data.arc_scale                = arc_scale;
+    QP::MPGP<DualVector>::AdditionalData data = parameters.mpgp;
+    data.step                                 = 1.9 / hessian_norm;
+    data.arc_scale                            = arc_scale;
     return data;
   }
 
-  QP::MPGP::Statistics
-  TrescaProblem::solve_block(const QP::Operator     &A,
-                             const Vector<double>   &b,
-                             Vector<double>         &lambda,
-                             const unsigned int      first,
-                             const unsigned int      n,
-                             const QP::SeparableSet &block_set,
-                             const double            tolerance,
-                             unsigned int           &counter)
+  QP::MPGP<DualVector>::Statistics
+  TrescaProblem::solve_block(const QP::Operator<DualVector> &A,
+                             const Vector<double>           &b,
+                             Vector<double>                 &lambda,
+                             const unsigned int              first,
+                             const unsigned int              n,
+                             const QP::SeparableSet         &block_set,
+                             const double                    tolerance,
+                             unsigned int                   &counter)
   {
     const unsigned int m = lambda.size();
     Vector<double>     full(m), Afull(m), x(n), rhs(n);
@@ -297,7 +298,7 @@ namespace FetiContact
     for (unsigned int i = 0; i < n; ++i)
       rhs[i] = b[first + i] - Afull[first + i];
     // A restricted to the block: pad with zeros, multiply, extract.
-    const QP::Operator A_block = [&](const Vector<double> &v, Vector<double> &y) {
+    const QP::Operator<DualVector> A_block = [&](const Vector<double> &v, Vector<double> &y) {
       full = 0;
       for (unsigned int i = 0; i < n; ++i)
         full[first + i] = v[i];
@@ -307,9 +308,9 @@ namespace FetiContact
       for (unsigned int i = 0; i < n; ++i)
         y[i] = Afull[first + i];
     };
-    QP::MPGP::AdditionalData data = mpgp_data();
-    data.tolerance                = tolerance;
-    const auto report             = QP::MPGP(data).solve(A_block, rhs, block_set, x);
+    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
+    data.tolerance                            = tolerance;
+    const auto report = QP::MPGP<DualVector>(data).solve(A_block, rhs, block_set, x);
     for (unsigned int i = 0; i < n; ++i)
       lambda[first + i] = x[i];
     counts.count_steps(report);
@@ -317,11 +318,11 @@ namespace FetiContact
   }
 
   QP::SolverReport
-  TrescaProblem::gauss_seidel(const QP::Operator   &A,
-                              const Vector<double> &b,
-                              Vector<double>       &lambda,
-                              const double          tolerance,
-                              const MovingSet      *moving_set)
+  TrescaProblem::gauss_seidel(const QP::Operator<DualVector> &A,
+                              const Vector<double>           &b,
+                              Vector<double>                 &lambda,
+                              const double                    tolerance,
+                              const MovingSet                *moving_set)
   {
     const unsigned int n_T = layout.n_tangential, n_c = lambda.size() - n_T;
     QP::SolverReport   report;
@@ -347,24 +348,24 @@ namespace FetiContact
     return report;
   }
 
-  QP::SMALBE::InnerReport
-  TrescaProblem::mpgp_inner_solve(const QP::Operator   &A,
-                                  const Vector<double> &b,
-                                  Vector<double>       &x,
-                                  const double          tolerance,
-                                  const Vector<double> &gradient)
+  QP::SMALBE<DualVector>::InnerReport
+  TrescaProblem::mpgp_inner_solve(const QP::Operator<DualVector> &A,
+                                  const Vector<double>           &b,
+                                  Vector<double>                 &x,
+                                  const double                    tolerance,
+                                  const Vector<double>           &gradient)
   {
-    unsigned int       calls   = 0;
-    const QP::Operator counted = [&](const Vector<double> &v, Vector<double> &y) {
+    unsigned int                   calls   = 0;
+    const QP::Operator<DualVector> counted = [&](const Vector<double> &v, Vector<double> &y) {
       A(v, y);
       ++calls;
     };
-    QP::MPGP::AdditionalData data = mpgp_data();
-    data.tolerance                = tolerance;
+    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
+    data.tolerance                            = tolerance;
     // MPGP starts from SMALBE's gradient and returns its own (no multiplication for either).
-    Vector<double>          g(gradient);
-    const auto              mpgp_report = QP::MPGP(data).solve(counted, b, set, x, &g);
-    QP::SMALBE::InnerReport report(mpgp_report);
+    Vector<double> g(gradient);
+    const auto     mpgp_report = QP::MPGP<DualVector>(data).solve(counted, b, set, x, &g);
+    QP::SMALBE<DualVector>::InnerReport report(mpgp_report);
     report.capped = !mpgp_report.converged && mpgp_report.iterations >= data.max_iterations;
     counts.count_steps(mpgp_report);
     report.gradient.swap(g);
@@ -372,33 +373,33 @@ namespace FetiContact
     return report;
   }
 
-  QP::SMALBE::Statistics
+  QP::SMALBE<DualVector>::Statistics
   TrescaProblem::solve(Vector<double>  &lambda,
                        Vector<double>  &nu,
                        const double     tolerance,
                        const Monitor   &monitor,
                        const MovingSet *moving_set)
   {
-    QP::SMALBE::AdditionalData data = parameters.smalbe;
-    data.tolerance                  = tolerance;
-    data.feasibility_tolerance      = tolerance;
-    data.rho                        = rho;
-    data.F_norm                     = feti_norm;
-    data.G_norm                     = G_norm;
-    data.inner                      = mpgp_data();
+    QP::SMALBE<DualVector>::AdditionalData data = parameters.smalbe;
+    data.tolerance                              = tolerance;
+    data.feasibility_tolerance                  = tolerance;
+    data.rho                                    = rho;
+    data.F_norm                                 = feti_norm;
+    data.G_norm                                 = G_norm;
+    data.inner                                  = mpgp_data();
     if (moving_set)
       data.max_inner_calls = 1;
     const bool split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
                        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2;
-    Vector<double> last_lambda;
-    QP::SMALBE     smalbe(data);
+    Vector<double>         last_lambda;
+    QP::SMALBE<DualVector> smalbe(data);
     if (split && layout.n_tangential > 0)
-      smalbe.set_inner_solver([&](const QP::Operator   &A,
-                                  const Vector<double> &b,
-                                  Vector<double>       &x,
-                                  const double          inner_tolerance,
+      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
+                                  const Vector<double>           &b,
+                                  Vector<double>                 &x,
+                                  const double                    inner_tolerance,
                                   const Vector<double> & /*gradient*/) {
-        QP::SMALBE::InnerReport r = gauss_seidel(A, b, x, inner_tolerance, moving_set);
+        QP::SMALBE<DualVector>::InnerReport r = gauss_seidel(A, b, x, inner_tolerance, moving_set);
         if (moving_set)
           {
             r.same_set  = moving_set->unchanged();
@@ -408,18 +409,20 @@ namespace FetiContact
         return r;
       });
     else
-      smalbe.set_inner_solver([&](const QP::Operator   &A,
-                                  const Vector<double> &b,
-                                  Vector<double>       &x,
-                                  const double          inner_tolerance,
-                                  const Vector<double> &gradient) {
-        QP::SMALBE::InnerReport r = mpgp_inner_solve(A, b, x, inner_tolerance, gradient);
-        last_lambda               = x;
+      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
+                                  const Vector<double>           &b,
+                                  Vector<double>                 &x,
+                                  const double                    inner_tolerance,
+                                  const Vector<double>           &gradient) {
+        QP::SMALBE<DualVector>::InnerReport r =
+          mpgp_inner_solve(A, b, x, inner_tolerance, gradient);
+        last_lambda = x;
         return r;
       });
     if (monitor)
-      smalbe.set_monitor([&](const QP::SMALBE::Step &step) { monitor(step, last_lambda); });
-    const QP::SMALBE::Statistics report = smalbe.solve(problem, lambda, nu);
+      smalbe.set_monitor(
+        [&](const QP::SMALBE<DualVector>::Step &step) { monitor(step, last_lambda); });
+    const QP::SMALBE<DualVector>::Statistics report = smalbe.solve(problem, lambda, nu);
     counts.smalbe_iterations += report.iterations;
     return report;
   }
@@ -478,7 +481,7 @@ namespace FetiContact
   }
 
   std::string
-  TrescaProblem::no_equilibrium_message(const QP::SMALBE::Statistics &report) const
+  TrescaProblem::no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const
   {
     // The certificate in the original variables: with the projector SMALBE saw λ̃ ∈ Ω − λ₀ and
     // G̃λ̃ = 0, so αᵀẽ = αᵀG̃λ₀ and σ_Ω = σ_{Ω−λ₀} + αᵀG̃λ₀.

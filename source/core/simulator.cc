@@ -450,7 +450,7 @@ namespace FetiContact
     TimerOutput::Scope scope(timer, "solve");
     lambda = dual->coarse.least_norm_solution(dual->e);
     const auto report =
-      QP::ProjectedCG(parameters.feti.projected_cg)
+      QP::ProjectedCG<DualVector>(parameters.feti.projected_cg)
         .solve([this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
                [this](Vector<double> &x) { dual->coarse.project(x); },
                dual->h,
@@ -462,10 +462,10 @@ namespace FetiContact
                          << residual << std::defaultfloat << std::endl;
                },
                parameters.feti.lumped_preconditioner ?
-                 QP::Operator([this](const Vector<double> &x, Vector<double> &y) {
+                 QP::Operator<DualVector>([this](const Vector<double> &x, Vector<double> &y) {
                    dual->apply_lumped(x, y);
                  }) :
-                 QP::Operator());
+                 QP::Operator<DualVector>());
     const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;

@@ -57,7 +57,7 @@ namespace FetiContact::Parameters
       "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
       "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
       "313,632 and at 1,037,232.");
-    QP::ProjectedCG::AdditionalData::declare_parameters(prm);
+    QP::ProjectedCGParameters::declare_parameters(prm);
     prm.declare_entry("Preconditioner",
                       "lumped",
                       Patterns::Selection("none|lumped"),

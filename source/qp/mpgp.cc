@@ -1,27 +1,77 @@
 #include <deal.II/base/exceptions.h>
 
+#include <feticontact/base/distributed_vector.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/mpgp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <random>
 
 namespace FetiContact::QP
 {
   using namespace dealii;
 
-  double
-  estimate_norm(const Operator &A, const unsigned int n, const unsigned int iterations)
+  namespace
   {
-    if (n == 0)
+    /**
+     * Entries of the sequence of std::minstd_rand(seed), looked up by position: the j-th output
+     * (j = 0, 1, …) is seed · 48271^(j+1) mod (2³¹ − 1). A vector's entry with global index i
+     * takes output number offset + i, so a start vector is the same on any number of ranks and
+     * in any order of the local entries; successive indices cost one multiplication, others a
+     * modular power.
+     */
+    class MinstdSequence
+    {
+    public:
+      explicit MinstdSequence(const std::uint64_t seed)
+        : seed(seed % modulus == 0 ? 1 : seed % modulus)
+      {}
+
+      /** Output number @p j. */
+      std::uint64_t
+      operator()(const std::uint64_t j)
+      {
+        if (j != last_index + 1 || !started)
+          {
+            std::uint64_t power = 1, base = multiplier;
+            for (std::uint64_t e = j + 1; e > 0; e >>= 1, base = base * base % modulus)
+              if (e & 1)
+                power = power * base % modulus;
+            last_value = seed * power % modulus;
+          }
+        else
+          last_value = last_value * multiplier % modulus;
+        last_index = j;
+        started    = true;
+        return last_value;
+      }
+
+      static constexpr std::uint64_t modulus = 2147483647, multiplier = 48271;
+
+    private:
+      std::uint64_t seed, last_index = 0, last_value = 0;
+      bool          started = false;
+    };
+  } // namespace
+
+  template <typename VectorType>
+  double
+  estimate_norm(const Operator<VectorType> &A,
+                const VectorType           &model,
+                const unsigned int          iterations)
+  {
+    if (model.size() == 0)
       return 0;
-    // Deterministic pseudo-random start (minstd_rand's sequence is fixed by the standard).
-    std::minstd_rand random(20120101);
-    Vector<double>   v(n), Av(n);
-    for (auto &vi : v)
-      vi = double(random()) / double(std::minstd_rand::max()) - 0.5;
+    VectorType v, Av;
+    v.reinit(model, true);
+    Av.reinit(model);
+    MinstdSequence random(20120101);
+    for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
+      v[i] = double(random(Reductions<VectorType>::global_index(v, i))) /
+               double(MinstdSequence::modulus - 1) -
+             0.5;
     v /= v.l2_norm();
     double estimate = 0;
     for (unsigned int k = 0; k < std::max(iterations, 1u); ++k)
@@ -35,18 +85,27 @@ namespace FetiContact::QP
     return estimate;
   }
 
+  template <typename VectorType>
   double
-  estimate_mean_diagonal(const Operator &A, const unsigned int n, const unsigned int probes)
+  estimate_mean_diagonal(const Operator<VectorType> &A,
+                         const VectorType           &model,
+                         const unsigned int          probes)
   {
+    const unsigned int n = model.size();
     if (n == 0)
       return 0;
-    std::minstd_rand random(20260101);
-    Vector<double>   v(n), Av(n);
-    double           sum = 0;
+    VectorType v, Av;
+    v.reinit(model, true);
+    Av.reinit(model);
+    double         sum = 0;
+    MinstdSequence random(20260101);
     for (unsigned int k = 0; k < std::max(probes, 1u); ++k)
       {
-        for (auto &vi : v)
-          vi = random() % 2 == 0 ? 1. : -1.;
+        for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
+          v[i] =
+            random(std::uint64_t(k) * n + Reductions<VectorType>::global_index(v, i)) % 2 == 0 ?
+              1. :
+              -1.;
         A(v, Av);
         sum += v * Av;
       }
@@ -54,7 +113,7 @@ namespace FetiContact::QP
   }
 
   void
-  MPGP::AdditionalData::declare_parameters(ParameterHandler &prm)
+  MPGPParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.declare_entry("Maximum iterations",
                       "10000",
@@ -98,7 +157,7 @@ namespace FetiContact::QP
   }
 
   void
-  MPGP::AdditionalData::parse_parameters(ParameterHandler &prm)
+  MPGPParameters::parse_parameters(ParameterHandler &prm)
   {
     max_iterations                   = prm.get_integer("Maximum iterations");
     disc_rotations                   = prm.get_bool("Disc rotations");
@@ -120,44 +179,49 @@ namespace FetiContact::QP
         scale_text == "mean diagonal" ? ArcScale::mean_diagonal : ArcScale::norm_bound;
   }
 
-  MPGP::MPGP()
+  template <typename VectorType>
+  MPGP<VectorType>::MPGP()
     : additional_data()
   {}
 
-  MPGP::MPGP(const AdditionalData &data)
+  template <typename VectorType>
+  MPGP<VectorType>::MPGP(const AdditionalData &data)
     : additional_data(data)
   {}
 
-  MPGP::AdditionalData &
-  MPGP::data()
+  template <typename VectorType>
+  typename MPGP<VectorType>::AdditionalData &
+  MPGP<VectorType>::data()
   {
     return additional_data;
   }
 
+  template <typename VectorType>
   void
-  MPGP::multiply(const Vector<double> &v, Vector<double> &w)
+  MPGP<VectorType>::multiply(const VectorType &v, VectorType &w)
   {
     (*A)(v, w);
     ++statistics.hessian_multiplications;
   }
 
+  template <typename VectorType>
   void
-  MPGP::recompute_gradient()
+  MPGP<VectorType>::recompute_gradient()
   {
     multiply(*x, g);
     g -= *b;
     gradient_error = 0;
   }
 
+  template <typename VectorType>
   bool
-  MPGP::choose_step()
+  MPGP<VectorType>::choose_step()
   {
     alpha_bar = additional_data.step;
     if (!(alpha_bar > 0))
       {
-        const unsigned int n          = b->size();
         const unsigned int iterations = std::max(additional_data.norm_iterations, 1u);
-        const double       norm       = estimate_norm(*A, n, iterations);
+        const double       norm       = estimate_norm(*A, *b, iterations);
         statistics.hessian_multiplications += iterations;
         statistics.norm_estimate_multiplications = iterations;
         if (!(norm > 0) || !std::isfinite(norm))
@@ -168,8 +232,9 @@ namespace FetiContact::QP
     return true;
   }
 
+  template <typename VectorType>
   void
-  MPGP::update_sets()
+  MPGP<VectorType>::update_sets()
   {
     // z = M⁻¹φ, the search direction before conjugation: φ itself, or with rotations φ
     // divided on the tangents of pressed discs by 1 + (σ_k/r_k)/a with a = AdditionalData::
@@ -193,23 +258,25 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   bool
-  MPGP::increased() const
+  MPGP<VectorType>::increased() const
   {
     // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old) (exact for a quadratic), and whether it is an
     // increase beyond the rounding level (the projection onto a disc is exact only to ε r, times
     // the multiplier g·ν).
-    double df = 0, noise = 0;
-    for (unsigned int i = 0; i < x->size(); ++i)
+    typename Reductions<VectorType>::Sum df, noise;
+    for (unsigned int i = 0; i < x->locally_owned_size(); ++i)
       {
-        df += ((*x)[i] - x_old[i]) * (g[i] + g_old[i]);
-        noise += std::abs((*x)[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
+        df.add(((*x)[i] - x_old[i]) * (g[i] + g_old[i]));
+        noise.add(std::abs((*x)[i]) * (std::abs(g[i]) + std::abs(g_old[i])));
       }
-    return df > 32 * std::numeric_limits<double>::epsilon() * noise;
+    return df.result(*x) > 32 * std::numeric_limits<double>::epsilon() * noise.result(*x);
   }
 
+  template <typename VectorType>
   bool
-  MPGP::gradient_after_projection(const double alpha)
+  MPGP<VectorType>::gradient_after_projection(const double alpha)
   {
     // With AdditionalData::recursive_gradient_tolerance > 0: g ← g − αAp, leaving out A d for
     // the return d = x − (x_old − α p) onto Ω, if the error bound (2/ᾱ ≥ ‖A‖) summed since the
@@ -236,8 +303,9 @@ namespace FetiContact::QP
     return false;
   }
 
+  template <typename VectorType>
   void
-  MPGP::projected_gradient_step()
+  MPGP<VectorType>::projected_gradient_step()
   {
     *x = x_old;
     x->add(-alpha_bar, g_old);
@@ -246,14 +314,14 @@ namespace FetiContact::QP
     ++statistics.proportioning_fallbacks;
   }
 
+  template <typename VectorType>
   void
-  MPGP::start(Vector<double> *gradient)
+  MPGP<VectorType>::start(VectorType *gradient)
   {
     // The caller's gradient Ax₀ − b stands for the first multiplication if x₀ ∈ Ω already: if
     // the projection moves x₀ by no more than the rounding of a projection onto a circle
     // (x₀ returned by an earlier solve), the known gradient is off by at most ‖A‖ times that.
-    const unsigned int n              = b->size();
-    const bool         known_gradient = gradient && gradient->size() == n;
+    const bool known_gradient = gradient && gradient->size() == b->size();
     if (known_gradient)
       x_old = *x;
     set->project(*x);
@@ -273,15 +341,17 @@ namespace FetiContact::QP
     p_is_phi = true;
   }
 
+  template <typename VectorType>
   bool
-  MPGP::stop() const
+  MPGP<VectorType>::stop() const
   {
     return norm_gP <= additional_data.tolerance ||
            (additional_data.stop_when && additional_data.stop_when(*x, norm_gP));
   }
 
+  template <typename VectorType>
   bool
-  MPGP::done()
+  MPGP<VectorType>::done()
   {
     if (!stop())
       return false;
@@ -292,21 +362,23 @@ namespace FetiContact::QP
     return stop();
   }
 
+  template <typename VectorType>
   bool
-  MPGP::proportional()
+  MPGP<VectorType>::proportional()
   {
     y = *x;
     y.add(-alpha_bar, phi);
     set->project(y);
-    double phi_tilde_phi = 0;
-    for (unsigned int i = 0; i < x->size(); ++i)
-      phi_tilde_phi += ((*x)[i] - y[i]) * phi[i];
-    phi_tilde_phi /= alpha_bar;
+    typename Reductions<VectorType>::Sum sum;
+    for (unsigned int i = 0; i < x->locally_owned_size(); ++i)
+      sum.add(((*x)[i] - y[i]) * phi[i]);
+    const double phi_tilde_phi = sum.result(*x) / alpha_bar;
     return beta.norm_sqr() <= additional_data.gamma * additional_data.gamma * phi_tilde_phi;
   }
 
-  MPGP::Outcome
-  MPGP::step_along_p()
+  template <typename VectorType>
+  typename MPGP<VectorType>::Outcome
+  MPGP<VectorType>::step_along_p()
   {
     // gᵀp = φᵀp: p lives where φ does (free blocks, tangents of active discs). φᵀp avoids the
     // cancellation of the large normal parts of g on pressed discs, which makes gᵀp
@@ -342,8 +414,11 @@ namespace FetiContact::QP
     return Outcome::step;
   }
 
+  template <typename VectorType>
   void
-  MPGP::conjugate_gradient_step(const double alpha_cg, const double curvature, const bool arc)
+  MPGP<VectorType>::conjugate_gradient_step(const double alpha_cg,
+                                            const double curvature,
+                                            const bool   arc)
   {
     if (arc)
       {
@@ -390,8 +465,9 @@ namespace FetiContact::QP
     ++statistics.cg_steps;
   }
 
+  template <typename VectorType>
   void
-  MPGP::expansion_step(const double alpha_cg, const double alpha_f)
+  MPGP<VectorType>::expansion_step(const double alpha_cg, const double alpha_f)
   {
     bool expanded = false;
     if (additional_data.expansion == AdditionalData::Expansion::projected_cg)
@@ -431,8 +507,9 @@ namespace FetiContact::QP
     ++statistics.expansion_steps;
   }
 
-  MPGP::Outcome
-  MPGP::proportioning_step()
+  template <typename VectorType>
+  typename MPGP<VectorType>::Outcome
+  MPGP<VectorType>::proportioning_step()
   {
     if (mode == SeparableSet::DiscMode::rotations || !set->nonzero_on_discs(beta))
       {
@@ -474,15 +551,16 @@ namespace FetiContact::QP
     return Outcome::step;
   }
 
-  MPGP::Statistics
-  MPGP::solve(const Operator       &A_in,
-              const Vector<double> &b_in,
-              const SeparableSet   &set_in,
-              Vector<double>       &x_in,
-              Vector<double>       *gradient)
+  template <typename VectorType>
+  typename MPGP<VectorType>::Statistics
+  MPGP<VectorType>::solve(const Operator<VectorType> &A_in,
+                          const VectorType           &b_in,
+                          const SeparableSet         &set_in,
+                          VectorType                 &x_in,
+                          VectorType                 *gradient)
   {
     const unsigned int n = b_in.size();
-    AssertThrow(set_in.size() == n && x_in.size() == n,
+    AssertThrow(set_in.size() == b_in.locally_owned_size() && x_in.size() == n,
                 ExcMessage("MPGP: sizes of b (" + std::to_string(n) + "), x (" +
                            std::to_string(x_in.size()) + ") and the set (" +
                            std::to_string(set_in.size()) + ") differ."));
@@ -497,7 +575,7 @@ namespace FetiContact::QP
         // A vanishes on the start vector (or n = 0): nothing sensible to iterate with.
         statistics.converged = (n == 0);
         if (gradient)
-          gradient->reinit(0);
+          *gradient = VectorType();
         return statistics;
       }
     mode = additional_data.disc_rotations ? SeparableSet::DiscMode::rotations :
@@ -508,8 +586,9 @@ namespace FetiContact::QP
     in_face        = static_cast<bool>(additional_data.preconditioner);
     gradient_error = 0;
     for (auto *v : {&g, &p, &Ap, &Hp, &phi, &beta, &y, &z})
-      v->reinit(n);
-    Mz.reinit(in_face ? n : 0);
+      v->reinit(b_in);
+    if (in_face)
+      Mz.reinit(b_in);
 
     start(gradient);
     bool converged = done();
@@ -540,4 +619,18 @@ namespace FetiContact::QP
     statistics.converged               = converged;
     return statistics;
   }
+  template class MPGP<Vector<double>>;
+  template class MPGP<DistributedVector>;
+  template double
+  estimate_norm(const Operator<Vector<double>> &, const Vector<double> &, const unsigned int);
+  template double
+  estimate_norm(const Operator<DistributedVector> &, const DistributedVector &, const unsigned int);
+  template double
+  estimate_mean_diagonal(const Operator<Vector<double>> &,
+                         const Vector<double> &,
+                         const unsigned int);
+  template double
+  estimate_mean_diagonal(const Operator<DistributedVector> &,
+                         const DistributedVector &,
+                         const unsigned int);
 } // namespace FetiContact::QP

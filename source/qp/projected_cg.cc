@@ -1,3 +1,4 @@
+#include <feticontact/base/distributed_vector.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/projected_cg.h>
 
@@ -10,7 +11,7 @@ namespace FetiContact::QP
   using namespace dealii;
 
   void
-  ProjectedCG::AdditionalData::declare_parameters(ParameterHandler &prm)
+  ProjectedCGParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.declare_entry("Relative tolerance",
                       "1e-10",
@@ -24,7 +25,7 @@ namespace FetiContact::QP
   }
 
   void
-  ProjectedCG::AdditionalData::parse_parameters(ParameterHandler &prm)
+  ProjectedCGParameters::parse_parameters(ParameterHandler &prm)
   {
     tolerance = prm.get_double("Relative tolerance");
     require(tolerance > 0,
@@ -32,26 +33,31 @@ namespace FetiContact::QP
     max_iterations = prm.get_integer("Maximum iterations");
   }
 
-  ProjectedCG::ProjectedCG()
+  template <typename VectorType>
+  ProjectedCG<VectorType>::ProjectedCG()
     : additional_data()
   {}
 
-  ProjectedCG::ProjectedCG(const AdditionalData &data)
+  template <typename VectorType>
+  ProjectedCG<VectorType>::ProjectedCG(const AdditionalData &data)
     : additional_data(data)
   {}
 
+  template <typename VectorType>
   SolverReport
-  ProjectedCG::solve(const Operator                                  &A,
-                     const Projector                                 &P,
-                     const Vector<double>                            &b,
-                     Vector<double>                                  &x,
-                     const std::function<void(unsigned int, double)> &monitor,
-                     const Operator                                  &M) const
+  ProjectedCG<VectorType>::solve(const Operator                                  &A,
+                                 const Projector                                 &P,
+                                 const VectorType                                &b,
+                                 VectorType                                      &x,
+                                 const std::function<void(unsigned int, double)> &monitor,
+                                 const Operator                                  &M) const
   {
     const double       tolerance      = additional_data.tolerance;
     const unsigned int max_iterations = additional_data.max_iterations;
     SolverReport       report;
-    Vector<double>     g(b.size()), w(b.size()), p(b.size()), Ap(b.size()), z(b.size());
+    VectorType         g, w, p, Ap, z;
+    for (auto *v : {&g, &w, &p, &Ap, &z})
+      v->reinit(b);
     // z = P M w (w itself without a preconditioner).
     const auto precondition = [&]() {
       if (M)
@@ -72,7 +78,8 @@ namespace FetiContact::QP
 
     // Reference: ‖Pb‖, but not below what rounding leaves in the data: when Pb vanishes up to
     // rounding (x₀ is already the solution), a gradient at the noise level counts as zero.
-    Vector<double> Pb(b), Ax(b.size());
+    VectorType Pb(b), Ax;
+    Ax.reinit(b);
     P(Pb);
     A(x, Ax);
     ++report.hessian_multiplications;
@@ -116,4 +123,6 @@ namespace FetiContact::QP
     report.converged = true;
     return report;
   }
+  template class ProjectedCG<Vector<double>>;
+  template class ProjectedCG<DistributedVector>;
 } // namespace FetiContact::QP

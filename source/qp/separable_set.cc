@@ -140,8 +140,9 @@ namespace FetiContact::QP
     return 0;
   }
 
+  template <typename VectorType>
   bool
-  SeparableSet::disc_active(const Disc &d, const Vector<double> &x) const
+  SeparableSet::disc_active(const Disc &d, const VectorType &x) const
   {
     if (d.radius == 0)
       return true;
@@ -149,10 +150,11 @@ namespace FetiContact::QP
     return std::hypot(y1, y2) >= d.radius * (1 - disc_activity_tolerance);
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::project(Vector<double> &x) const
+  SeparableSet::project(VectorType &x) const
   {
-    AssertDimension(x.size(), size());
+    AssertDimension(x.locally_owned_size(), size());
     for (const unsigned int i : intervals)
       x[i] = std::min(std::max(x[i], lower[i]), upper[i]);
     for (const Disc &d : discs)
@@ -169,14 +171,15 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::free_gradient(const Vector<double> &x,
-                              const Vector<double> &g,
-                              Vector<double>       &phi,
-                              const DiscMode        mode) const
+  SeparableSet::free_gradient(const VectorType &x,
+                              const VectorType &g,
+                              VectorType       &phi,
+                              const DiscMode    mode) const
   {
-    AssertDimension(x.size(), size());
-    AssertDimension(g.size(), size());
+    AssertDimension(x.locally_owned_size(), size());
+    AssertDimension(g.locally_owned_size(), size());
     phi = g; // the free components; intervals and discs below
     for (const unsigned int i : intervals)
       if (interval_state(i, x[i]) != 0)
@@ -200,15 +203,16 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::chopped_gradient(const Vector<double> &x,
-                                 const Vector<double> &g,
-                                 Vector<double>       &beta,
-                                 const DiscMode        mode) const
+  SeparableSet::chopped_gradient(const VectorType &x,
+                                 const VectorType &g,
+                                 VectorType       &beta,
+                                 const DiscMode    mode) const
   {
-    AssertDimension(x.size(), size());
-    AssertDimension(g.size(), size());
-    beta.reinit(size()); // zero on the free components; intervals and discs below
+    AssertDimension(x.locally_owned_size(), size());
+    AssertDimension(g.locally_owned_size(), size());
+    beta.reinit(g); // zero on the free components; intervals and discs below
     for (const unsigned int i : intervals)
       switch (interval_state(i, x[i]))
         {
@@ -241,24 +245,24 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::projected_gradient(const Vector<double> &x,
-                                   const Vector<double> &g,
-                                   Vector<double>       &gP) const
+  SeparableSet::projected_gradient(const VectorType &x, const VectorType &g, VectorType &gP) const
   {
-    Vector<double> beta;
+    VectorType beta;
     free_gradient(x, g, gP);
     chopped_gradient(x, g, beta);
     gP += beta;
   }
 
+  template <typename VectorType>
   double
-  SeparableSet::max_feasible_step(const Vector<double> &x,
-                                  const Vector<double> &d,
-                                  const DiscMode        mode) const
+  SeparableSet::max_feasible_step(const VectorType &x,
+                                  const VectorType &d,
+                                  const DiscMode    mode) const
   {
-    AssertDimension(x.size(), size());
-    AssertDimension(d.size(), size());
+    AssertDimension(x.locally_owned_size(), size());
+    AssertDimension(d.locally_owned_size(), size());
     double alpha = infinity;
     for (const unsigned int i : intervals)
       if (d[i] != 0)
@@ -273,7 +277,10 @@ namespace FetiContact::QP
         if (d1 == 0 && d2 == 0)
           continue;
         if (disc.radius == 0)
-          return 0;
+          {
+            alpha = 0;
+            break;
+          }
         if (mode == DiscMode::rotations && disc_active(disc, x))
           continue;
         // ‖y − α d‖² = r²: α²‖d‖² − 2α y·d + ‖y‖² − r² = 0, the positive root.
@@ -287,23 +294,23 @@ namespace FetiContact::QP
         const double a = yd >= 0 ? (yd + root) / dd : (root - yd > 0 ? room / (root - yd) : 0.);
         alpha          = std::min(alpha, std::max(a, 0.));
       }
-    return alpha;
+    return Reductions<VectorType>::min(alpha, x);
   }
 
+  template <typename VectorType>
   std::array<double, 2>
-  SeparableSet::outward_normal(const Disc &d, const Vector<double> &x) const
+  SeparableSet::outward_normal(const Disc &d, const VectorType &x) const
   {
     const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
     const double norm = std::hypot(y1, y2); // ≥ r(1 − 1e-12) > 0 on an active disc with r > 0
     return {{y1 / norm, y2 / norm}};
   }
 
+  template <typename VectorType>
   double
-  SeparableSet::arc_curvature(const Vector<double> &x,
-                              const Vector<double> &g,
-                              const Vector<double> &d) const
+  SeparableSet::arc_curvature(const VectorType &x, const VectorType &g, const VectorType &d) const
   {
-    double curvature = 0;
+    typename Reductions<VectorType>::Sum curvature;
     for (const Disc &disc : discs)
       {
         if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
@@ -312,16 +319,17 @@ namespace FetiContact::QP
         const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
         const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
         const double t1 = d[disc.i] - dn * nu[0], t2 = d[disc.j] - dn * nu[1];
-        curvature += sigma / disc.radius * (t1 * t1 + t2 * t2);
+        curvature.add(sigma / disc.radius * (t1 * t1 + t2 * t2));
       }
-    return curvature;
+    return curvature.result(x);
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::add_arc_curvature(const Vector<double> &x,
-                                  const Vector<double> &g,
-                                  const Vector<double> &d,
-                                  Vector<double>       &Hd) const
+  SeparableSet::add_arc_curvature(const VectorType &x,
+                                  const VectorType &g,
+                                  const VectorType &d,
+                                  VectorType       &Hd) const
   {
     for (const Disc &disc : discs)
       {
@@ -335,8 +343,9 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::remove_normal_parts(const Vector<double> &x, Vector<double> &v) const
+  SeparableSet::remove_normal_parts(const VectorType &x, VectorType &v) const
   {
     for (const Disc &disc : discs)
       {
@@ -349,12 +358,13 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SeparableSet::precondition_arcs(const Vector<double> &x,
-                                  const Vector<double> &g,
-                                  const double          a,
-                                  Vector<double>       &v,
-                                  const double          exponent) const
+  SeparableSet::precondition_arcs(const VectorType &x,
+                                  const VectorType &g,
+                                  const double      a,
+                                  VectorType       &v,
+                                  const double      exponent) const
   {
     for (const Disc &disc : discs)
       {
@@ -369,69 +379,107 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   bool
-  SeparableSet::moves_active_discs(const Vector<double> &x, const Vector<double> &v) const
+  SeparableSet::moves_active_discs(const VectorType &x, const VectorType &v) const
   {
+    bool moves = false;
     for (const Disc &disc : discs)
       if (disc.radius > 0 && (v[disc.i] != 0 || v[disc.j] != 0) && disc_active(disc, x))
-        return true;
-    return false;
+        {
+          moves = true;
+          break;
+        }
+    return Reductions<VectorType>::any(moves, x);
   }
 
+  template <typename VectorType>
   bool
-  SeparableSet::nonzero_on_discs(const Vector<double> &v) const
+  SeparableSet::nonzero_on_discs(const VectorType &v) const
   {
+    bool nonzero = false;
     for (const Disc &d : discs)
       if (v[d.i] != 0 || v[d.j] != 0)
-        return true;
-    return false;
+        {
+          nonzero = true;
+          break;
+        }
+    return Reductions<VectorType>::any(nonzero, v);
   }
 
+  template <typename VectorType>
   double
-  SeparableSet::largest_violation(const Vector<double> &x) const
+  SeparableSet::largest_violation(const VectorType &x) const
   {
-    AssertDimension(x.size(), size());
+    AssertDimension(x.locally_owned_size(), size());
     double violation = 0;
     for (const unsigned int i : intervals)
       violation = std::max({violation, lower[i] - x[i], x[i] - upper[i]});
     for (const Disc &d : discs)
       violation =
         std::max(violation, std::hypot(x[d.i] - d.centre[0], x[d.j] - d.centre[1]) - d.radius);
-    return violation;
+    return Reductions<VectorType>::max(violation, x);
   }
 
+  template <typename VectorType>
   double
-  SeparableSet::support(const Vector<double> &w, const double zero) const
+  SeparableSet::support(const VectorType &w, const double zero) const
   {
-    AssertDimension(w.size(), size());
-    const double infinity = std::numeric_limits<double>::infinity();
-    const double small    = zero * w.linfty_norm();
-    double       sup      = 0;
-    for (unsigned int i = 0; i < size(); ++i)
+    AssertDimension(w.locally_owned_size(), size());
+    const double                         infinity = std::numeric_limits<double>::infinity();
+    const double                         small    = zero * w.linfty_norm();
+    typename Reductions<VectorType>::Sum sup;
+    bool                                 unbounded = false;
+    for (unsigned int i = 0; i < size() && !unbounded; ++i)
       {
         if (kind[i] == Kind::disc || std::abs(w[i]) <= small)
           continue;
         const double end = w[i] > 0 ? upper[i] : lower[i]; // ±∞ for a free component
-        if (!std::isfinite(end))
-          return infinity;
-        sup += end * w[i];
+        unbounded        = !std::isfinite(end);
+        if (!unbounded)
+          sup.add(end * w[i]);
       }
-    for (const Disc &d : discs)
+    for (unsigned int k = 0; k < discs.size() && !unbounded; ++k)
       {
+        const Disc  &d = discs[k];
         const double a = std::abs(w[d.i]) <= small ? 0. : w[d.i];
         const double b = std::abs(w[d.j]) <= small ? 0. : w[d.j];
         if (a == 0 && b == 0)
           continue;
-        if (!std::isfinite(d.radius))
-          return infinity;
-        sup += d.centre[0] * a + d.centre[1] * b + d.radius * std::hypot(a, b);
+        unbounded = !std::isfinite(d.radius);
+        if (!unbounded)
+          sup.add(d.centre[0] * a + d.centre[1] * b + d.radius * std::hypot(a, b));
       }
-    return sup;
+    if (Reductions<VectorType>::any(unbounded, w))
+      return infinity;
+    return sup.result(w);
   }
 
+  template <typename VectorType>
   bool
-  SeparableSet::is_feasible(const Vector<double> &x, const double relative_tolerance) const
+  SeparableSet::is_feasible(const VectorType &x, const double relative_tolerance) const
   {
     return largest_violation(x) <= relative_tolerance * x.linfty_norm();
   }
+  // The instantiations for the two vector types of the QP layer.
+#define FETICONTACT_INSTANTIATE_SEPARABLE_SET(V)                                                   \
+  template void   SeparableSet::project(V &) const;                                                \
+  template void   SeparableSet::free_gradient(const V &, const V &, V &, const DiscMode) const;    \
+  template void   SeparableSet::chopped_gradient(const V &, const V &, V &, const DiscMode) const; \
+  template void   SeparableSet::projected_gradient(const V &, const V &, V &) const;               \
+  template double SeparableSet::max_feasible_step(const V &, const V &, const DiscMode) const;     \
+  template double SeparableSet::arc_curvature(const V &, const V &, const V &) const;              \
+  template void   SeparableSet::add_arc_curvature(const V &, const V &, const V &, V &) const;     \
+  template void   SeparableSet::remove_normal_parts(const V &, V &) const;                         \
+  template void   SeparableSet::precondition_arcs(                                                 \
+    const V &, const V &, const double, V &, const double) const;                                \
+  template bool   SeparableSet::moves_active_discs(const V &, const V &) const;                    \
+  template bool   SeparableSet::nonzero_on_discs(const V &) const;                                 \
+  template double SeparableSet::support(const V &, const double) const;                            \
+  template double SeparableSet::largest_violation(const V &) const;                                \
+  template bool   SeparableSet::is_feasible(const V &, const double) const;
+
+  FETICONTACT_INSTANTIATE_SEPARABLE_SET(Vector<double>)
+  FETICONTACT_INSTANTIATE_SEPARABLE_SET(DistributedVector)
+#undef FETICONTACT_INSTANTIATE_SEPARABLE_SET
 } // namespace FetiContact::QP

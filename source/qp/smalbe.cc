@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <feticontact/base/distributed_vector.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/smalbe.h>
 
@@ -55,7 +56,7 @@ namespace FetiContact::QP
   } // namespace
 
   void
-  SMALBE::AdditionalData::declare_parameters(ParameterHandler &prm)
+  SMALBEParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.declare_entry("Maximum iterations",
                       "auto",
@@ -100,7 +101,7 @@ namespace FetiContact::QP
   }
 
   void
-  SMALBE::AdditionalData::parse_parameters(ParameterHandler &prm)
+  SMALBEParameters::parse_parameters(ParameterHandler &prm)
   {
     const std::string limit_text = InputParsing::trim(prm.get("Maximum iterations"));
     if (limit_text != "auto")
@@ -151,34 +152,40 @@ namespace FetiContact::QP
       hessian_norm_bound = HessianNormBound::sum;
   }
 
-  SMALBE::SMALBE()
+  template <typename VectorType>
+  SMALBE<VectorType>::SMALBE()
     : additional_data()
   {}
 
-  SMALBE::SMALBE(const AdditionalData &data)
+  template <typename VectorType>
+  SMALBE<VectorType>::SMALBE(const AdditionalData &data)
     : additional_data(data)
   {}
 
+  template <typename VectorType>
   void
-  SMALBE::set_inner_solver(InnerSolver solver)
+  SMALBE<VectorType>::set_inner_solver(InnerSolver solver)
   {
     inner_solver = std::move(solver);
   }
 
+  template <typename VectorType>
   void
-  SMALBE::set_monitor(std::function<void(const Step &)> new_monitor)
+  SMALBE<VectorType>::set_monitor(std::function<void(const Step &)> new_monitor)
   {
     monitor = std::move(new_monitor);
   }
 
-  SMALBE::AdditionalData &
-  SMALBE::data()
+  template <typename VectorType>
+  typename SMALBE<VectorType>::AdditionalData &
+  SMALBE<VectorType>::data()
   {
     return additional_data;
   }
 
+  template <typename VectorType>
   void
-  SMALBE::choose_scales()
+  SMALBE<VectorType>::choose_scales()
   {
     // Norms: ‖F‖ and ‖G‖ = √‖GᵀG‖ (power-method estimates times 1.05 unless given).
     const AdditionalData &o = additional_data;
@@ -186,18 +193,18 @@ namespace FetiContact::QP
     G_norm                  = o.G_norm;
     if (!(F_norm > 0))
       {
-        F_norm = 1.05 * estimate_norm(problem->hessian, m, o.norm_iterations);
+        F_norm = 1.05 * estimate_norm(problem->hessian, problem->linear_term, o.norm_iterations);
         statistics.norm_estimate_multiplications += std::max(o.norm_iterations, 1u);
       }
     AssertThrow(F_norm > 0 && std::isfinite(F_norm),
                 ExcMessage("SMALBE: ‖F‖ is zero or not finite."));
     if (!(G_norm > 0) && k > 0)
       {
-        const Operator GtG = [&](const Vector<double> &x, Vector<double> &y) {
+        const Operator<VectorType> GtG = [&](const VectorType &x, VectorType &y) {
           problem->G(x, Gx);
           problem->Gt(Gx, y);
         };
-        G_norm = std::sqrt(1.05 * estimate_norm(GtG, m, o.norm_iterations));
+        G_norm = std::sqrt(1.05 * estimate_norm(GtG, problem->linear_term, o.norm_iterations));
       }
     const bool constrained = k > 0 && G_norm > 0;
     rho               = o.rho > 0 ? o.rho : (constrained ? F_norm / (G_norm * G_norm) : F_norm);
@@ -211,8 +218,9 @@ namespace FetiContact::QP
     statistics.G_norm = G_norm;
   }
 
+  template <typename VectorType>
   void
-  SMALBE::apply_A(const Vector<double> &x, Vector<double> &y)
+  SMALBE<VectorType>::apply_A(const VectorType &x, VectorType &y)
   {
     if (problem->augmented_hessian && k > 0)
       problem->augmented_hessian(rho, x, y);
@@ -229,8 +237,9 @@ namespace FetiContact::QP
     ++statistics.hessian_multiplications;
   }
 
+  template <typename VectorType>
   double
-  SMALBE::residual()
+  SMALBE<VectorType>::residual()
   {
     if (k == 0)
       return 0.;
@@ -239,8 +248,9 @@ namespace FetiContact::QP
     return r.l2_norm();
   }
 
+  template <typename VectorType>
   double
-  SMALBE::gradient_reference(const Vector<double> &x) const
+  SMALBE<VectorType>::gradient_reference(const VectorType &x) const
   {
     const double eps_mach = std::numeric_limits<double>::epsilon();
     const double x_norm   = x.l2_norm();
@@ -248,8 +258,9 @@ namespace FetiContact::QP
     return std::max(h_norm > 0 ? h_norm : F_norm * x_norm, noise);
   }
 
+  template <typename VectorType>
   double
-  SMALBE::feasibility_reference(const Vector<double> &x) const
+  SMALBE<VectorType>::feasibility_reference(const VectorType &x) const
   {
     const double eps_mach = std::numeric_limits<double>::epsilon();
     const double Gx_scale = G_norm * x.l2_norm();
@@ -258,8 +269,9 @@ namespace FetiContact::QP
              Gx_scale;
   }
 
+  template <typename VectorType>
   double
-  SMALBE::inner_target(const Vector<double> &x)
+  SMALBE<VectorType>::inner_target(const VectorType &x)
   {
     double feasibility_x = 0;
     if (k > 0)
@@ -272,8 +284,9 @@ namespace FetiContact::QP
                     floor * additional_data.tolerance * gradient_reference(x));
   }
 
+  template <typename VectorType>
   void
-  SMALBE::update_linear_term()
+  SMALBE<VectorType>::update_linear_term()
   {
     // b = h − Gᵀμ + ρGᵀe = h − Gᵀ(μ − ρe); a known gradient follows the change of b.
     if (g_known.size() == m)
@@ -290,33 +303,34 @@ namespace FetiContact::QP
       g_known -= b;
   }
 
-  SMALBE::InnerReport
-  SMALBE::default_inner_solve(const Vector<double> &b_inner, const double /*tolerance*/)
+  template <typename VectorType>
+  typename SMALBE<VectorType>::InnerReport
+  SMALBE<VectorType>::default_inner_solve(const VectorType &b_inner, const double /*tolerance*/)
   {
     // MPGP with the stopping rule evaluated at every step (one application of G per step), so
     // one call suffices; the tolerance passed is replaced by the rule itself.
-    MPGP::AdditionalData data = additional_data.inner;
-    data.tolerance            = 0;
-    data.stop_when            = [&](const Vector<double> &y, const double norm) {
+    typename MPGP<VectorType>::AdditionalData data(additional_data.inner);
+    data.tolerance = 0;
+    data.stop_when = [&](const VectorType &y, const double norm) {
       return norm <= inner_target(y);
     };
     if (!(data.step > 0))
       data.step = 1.9 / A_norm;
-    MPGP           mpgp(data);
-    Vector<double> gradient(g_known);
-    InnerReport    report(
-      mpgp.solve([&](const Vector<double> &x, Vector<double> &y) { apply_A(x, y); },
-                 b_inner,
-                 *problem->set,
-                 *lambda,
-                 &gradient));
+    MPGP<VectorType> mpgp(data);
+    VectorType       gradient(g_known);
+    InnerReport      report(mpgp.solve([&](const VectorType &x, VectorType &y) { apply_A(x, y); },
+                                  b_inner,
+                                  *problem->set,
+                                  *lambda,
+                                  &gradient));
     report.gradient.swap(gradient);
     report.capped = !report.converged && report.iterations >= data.max_iterations;
     return report;
   }
 
+  template <typename VectorType>
   bool
-  SMALBE::inner_solves(Step &step, InnerReport &last)
+  SMALBE<VectorType>::inner_solves(Step &step, InnerReport &last)
   {
     // Until ‖g^P‖ ≤ max(min(M‖Gλ − e‖, η), ε_g ref_g) at the result. The tolerance passed is the
     // rule at the start, η if λ is feasible there (else a feasible start would be solved to the
@@ -327,9 +341,9 @@ namespace FetiContact::QP
     // made no step, later outer iterations use the rule too: with one inner call per outer
     // iteration (the combined loop) and λ feasible in every one (k = 0: one subdomain held by
     // Dirichlet conditions) the start would otherwise be relaxed, and stuck, forever.
-    const AdditionalData &o             = additional_data;
-    bool                  relaxed_start = feasibility == 0 && !eta_exhausted;
-    const Operator        A = [&](const Vector<double> &x, Vector<double> &y) { apply_A(x, y); };
+    const AdditionalData      &o             = additional_data;
+    bool                       relaxed_start = feasibility == 0 && !eta_exhausted;
+    const Operator<VectorType> A = [&](const VectorType &x, VectorType &y) { apply_A(x, y); };
     while (true)
       {
         const double tolerance = relaxed_start ?
@@ -362,8 +376,9 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   void
-  SMALBE::watch_feasibility()
+  SMALBE<VectorType>::watch_feasibility()
   {
     // Stall: ‖Gλ − e‖ has not reached a new minimum for stall_iterations outer iterations. The
     // inner solves then stop at the floor c ε_g ref_g before they move λ enough for the
@@ -383,17 +398,20 @@ namespace FetiContact::QP
       }
   }
 
+  template <typename VectorType>
   double
-  SMALBE::lagrangian() const
+  SMALBE<VectorType>::lagrangian() const
   {
-    double L = 0;
-    for (unsigned int i = 0; i < m; ++i)
-      L += (*lambda)[i] * (g[i] - b[i]);
+    typename Reductions<VectorType>::Sum sum;
+    for (unsigned int i = 0; i < lambda->locally_owned_size(); ++i)
+      sum.add((*lambda)[i] * (g[i] - b[i]));
+    const double L = sum.result(*lambda);
     return L / 2 - (k > 0 ? *mu * problem->e : 0.) + rho / 2 * e_norm * e_norm;
   }
 
+  template <typename VectorType>
   bool
-  SMALBE::infeasibility_proved()
+  SMALBE<VectorType>::infeasibility_proved()
   {
     // α = −r/‖r‖ with αᵀe > σ_Ω(Gᵀα) proves that Gλ = e has no solution in Ω (the multiplier
     // updates would then grow μ without bound).
@@ -410,13 +428,18 @@ namespace FetiContact::QP
     return true;
   }
 
-  SMALBE::Statistics
-  SMALBE::solve(const Problem &problem_in, Vector<double> &lambda_in, Vector<double> &mu_in)
+  template <typename VectorType>
+  typename SMALBE<VectorType>::Statistics
+  SMALBE<VectorType>::solve(const Problem<VectorType> &problem_in,
+                            VectorType                &lambda_in,
+                            Vector<double>            &mu_in)
   {
     const AdditionalData &o = additional_data;
     m                       = problem_in.size();
     k                       = problem_in.e.size();
-    AssertThrow(problem_in.set && problem_in.set->size() == m && lambda_in.size() == m,
+    AssertThrow(problem_in.set &&
+                  problem_in.set->size() == problem_in.linear_term.locally_owned_size() &&
+                  lambda_in.size() == m,
                 ExcMessage("SMALBE: sizes of h (" + std::to_string(m) + "), λ (" +
                            std::to_string(lambda_in.size()) + ") and the set differ."));
     if (mu_in.size() != k)
@@ -438,8 +461,8 @@ namespace FetiContact::QP
     for (auto *v : {&Gx, &Gx_e, &r})
       v->reinit(k);
     for (auto *v : {&GtGx, &b, &Gtv, &g, &gP})
-      v->reinit(m);
-    g_known.reinit(0);
+      v->reinit(problem_in.linear_term);
+    g_known = VectorType();
     choose_scales();
 
     floor                      = o.inner_floor;
@@ -508,4 +531,6 @@ namespace FetiContact::QP
     statistics.mu                = *mu;
     return statistics;
   }
+  template class SMALBE<Vector<double>>;
+  template class SMALBE<DistributedVector>;
 } // namespace FetiContact::QP

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <feticontact/base/distributed_vector.h>
 #include <feticontact/qp/transforms.h>
 
 #include <memory>
@@ -8,22 +9,25 @@ namespace FetiContact::QP
 {
   using namespace dealii;
 
-  Orthonormalization::Orthonormalization(const Problem &original, const Factor &factor)
+  template <typename VectorType>
+  Orthonormalization<VectorType>::Orthonormalization(const Problem<VectorType> &original,
+                                                     const Factor              &factor)
     : original(original)
     , factor(factor)
   {}
 
-  Problem
-  Orthonormalization::transformed() const
+  template <typename VectorType>
+  Problem<VectorType>
+  Orthonormalization<VectorType>::transformed() const
   {
-    Problem        problem(original);
-    const Problem &P0 = original;
-    const Factor   L  = factor;
-    problem.G         = [&P0, L](const Vector<double> &x, Vector<double> &y) {
+    Problem<VectorType>        problem(original);
+    const Problem<VectorType> &P0 = original;
+    const Factor               L  = factor;
+    problem.G                     = [&P0, L](const VectorType &x, Vector<double> &y) {
       P0.G(x, y);
       L.solve_L(y);
     };
-    problem.Gt = [&P0, L](const Vector<double> &x, Vector<double> &y) {
+    problem.Gt = [&P0, L](const Vector<double> &x, VectorType &y) {
       Vector<double> z(x);
       L.solve_Lt(z);
       P0.Gt(z, y);
@@ -33,15 +37,18 @@ namespace FetiContact::QP
     return problem;
   }
 
+  template <typename VectorType>
   Vector<double>
-  Orthonormalization::recover_multiplier(const Vector<double> &nu_tilde) const
+  Orthonormalization<VectorType>::recover_multiplier(const Vector<double> &nu_tilde) const
   {
     Vector<double> nu(nu_tilde);
     factor.solve_Lt(nu);
     return nu;
   }
 
-  Homogenization::Homogenization(const Problem &original, const Vector<double> &particular)
+  template <typename VectorType>
+  Homogenization<VectorType>::Homogenization(const Problem<VectorType> &original,
+                                             const VectorType          &particular)
     : original(original)
     , lambda0(particular)
   {
@@ -49,11 +56,13 @@ namespace FetiContact::QP
                 ExcMessage("Homogenization: λ₀ and h differ in size."));
   }
 
-  Problem
-  Homogenization::transformed(const SeparableSet &shifted_set) const
+  template <typename VectorType>
+  Problem<VectorType>
+  Homogenization<VectorType>::transformed(const SeparableSet &shifted_set) const
   {
-    Problem        problem(original);
-    Vector<double> F_lambda0(original.size());
+    Problem<VectorType> problem(original);
+    VectorType          F_lambda0;
+    F_lambda0.reinit(lambda0);
     original.hessian(lambda0, F_lambda0);
     problem.linear_term -= F_lambda0;
     problem.e.reinit(original.e.size());
@@ -61,19 +70,22 @@ namespace FetiContact::QP
     return problem;
   }
 
+  template <typename VectorType>
   void
-  Homogenization::recover(Vector<double> &lambda) const
+  Homogenization<VectorType>::recover(VectorType &lambda) const
   {
     lambda += lambda0;
   }
 
-  const Vector<double> &
-  Homogenization::particular_solution() const
+  template <typename VectorType>
+  const VectorType &
+  Homogenization<VectorType>::particular_solution() const
   {
     return lambda0;
   }
 
-  ProjectorEnforcement::ProjectorEnforcement(const Problem &homogeneous)
+  template <typename VectorType>
+  ProjectorEnforcement<VectorType>::ProjectorEnforcement(const Problem<VectorType> &homogeneous)
     : homogeneous(homogeneous)
   {
     AssertThrow(homogeneous.e.l2_norm() == 0,
@@ -82,20 +94,22 @@ namespace FetiContact::QP
     project(homogeneous.linear_term, projected_linear_term);
   }
 
+  template <typename VectorType>
   void
-  ProjectorEnforcement::project(const Vector<double> &x, Vector<double> &y) const
+  ProjectorEnforcement<VectorType>::project(const VectorType &x, VectorType &y) const
   {
     Vector<double> Gx(homogeneous.e.size());
     homogeneous.G(x, Gx);
-    y.reinit(x.size());
+    y.reinit(x);
     homogeneous.Gt(Gx, y);
     y.sadd(-1., 1., x);
   }
 
-  Problem
-  ProjectorEnforcement::transformed() const
+  template <typename VectorType>
+  Problem<VectorType>
+  ProjectorEnforcement<VectorType>::transformed() const
   {
-    Problem problem(homogeneous);
+    Problem<VectorType> problem(homogeneous);
     problem.linear_term       = projected_linear_term;
     problem.linear_term_scale = homogeneous.linear_term_norm();
     if (homogeneous.e.size() == 0)
@@ -103,41 +117,49 @@ namespace FetiContact::QP
     // Work vectors shared by the operators of the transformed problem (one solve at a time).
     struct Work
     {
-      Vector<double> Gx, Qx, Px, QFPx;
+      Vector<double> Gx;
+      VectorType     Qx, Px, QFPx;
     };
-    const auto     work = std::make_shared<Work>();
-    const Problem &P0   = homogeneous;
-    const auto     Q    = [work, &P0](const Vector<double> &x, Vector<double> &y) {
+    const auto                 work = std::make_shared<Work>();
+    const Problem<VectorType> &P0   = homogeneous;
+    const auto                 Q    = [work, &P0](const VectorType &x, VectorType &y) {
       work->Gx.reinit(P0.e.size());
       P0.G(x, work->Gx);
       P0.Gt(work->Gx, y);
     };
     // y = PFP x: Px = x − Qx, y = F Px, y ← y − Q y; Qx stays in the work vectors.
-    const auto PFP = [work, Q, &P0](const Vector<double> &x, Vector<double> &y) {
-      work->Qx.reinit(x.size());
+    const auto PFP = [work, Q, &P0](const VectorType &x, VectorType &y) {
+      work->Qx.reinit(x);
       Q(x, work->Qx);
       work->Px = x;
       work->Px -= work->Qx;
       P0.hessian(work->Px, y);
-      work->QFPx.reinit(x.size());
+      work->QFPx.reinit(x);
       Q(y, work->QFPx);
       y -= work->QFPx;
     };
     problem.hessian = PFP;
     // PFP x + ρ Q x with the Qx of PFP.
-    problem.augmented_hessian =
-      [work, PFP](const double rho, const Vector<double> &x, Vector<double> &y) {
-        PFP(x, y);
-        y.add(rho, work->Qx);
-      };
+    problem.augmented_hessian = [work, PFP](const double rho, const VectorType &x, VectorType &y) {
+      PFP(x, y);
+      y.add(rho, work->Qx);
+    };
     return problem;
   }
 
+  template <typename VectorType>
   void
-  ProjectorEnforcement::recover_multiplier(const Vector<double> &r, Vector<double> &nu) const
+  ProjectorEnforcement<VectorType>::recover_multiplier(const VectorType &r,
+                                                       Vector<double>   &nu) const
   {
     Vector<double> Gr(homogeneous.e.size());
     homogeneous.G(r, Gr);
     nu -= Gr;
   }
+  template class Orthonormalization<Vector<double>>;
+  template class Orthonormalization<DistributedVector>;
+  template class Homogenization<Vector<double>>;
+  template class Homogenization<DistributedVector>;
+  template class ProjectorEnforcement<Vector<double>>;
+  template class ProjectorEnforcement<DistributedVector>;
 } // namespace FetiContact::QP

@@ -77,8 +77,9 @@ main()
   Vector<double> mu(k), x(n);
   GGt_inv.vmult(mu, e);
   G.Tvmult(x, mu);
-  const auto report =
-    QP::ProjectedCG(QP::ProjectedCG::AdditionalData{1e-12, 1000}).solve(apply_A, project, b, x);
+  const auto report = QP::ProjectedCG<dealii::Vector<double>>(
+                        QP::ProjectedCG<dealii::Vector<double>>::AdditionalData{1e-12, 1000})
+                        .solve(apply_A, project, b, x);
   check(report.converged, "converged in " + std::to_string(report.iterations) + " iterations");
   Vector<double> error(x);
   error -= x_exact;
@@ -107,9 +108,11 @@ main()
     };
     Vector<double> x_plain(n), x_pre(n);
     G.Tvmult(x_plain, mu);
-    x_pre                = x_plain;
-    const auto     plain = QP::ProjectedCG().solve(apply_AS, project, b, x_plain);
-    const auto     pre   = QP::ProjectedCG().solve(apply_AS, project, b, x_pre, {}, jacobi);
+    x_pre = x_plain;
+    const auto plain =
+      QP::ProjectedCG<dealii::Vector<double>>().solve(apply_AS, project, b, x_plain);
+    const auto pre =
+      QP::ProjectedCG<dealii::Vector<double>>().solve(apply_AS, project, b, x_pre, {}, jacobi);
     Vector<double> ep(x_pre);
     ep -= xs_exact;
     check(pre.converged && ep.l2_norm() <= 1e-7 * xs_exact.l2_norm(),
@@ -134,7 +137,8 @@ main()
   G.Tvmult(x2, mu);
   const Vector<double> x0(x2);
   const auto           report2 =
-    QP::ProjectedCG(QP::ProjectedCG::AdditionalData{1e-12, 100})
+    QP::ProjectedCG<dealii::Vector<double>>(
+      QP::ProjectedCG<dealii::Vector<double>>::AdditionalData{1e-12, 100})
       .solve([&](const Vector<double> &v, Vector<double> &w) { I.vmult(w, v); }, project, b2, x2);
   Vector<double> d(x2);
   d -= x0;

@@ -214,8 +214,8 @@ namespace
 
   struct Result
   {
-    Vector<double>       x;
-    QP::MPGP::Statistics report;
+    Vector<double>                               x;
+    QP::MPGP<dealii::Vector<double>>::Statistics report;
   };
 
   /** The variants of MPGP on discs (MPGP::AdditionalData::disc_rotations,
@@ -279,7 +279,7 @@ namespace
     };
     Vector<double> b(problem.b);
     b *= s;
-    QP::MPGP::AdditionalData options;
+    QP::MPGP<dealii::Vector<double>>::AdditionalData options;
     options.tolerance      = tolerance * b.l2_norm();
     options.disc_rotations = variant != Variant::fixed_discs && variant != Variant::fixed_step;
     if (variant == Variant::preconditioned)
@@ -288,9 +288,10 @@ namespace
         for (unsigned int i = 0; i < v.size(); ++i)
           w[i] = v[i] / (s * problem.A(i, i));
       };
-    options.expansion                 = variant == Variant::projected_cg ?
-                                          QP::MPGP::AdditionalData::Expansion::projected_cg :
-                                          QP::MPGP::AdditionalData::Expansion::fixed_step;
+    options.expansion =
+      variant == Variant::projected_cg ?
+        QP::MPGP<dealii::Vector<double>>::AdditionalData::Expansion::projected_cg :
+        QP::MPGP<dealii::Vector<double>>::AdditionalData::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     if (variant == Variant::recursive_arcs)
       options.recursive_gradient_tolerance = 0.1;
@@ -303,7 +304,7 @@ namespace
       }
     Result result;
     result.x      = x0;
-    result.report = QP::MPGP(options).solve(A, b, problem.set, result.x);
+    result.report = QP::MPGP<dealii::Vector<double>>(options).solve(A, b, problem.set, result.x);
     const auto &r = result.report;
     check(r.converged,
           "converged: " + std::to_string(r.iterations) + " steps (" + std::to_string(r.cg_steps) +
@@ -574,7 +575,7 @@ main()
     const Problem p = make_problem({{R::free, 10}, {R::disc_curved, 8}, {R::lower_active, 4}});
     solve_and_check("strongly curved discs (r ≤ 1e-3)", p, Vector<double>(p.n));
     std::cout << "strongly curved discs, fixed-step proportioning, 2000 steps" << std::endl;
-    QP::MPGP::AdditionalData options;
+    QP::MPGP<dealii::Vector<double>>::AdditionalData options;
     options.tolerance                 = 1e-12 * p.b.l2_norm();
     options.disc_rotations            = false;
     options.proportioning_line_search = false;
@@ -591,7 +592,7 @@ main()
       increase        = std::max(increase, fx - f_last);
       f_last          = fx;
     };
-    const auto r = QP::MPGP(options).solve(A, p.b, p.set, x);
+    const auto r = QP::MPGP<dealii::Vector<double>>(options).solve(A, p.b, p.set, x);
     check(r.proportioning_fallbacks > 0 && increase <= 1e-12 * std::abs(f_last),
           "f decreases with " + std::to_string(r.proportioning_fallbacks) + " fallbacks in " +
             std::to_string(r.proportioning_steps) + " proportioning steps; ‖g^P‖/‖b‖ = " +
@@ -678,18 +679,16 @@ main()
     for (auto &di : d)
       di = random_in(0.1, 10);
     const double exact_d    = d.mean_value();
-    const double estimate_d = QP::estimate_mean_diagonal(
-      [&](const Vector<double> &v, Vector<double> &w) { w = v, w.scale(d); }, n, 3);
+    const double estimate_d = QP::estimate_mean_diagonal<Vector<double>>(
+      [&](const Vector<double> &v, Vector<double> &w) { w = v, w.scale(d); }, d, 3);
     check(std::abs(estimate_d - exact_d) <= 1e-14 * exact_d,
           "mean diagonal of a diagonal matrix: " + sci(estimate_d) + " against " + sci(exact_d));
     const FullMatrix<double> A     = random_spd(n, 1e3);
     double                   trace = 0;
     for (unsigned int i = 0; i < n; ++i)
       trace += A(i, i);
-    const double estimate =
-      QP::estimate_mean_diagonal([&](const Vector<double> &v, Vector<double> &w) { A.vmult(w, v); },
-                                 n,
-                                 4000);
+    const double estimate = QP::estimate_mean_diagonal<Vector<double>>(
+      [&](const Vector<double> &v, Vector<double> &w) { A.vmult(w, v); }, d, 4000);
     check(std::abs(estimate - trace / n) <= 0.05 * trace / n,
           "mean diagonal of a dense matrix, 4000 probes: " + sci(estimate) + " against " +
             sci(trace / n));

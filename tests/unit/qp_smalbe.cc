@@ -263,20 +263,21 @@ namespace
 
   struct Result
   {
-    Vector<double>         x, mu;
-    QP::SMALBE::Statistics report;
+    Vector<double>                                 x, mu;
+    QP::SMALBE<dealii::Vector<double>>::Statistics report;
   };
 
   /** Solves the problem with F, h scaled by s and checks the solution. */
   Result
-  solve_and_check(const std::string                                       &name,
-                  const Problem                                           &problem,
-                  const double                                             s              = 1,
-                  const QP::SMALBE::InnerSolver                           &inner_solver   = {},
-                  unsigned int                                            *operator_calls = nullptr,
-                  const double                                             tolerance      = 1e-12,
-                  const bool                                               projector      = false,
-                  const std::function<void(QP::SMALBE::AdditionalData &)> &configure      = {})
+  solve_and_check(
+    const std::string                                     &name,
+    const Problem                                         &problem,
+    const double                                           s              = 1,
+    const QP::SMALBE<dealii::Vector<double>>::InnerSolver &inner_solver   = {},
+    unsigned int                                          *operator_calls = nullptr,
+    const double                                           tolerance      = 1e-12,
+    const bool                                             projector      = false,
+    const std::function<void(QP::SMALBE<dealii::Vector<double>>::AdditionalData &)> &configure = {})
   {
     std::cout << name << (projector ? ", projector variant" : "") << " (n = " << problem.n
               << ", k = " << problem.G.m() << ", scale " << s << ", ε " << tolerance << ")"
@@ -291,11 +292,11 @@ namespace
     const auto     Gt = [&](const Vector<double> &v, Vector<double> &w) { problem.G.Tvmult(w, v); };
     Vector<double> h(problem.b);
     h *= s;
-    QP::SMALBE::AdditionalData options;
+    QP::SMALBE<dealii::Vector<double>>::AdditionalData options;
     options.tolerance             = tolerance;
     options.feasibility_tolerance = tolerance;
     unsigned int outer_monitored  = 0;
-    const auto   monitor          = [&](const QP::SMALBE::Step &step) {
+    const auto   monitor          = [&](const QP::SMALBE<dealii::Vector<double>>::Step &step) {
       ++outer_monitored;
       std::cout << "    outer " << step.outer_iteration << ": inner " << step.inner_iterations
                 << " steps/" << step.inner_calls << " calls, n_A = " << step.hessian_multiplications
@@ -305,11 +306,11 @@ namespace
     };
     if (configure)
       configure(options);
-    QP::SMALBE smalbe(options);
+    QP::SMALBE<dealii::Vector<double>> smalbe(options);
     if (inner_solver)
       smalbe.set_inner_solver(inner_solver);
     smalbe.set_monitor(monitor);
-    QP::Problem qp;
+    QP::Problem<dealii::Vector<double>> qp;
     qp.hessian     = F;
     qp.linear_term = h;
     qp.set         = &problem.set;
@@ -319,7 +320,10 @@ namespace
     Result result;
     result.x.reinit(problem.n);
     if (projector)
-      result.report = smalbe.solve(QP::ProjectorEnforcement(qp).transformed(), result.x, result.mu);
+      result.report =
+        smalbe.solve(QP::ProjectorEnforcement<dealii::Vector<double>>(qp).transformed(),
+                     result.x,
+                     result.mu);
     else
       result.report = smalbe.solve(qp, result.x, result.mu);
     const auto &r = result.report;
@@ -445,15 +449,15 @@ main()
         Problem        q = make_problem(roles);
         Vector<double> x(q.n), mu;
         add_equalities(q, 3, false, true);
-        QP::Problem qp;
+        QP::Problem<dealii::Vector<double>> qp;
         qp.hessian     = [&](const Vector<double> &v, Vector<double> &w) { q.A.vmult(w, v); };
         qp.linear_term = q.b;
         qp.set         = &q.set;
         qp.G           = [&](const Vector<double> &v, Vector<double> &w) { q.G.vmult(w, v); };
         qp.Gt          = [&](const Vector<double> &v, Vector<double> &w) { q.G.Tvmult(w, v); };
         qp.e           = q.e;
-        QP::ProjectorEnforcement projector(qp);
-        QP::SMALBE().solve(projector.transformed(), x, mu);
+        QP::ProjectorEnforcement<dealii::Vector<double>> projector(qp);
+        QP::SMALBE<dealii::Vector<double>>().solve(projector.transformed(), x, mu);
       }
     catch (const std::exception &)
       {
@@ -467,16 +471,18 @@ main()
     // moves the radii) reports whether the set is that of the previous call. "Yes" is the
     // default path; "no" keeps M at M_0 (the M test compares Lagrangians over different sets),
     // and SMALBE still converges here.
-    const auto plug = [&](const bool same_set) -> QP::SMALBE::InnerSolver {
-      return [&, same_set](const QP::Operator   &A,
-                           const Vector<double> &b,
-                           Vector<double>       &x,
-                           const double          tolerance,
-                           const Vector<double> &gradient) -> QP::SMALBE::InnerReport {
-        QP::MPGP::AdditionalData options;
+    const auto plug = [&](const bool same_set) -> QP::SMALBE<dealii::Vector<double>>::InnerSolver {
+      return [&, same_set](const QP::Operator<dealii::Vector<double>> &A,
+                           const Vector<double>                       &b,
+                           Vector<double>                             &x,
+                           const double                                tolerance,
+                           const Vector<double>                       &gradient)
+               -> QP::SMALBE<dealii::Vector<double>>::InnerReport {
+        QP::MPGP<dealii::Vector<double>>::AdditionalData options;
         options.tolerance = tolerance;
-        Vector<double>          g(gradient);
-        QP::SMALBE::InnerReport report(QP::MPGP(options).solve(A, b, mix.set, x, &g));
+        Vector<double>                                  g(gradient);
+        QP::SMALBE<dealii::Vector<double>>::InnerReport report(
+          QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x, &g));
         report.gradient.swap(g);
         report.same_set = same_set;
         return report;
@@ -493,18 +499,18 @@ main()
   {
     // The plug: an inner solver of our own (MPGP with Γ = 2 and ᾱ from a power method on the
     // inner operator), counting its calls.
-    unsigned int                  inner_calls = 0;
-    const QP::SMALBE::InnerSolver inner =
-      [&](const QP::Operator   &A,
-          const Vector<double> &b,
-          Vector<double>       &x,
-          const double          tolerance,
+    unsigned int                                          inner_calls = 0;
+    const QP::SMALBE<dealii::Vector<double>>::InnerSolver inner =
+      [&](const QP::Operator<dealii::Vector<double>> &A,
+          const Vector<double>                       &b,
+          Vector<double>                             &x,
+          const double                                tolerance,
           const Vector<double> & /*gradient*/) -> QP::SolverReport {
       ++inner_calls;
-      QP::MPGP::AdditionalData options;
+      QP::MPGP<dealii::Vector<double>>::AdditionalData options;
       options.tolerance = tolerance;
       options.gamma     = 2;
-      return QP::MPGP(options).solve(A, b, mix.set, x);
+      return QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x);
     };
     unsigned int calls = 0;
     const Result r     = solve_and_check("user-supplied inner solver", mix, 1, inner, &calls);
@@ -514,18 +520,21 @@ main()
   {
     // The gradient passed between the inner solves: an inner solver that starts from SMALBE's
     // gradient and returns its own saves the multiplication at its start and SMALBE's after it.
-    const auto plug = [&](const bool pass_gradient) -> QP::SMALBE::InnerSolver {
-      return [&, pass_gradient](const QP::Operator   &A,
-                                const Vector<double> &b,
-                                Vector<double>       &x,
-                                const double          tolerance,
-                                const Vector<double> &gradient) -> QP::SMALBE::InnerReport {
-        QP::MPGP::AdditionalData options;
+    const auto plug =
+      [&](const bool pass_gradient) -> QP::SMALBE<dealii::Vector<double>>::InnerSolver {
+      return [&, pass_gradient](const QP::Operator<dealii::Vector<double>> &A,
+                                const Vector<double>                       &b,
+                                Vector<double>                             &x,
+                                const double                                tolerance,
+                                const Vector<double>                       &gradient)
+               -> QP::SMALBE<dealii::Vector<double>>::InnerReport {
+        QP::MPGP<dealii::Vector<double>>::AdditionalData options;
         options.tolerance = tolerance;
         if (!pass_gradient)
-          return QP::MPGP(options).solve(A, b, mix.set, x);
-        Vector<double>          g(gradient);
-        QP::SMALBE::InnerReport report(QP::MPGP(options).solve(A, b, mix.set, x, &g));
+          return QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x);
+        Vector<double>                                  g(gradient);
+        QP::SMALBE<dealii::Vector<double>>::InnerReport report(
+          QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x, &g));
         report.gradient.swap(g);
         return report;
       };

@@ -45,7 +45,7 @@ namespace FetiContact
    * With `Equality constraint = projector` (the default) the problem is homogenized first:
    * λ = λ₀ + λ̃ with λ₀ = G̃ᵀẽ the least-norm solution of Gλ = e, so that G̃λ̃ = 0; the bounds
    * and disc centres shift by −λ₀ (λ̃_N ≥ −λ₀_N, ‖λ̃_T + λ₀_T‖ ≤ g) and SMALBE works with the
-   * projected Hessian PFP + ρQ (QP::ProjectorEnforcement). Everything reported (λ, the
+   * projected Hessian PFP + ρQ (QP::ProjectorEnforcement<DualVector>). Everything reported (λ, the
    * slip bounds, the statuses) is in terms of λ = λ₀ + λ̃.
    *
    * Counts the multiplications by the Hessian F + ρGᵀG in the bound QP (n_A^QPP) and in the disc
@@ -65,7 +65,7 @@ namespace FetiContact
     {
       /** The MSA step (0 for Algorithm 2 and for one Tresca QP) and the SMALBE iteration. */
       unsigned int msa_iteration = 0, smalbe_iteration = 0;
-      /** ‖Gλ − e‖ and ‖g^P‖, relative (QP::SMALBE::Step). */
+      /** ‖Gλ − e‖ and ‖g^P‖, relative (QP::SMALBE<DualVector>::Step). */
       double feasibility = 0, projected_gradient = 0;
       /** The relative change of the slip bound of the last update. */
       double slip_bound_change = 0;
@@ -89,9 +89,10 @@ namespace FetiContact
       bool converged = false;
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating
-       * subdomains (QP::SMALBE::Statistics::infeasible), or the load-balance test that the slip
-       * bounds of an MSA step cannot hold the bodies: no equilibrium exists with these slip
-       * bounds, e.g. tangential loads above μ × the normal force on a body held only by contact.
+       * subdomains (QP::SMALBE<DualVector>::Statistics::infeasible), or the load-balance test that
+       * the slip bounds of an MSA step cannot hold the bodies: no equilibrium exists with these
+       * slip bounds, e.g. tangential loads above μ × the normal force on a body held only by
+       * contact.
        */
       bool        no_equilibrium = false;
       std::string message;
@@ -154,7 +155,7 @@ namespace FetiContact
     solve_msa(Result &result, const double msa_tolerance, const bool cold_start);
     /** One MSA step: the equilibrium test, then the Tresca QP; false if it proved no equilibrium.
      */
-    QP::SMALBE::Statistics
+    QP::SMALBE<DualVector>::Statistics
     msa_step(Result &result, const double tolerance);
 
     /** The slip bound candidate μ λ_N per node (0 where μ = 0), times the continuation stage. */

@@ -15,7 +15,7 @@ namespace FetiContact::Parameters
    * is found by the method of successive approximations (MSA). The entries a user decides (law,
    * algorithm, accuracy, limits) are in the subsection itself; the switches of MSA in
    * `subsection Expert`, those of the QP solvers in `subsection MPGP` and `subsection SMALBE`
-   * (QP::MPGP::AdditionalData, QP::SMALBE::AdditionalData). Their 'auto' values resolve by the
+   * (QP::MPGPParameters, QP::SMALBEParameters). Their 'auto' values resolve by the
    * algorithm: the best measured configuration for mpgp (the default), the published one for
    * the paper's algorithms. The in-class defaults are those of the declared defaults
    * (Algorithm = mpgp, every 'auto').
@@ -64,12 +64,12 @@ namespace FetiContact::Parameters
      * `subsection MPGP`: the inner QP solver (its 'auto' entries resolved by the algorithm;
      * tolerance, step and arc scale are set per solve by the contact solver).
      */
-    QP::MPGP::AdditionalData mpgp;
+    QP::MPGPParameters mpgp;
     /**
      * `subsection SMALBE`: the augmented Lagrangian. penalty_factor multiplies ‖PFP‖ (mpgp with
      * the projector: penalty_projected_norm) or ‖F‖; its 'auto' is resolved by the algorithm.
      */
-    QP::SMALBE::AdditionalData smalbe;
+    QP::SMALBEParameters smalbe;
     /**
      * The norm that the penalty factor multiplies and that bounds the FETI part of the Hessian
      * in MPGP's step: true ‖PFP‖ (mpgp with the projector), false ‖F‖ (the paper's algorithms,

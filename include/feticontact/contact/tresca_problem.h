@@ -26,13 +26,13 @@ namespace FetiContact
    *   min ½λᵀFλ − λᵀh  s.t.  λ_N ≥ 0,  ‖λ_T,k‖ ≤ g_k,  λ_E free,  G̃λ = ẽ,
    *
    * with λ = [λ_T; λ_N; λ_E] as in DualLayout and G̃ the orthonormalized G. With `Equality
-   * constraint = projector` (the default) the problem is homogenized (QP::Homogenization):
-   * λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse problem, so that G̃λ̃ = 0; the
-   * bounds and disc centres shift by −λ₀ and SMALBE solves the projected problem
-   * (QP::ProjectorEnforcement). Multipliers passed to solve() are λ̃; total() and recover() map
-   * back. The inner solver is MPGP over the whole set (mpgp, polygonal) or, for the paper's
-   * Algorithms 1 and 2, block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] with λ_T fixed, then
-   * KPG (MPGP on the discs) on λ_T.
+   * constraint = projector` (the default) the problem is homogenized
+   * (QP::Homogenization<DualVector>): λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse
+   * problem, so that G̃λ̃ = 0; the bounds and disc centres shift by −λ₀ and SMALBE solves the
+   * projected problem (QP::ProjectorEnforcement<DualVector>). Multipliers passed to solve() are λ̃;
+   * total() and recover() map back. The inner solver is MPGP over the whole set (mpgp, polygonal)
+   * or, for the paper's Algorithms 1 and 2, block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] with λ_T
+   * fixed, then KPG (MPGP on the discs) on λ_T.
    *
    * Knows nothing of friction laws: the caller sets the slip bounds (set_slip_bounds()).
    */
@@ -47,23 +47,23 @@ namespace FetiContact
       /** SMALBE's outer iterations. */
       unsigned int smalbe_iterations = 0;
       /**
-       * MPGP's steps (QP::MPGP::Statistics): conjugate gradient, expansion and proportioning
-       * steps, the projected CG expansions that increased the energy and were replaced, and the
-       * steps whose gradient was updated recursively.
+       * MPGP's steps (QP::MPGP<DualVector>::Statistics): conjugate gradient, expansion and
+       * proportioning steps, the projected CG expansions that increased the energy and were
+       * replaced, and the steps whose gradient was updated recursively.
        */
       unsigned int cg_steps = 0, expansion_steps = 0, proportioning_steps = 0,
                    expansion_fallbacks = 0, recursive_gradient_updates = 0;
 
       /** Adds the steps of one MPGP solve. */
       void
-      count_steps(const QP::MPGP::Statistics &r);
+      count_steps(const QP::MPGP<DualVector>::Statistics &r);
     };
 
     /**
      * A set that moves inside the solve: Algorithm 2 updates the radii between the two blocks
      * of every Gauss–Seidel sweep. update() is called with λ̃ after the λ_c block;
      * unchanged() and final() after every inner solve tell SMALBE whether the set is that of the
-     * previous inner solve and whether it is final (QP::SMALBE::InnerReport).
+     * previous inner solve and whether it is final (QP::SMALBE<DualVector>::InnerReport).
      */
     struct MovingSet
     {
@@ -72,8 +72,8 @@ namespace FetiContact
     };
 
     /** Called after every SMALBE iteration with its step and λ̃ after the inner solve. */
-    using Monitor =
-      std::function<void(const QP::SMALBE::Step &, const dealii::Vector<double> &lambda)>;
+    using Monitor = std::function<void(const QP::SMALBE<DualVector>::Step &,
+                                       const dealii::Vector<double> &lambda)>;
 
     /**
      * Sets up the problem: the transforms, the constraint set (all slip bounds 0), the norm
@@ -103,7 +103,7 @@ namespace FetiContact
      * λ̃ = @p lambda and ν = @p nu (overwritten). @p moving_set: Algorithm 2 (one inner call per
      * SMALBE iteration, radii updated inside).
      */
-    QP::SMALBE::Statistics
+    QP::SMALBE<DualVector>::Statistics
     solve(dealii::Vector<double> &lambda,
           dealii::Vector<double> &nu,
           const double            tolerance,
@@ -132,11 +132,11 @@ namespace FetiContact
 
     /**
      * The message for SMALBE's proof that no multiplier within the current bounds balances the
-     * loads (QP::SMALBE::Statistics::infeasible), with the certificate in the original
+     * loads (QP::SMALBE<DualVector>::Statistics::infeasible), with the certificate in the original
      * variables.
      */
     std::string
-    no_equilibrium_message(const QP::SMALBE::Statistics &report) const;
+    no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const;
 
     /** k, the number of rows of G̃ (the size of ν). */
     unsigned int
@@ -161,32 +161,32 @@ namespace FetiContact
     void
     apply_P(dealii::Vector<double> &v) const;
     /** MPGP's data from the parameters with ᾱ = 1.9/‖Hessian‖ and the arc scale. */
-    QP::MPGP::AdditionalData
+    QP::MPGP<DualVector>::AdditionalData
     mpgp_data() const;
     /** SMALBE's inner solver: MPGP over the whole set. */
-    QP::SMALBE::InnerReport
-    mpgp_inner_solve(const QP::Operator           &A,
-                     const dealii::Vector<double> &b,
-                     dealii::Vector<double>       &x,
-                     const double                  tolerance,
-                     const dealii::Vector<double> &gradient);
+    QP::SMALBE<DualVector>::InnerReport
+    mpgp_inner_solve(const QP::Operator<DualVector> &A,
+                     const dealii::Vector<double>   &b,
+                     dealii::Vector<double>         &x,
+                     const double                    tolerance,
+                     const dealii::Vector<double>   &gradient);
     /** The block Gauss–Seidel inner solver (Algorithms 1 and 2). */
     QP::SolverReport
-    gauss_seidel(const QP::Operator           &A,
-                 const dealii::Vector<double> &b,
-                 dealii::Vector<double>       &lambda,
-                 const double                  tolerance,
-                 const MovingSet              *moving_set);
+    gauss_seidel(const QP::Operator<DualVector> &A,
+                 const dealii::Vector<double>   &b,
+                 dealii::Vector<double>         &lambda,
+                 const double                    tolerance,
+                 const MovingSet                *moving_set);
     /** One block of a sweep: MPGP on rows [first, first + n) with the other rows fixed. */
-    QP::MPGP::Statistics
-    solve_block(const QP::Operator           &A,
-                const dealii::Vector<double> &b,
-                dealii::Vector<double>       &lambda,
-                const unsigned int            first,
-                const unsigned int            n,
-                const QP::SeparableSet       &block_set,
-                const double                  tolerance,
-                unsigned int                 &counter);
+    QP::MPGP<DualVector>::Statistics
+    solve_block(const QP::Operator<DualVector> &A,
+                const dealii::Vector<double>   &b,
+                dealii::Vector<double>         &lambda,
+                const unsigned int              first,
+                const unsigned int              n,
+                const QP::SeparableSet         &block_set,
+                const double                    tolerance,
+                unsigned int                   &counter);
 
     const DualProblem               &dual;
     const DualLayout                &layout;
@@ -205,10 +205,10 @@ namespace FetiContact
      * λ̃ = λ − λ₀ and the projected problem (PFP, Ph) that SMALBE solves (`problem`; without the
      * projector `problem` = `original`).
      */
-    QP::Problem                             unscaled, original, homogeneous, problem;
-    std::optional<QP::Orthonormalization>   orthonormalization;
-    std::optional<QP::Homogenization>       homogenization;
-    std::optional<QP::ProjectorEnforcement> projector_enforcement;
+    QP::Problem<DualVector>                             unscaled, original, homogeneous, problem;
+    std::optional<QP::Orthonormalization<DualVector>>   orthonormalization;
+    std::optional<QP::Homogenization<DualVector>>       homogenization;
+    std::optional<QP::ProjectorEnforcement<DualVector>> projector_enforcement;
     /** λ₀ (zero without the projector). */
     dealii::Vector<double> lambda0;
     /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
@@ -217,7 +217,7 @@ namespace FetiContact
     double G_norm = 0, rho = 0;
     /**
      * The norm of the FETI part of the Hessian that ρ and the bound of the Hessian's norm are
-     * taken from, and that SMALBE gets as QP::SMALBE::AdditionalData::F_norm: ‖PFP‖ (mpgp with
+     * taken from, and that SMALBE gets as QP::SMALBEParameters::F_norm: ‖PFP‖ (mpgp with
      * the projector) or ‖F‖, from projected_norm_iterations multiplications by F (in
      * F_applications, not in n_A).
      */
@@ -229,7 +229,7 @@ namespace FetiContact
      */
     double hessian_norm = 0;
     /**
-     * QP::MPGP::AdditionalData::arc_scale: 0 (the norm bound), or with Arc preconditioner
+     * QP::MPGPParameters::arc_scale: 0 (the norm bound), or with Arc preconditioner
      * scale = mean diagonal the estimate of tr(A)/m of the Hessian, from arc_scale_probes
      * multiplications by F (in F_applications, not in n_A).
      */

@@ -12,6 +12,9 @@
 
 namespace FetiContact
 {
+  /** The type of the dual vectors λ (and of h, c, F λ): replicated on every rank. */
+  using DualVector = dealii::Vector<double>;
+
   /**
    * The FETI dual problem
    *

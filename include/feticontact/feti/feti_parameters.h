@@ -45,7 +45,7 @@ namespace FetiContact::Parameters
     bool average_contact_rows = false;
 
     /** Projected CG of problems without contact (its tolerance and iteration limit). */
-    QP::ProjectedCG::AdditionalData projected_cg;
+    QP::ProjectedCGParameters projected_cg;
     /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).
      */
     bool lumped_preconditioner = true;

@@ -9,7 +9,8 @@
 namespace FetiContact::QP
 {
   /** A symmetric linear operator given by its action y = A x. */
-  using Operator = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
+  template <typename VectorType>
+  using Operator = std::function<void(const VectorType &, VectorType &)>;
 
   /**
    * @brief A quadratic program with separable constraints and linear equality constraints,
@@ -19,17 +20,24 @@ namespace FetiContact::QP
    * given by operators and vectors only (the QP layer knows nothing of meshes). Transforms
    * (Homogenization, ProjectorEnforcement) make a new Problem from one and own the step back to
    * the solution of the original.
+   *
+   * λ and h are of @p VectorType (dealii::Vector<double>, or DistributedVector with the entries
+   * spread over the ranks); the constraint side, e and the multipliers of Gλ = e, is small (one
+   * number per rigid body mode) and held whole by every rank as a dealii::Vector<double>: G maps
+   * a VectorType to it, Gᵀ back.
    */
+  template <typename VectorType>
   struct Problem
   {
     /** F, symmetric positive semidefinite. */
-    Operator hessian;
+    Operator<VectorType> hessian;
     /** h. */
-    dealii::Vector<double> linear_term;
+    VectorType linear_term;
     /** Ω (not owned; the caller may change its radii and bounds between solves). */
     const SeparableSet *set = nullptr;
     /** G: R^m → R^k and Gᵀ (empty when k = 0). */
-    Operator G, Gt;
+    std::function<void(const VectorType &, dealii::Vector<double> &)> G;
+    std::function<void(const dealii::Vector<double> &, VectorType &)> Gt;
     /** e ∈ R^k. */
     dealii::Vector<double> e;
     /**
@@ -37,8 +45,7 @@ namespace FetiContact::QP
      * (ProjectorEnforcement shares the product Qx = GᵀGx between PFP and ρQ). Empty: F, then
      * GᵀG.
      */
-    std::function<void(double, const dealii::Vector<double> &, dealii::Vector<double> &)>
-      augmented_hessian;
+    std::function<void(double, const VectorType &, VectorType &)> augmented_hessian;
 
     /**
      * The scale of the linear term that relative stopping tests refer to; 0: ‖h‖. A transform
@@ -54,7 +61,7 @@ namespace FetiContact::QP
       return linear_term_scale > 0 ? linear_term_scale : linear_term.l2_norm();
     }
 
-    /** m, the number of unknowns. */
+    /** m, the number of unknowns (over all ranks). */
     unsigned int
     size() const
     {

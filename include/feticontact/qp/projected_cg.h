@@ -17,43 +17,47 @@ namespace FetiContact::QP
     double relative_residual = 0;
   };
 
+  /** The parameters of projected CG (ProjectedCG::AdditionalData). */
+  struct ProjectedCGParameters
+  {
+    /** The relative tolerance: ‖P(Ax − b)‖ ≤ tolerance · ‖Pb‖ (see the class). */
+    double tolerance = 1e-10;
+    /** The largest number of iterations. */
+    unsigned int max_iterations = 5000;
+
+    /**
+     * Declares, in the current subsection of @p prm, Relative tolerance and Maximum
+     * iterations.
+     */
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /** Reads the entries of declare_parameters(). */
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /**
    * Conjugate gradients for min ½ xᵀA x − xᵀb subject to x ∈ x₀ + range(P), where P is an
    * orthogonal projector (in FETI: P = I − Gᵀ(GGᵀ)⁻¹G and x₀ with Gx₀ = e). Stops when
    * ‖P(Ax − b)‖ ≤ tolerance · max(‖P b‖, 64 ε (‖b‖ + ‖Ax₀‖) / tolerance): relative to the
    * projected right-hand side, but never below the rounding level of the data (ε the machine
    * epsilon), so that a problem whose x₀ already solves it stops at once instead of iterating
-   * on noise. Knows nothing of meshes: A and P are functions.
+   * on noise. Knows nothing of meshes: A and P are functions; instantiated for
+   * dealii::Vector<double> and DistributedVector.
    *
    * An object with its AdditionalData (declared in the caller's prm subsection) whose solve()
    * returns its statistics (a SolverReport).
    */
+  template <typename VectorType>
   class ProjectedCG
   {
   public:
-    /** The parameters of projected CG. */
-    struct AdditionalData
-    {
-      /** The relative tolerance: ‖P(Ax − b)‖ ≤ tolerance · ‖Pb‖ (see the class). */
-      double tolerance = 1e-10;
-      /** The largest number of iterations. */
-      unsigned int max_iterations = 5000;
-
-      /**
-       * Declares, in the current subsection of @p prm, Relative tolerance and Maximum
-       * iterations.
-       */
-      static void
-      declare_parameters(dealii::ParameterHandler &prm);
-
-      /** Reads the entries of declare_parameters(). */
-      void
-      parse_parameters(dealii::ParameterHandler &prm);
-    };
+    using AdditionalData = ProjectedCGParameters;
 
     /** A symmetric operator y = A x, and the projector applied in place, x ← P x. */
-    using Operator  = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
-    using Projector = std::function<void(dealii::Vector<double> &)>;
+    using Operator  = std::function<void(const VectorType &, VectorType &)>;
+    using Projector = std::function<void(VectorType &)>;
 
     /** With the default AdditionalData. */
     ProjectedCG();
@@ -72,8 +76,8 @@ namespace FetiContact::QP
     SolverReport
     solve(const Operator                                  &A,
           const Projector                                 &P,
-          const dealii::Vector<double>                    &b,
-          dealii::Vector<double>                          &x,
+          const VectorType                                &b,
+          VectorType                                      &x,
           const std::function<void(unsigned int, double)> &monitor = {},
           const Operator                                  &M       = {}) const;
 

@@ -2,6 +2,8 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/qp/vector_reductions.h>
+
 #include <array>
 #include <vector>
 
@@ -24,11 +26,17 @@ namespace FetiContact::QP
    * (finite ends only) of it; a disc is active when ‖x − c‖ ≥ r(1 − 1e-12); fixed blocks (l = u, r
    * = 0) are always active, and so is an interval narrower than twice the interval tolerance. φ and
    * β have disjoint supports (inactive blocks and active blocks).
+   *
+   * The operations are templates on the vector type, instantiated for dealii::Vector<double> and
+   * DistributedVector. With a distributed vector every rank holds the set of its local entries:
+   * the component indices are local (the two of a disc on one rank), size() is the local size,
+   * and the scalar results (max_feasible_step(), arc_curvature(), support(), …) are reduced over
+   * the ranks (Reductions), so every rank gets the same number. Those are collective.
    */
   class SeparableSet
   {
   public:
-    /** The set R^n: every component free. */
+    /** The set R^n: every component free (n local components, see the class documentation). */
     explicit SeparableSet(const unsigned int n);
 
     /** n, the number of components. */
@@ -81,8 +89,9 @@ namespace FetiContact::QP
      * x ← P_Ω(x), the Euclidean projection, block by block: intervals clamp; a disc maps y
      * outside to c + r (y − c)/‖y − c‖.
      */
+    template <typename VectorType>
     void
-    project(dealii::Vector<double> &x) const;
+    project(VectorType &x) const;
 
     /**
      * How the tangent directions of active discs are treated by free_gradient(),
@@ -105,11 +114,12 @@ namespace FetiContact::QP
      * (free components, interior of intervals and discs), 0 on active blocks; with
      * DiscMode::rotations the tangential part g − (g·ν)ν on active discs with r > 0.
      */
+    template <typename VectorType>
     void
-    free_gradient(const dealii::Vector<double> &x,
-                  const dealii::Vector<double> &g,
-                  dealii::Vector<double>       &phi,
-                  const DiscMode                mode = DiscMode::fixed) const;
+    free_gradient(const VectorType &x,
+                  const VectorType &g,
+                  VectorType       &phi,
+                  const DiscMode    mode = DiscMode::fixed) const;
 
     /**
      * β(x): the chopped gradient, 0 on inactive blocks; an interval at its lower end
@@ -118,17 +128,17 @@ namespace FetiContact::QP
      * removed), with DiscMode::rotations only the inward part max(g·ν, 0) ν; fixed blocks: 0.
      * In both modes φ + β = g^P and φ·β = 0.
      */
+    template <typename VectorType>
     void
-    chopped_gradient(const dealii::Vector<double> &x,
-                     const dealii::Vector<double> &g,
-                     dealii::Vector<double>       &beta,
-                     const DiscMode                mode = DiscMode::fixed) const;
+    chopped_gradient(const VectorType &x,
+                     const VectorType &g,
+                     VectorType       &beta,
+                     const DiscMode    mode = DiscMode::fixed) const;
 
     /** g^P(x) = φ(x) + β(x), the projected gradient: zero exactly at a KKT point. */
+    template <typename VectorType>
     void
-    projected_gradient(const dealii::Vector<double> &x,
-                       const dealii::Vector<double> &g,
-                       dealii::Vector<double>       &gP) const;
+    projected_gradient(const VectorType &x, const VectorType &g, VectorType &gP) const;
 
     /**
      * The largest α ≥ 0 with x − α d ∈ Ω (x ∈ Ω): the ratio test on intervals, the positive
@@ -136,10 +146,11 @@ namespace FetiContact::QP
      * +∞ when no block limits the step. With DiscMode::rotations active discs (r > 0) do not
      * limit the step: the path P_Ω(x − αd) follows their circles.
      */
+    template <typename VectorType>
     double
-    max_feasible_step(const dealii::Vector<double> &x,
-                      const dealii::Vector<double> &d,
-                      const DiscMode                mode = DiscMode::fixed) const;
+    max_feasible_step(const VectorType &x,
+                      const VectorType &d,
+                      const DiscMode    mode = DiscMode::fixed) const;
 
     /**
      * Σ_k σ_k ‖t_k‖²/r_k over the active discs k with r_k > 0, where σ_k = max(−g_k·ν_k, 0) is
@@ -148,10 +159,9 @@ namespace FetiContact::QP
      * the projected path: f(P_Ω(x − αd)) = f(x) − α gᵀd + ½α²(dᵀAd + arc_curvature) + O(α³)
      * when d is tangential on the discs pressed outwards.
      */
+    template <typename VectorType>
     double
-    arc_curvature(const dealii::Vector<double> &x,
-                  const dealii::Vector<double> &g,
-                  const dealii::Vector<double> &d) const;
+    arc_curvature(const VectorType &x, const VectorType &g, const VectorType &d) const;
 
     /**
      * Hd ← Hd + C d with C the curvature operator of arc_curvature() (dᵀC d = arc_curvature):
@@ -159,18 +169,20 @@ namespace FetiContact::QP
      * is the Hessian of f along the circles (the Riemannian Hessian), which conjugates the
      * directions of the rotation steps in MPGP.
      */
+    template <typename VectorType>
     void
-    add_arc_curvature(const dealii::Vector<double> &x,
-                      const dealii::Vector<double> &g,
-                      const dealii::Vector<double> &d,
-                      dealii::Vector<double>       &Hd) const;
+    add_arc_curvature(const VectorType &x,
+                      const VectorType &g,
+                      const VectorType &d,
+                      VectorType       &Hd) const;
 
     /**
      * v ← v with its normal part ν(ν·v) removed on every active disc with r > 0: the tangent
      * space of the circles at x (the transport of a search direction to a new iterate).
      */
+    template <typename VectorType>
     void
-    remove_normal_parts(const dealii::Vector<double> &x, dealii::Vector<double> &v) const;
+    remove_normal_parts(const VectorType &x, VectorType &v) const;
 
     /**
      * v_k ← v_k/(1 + σ_k/(r_k a)) on every active disc k with r_k > 0 pressed outwards by g
@@ -179,20 +191,23 @@ namespace FetiContact::QP
      * exponent ≠ 1 the factor is (1 + σ_k/(r_k a))^(−exponent) (MPGP applies ½ on both sides of a
      * preconditioner in face, D^(−½) M D^(−½), which keeps the product symmetric).
      */
+    template <typename VectorType>
     void
-    precondition_arcs(const dealii::Vector<double> &x,
-                      const dealii::Vector<double> &g,
-                      const double                  a,
-                      dealii::Vector<double>       &v,
-                      const double                  exponent = 1) const;
+    precondition_arcs(const VectorType &x,
+                      const VectorType &g,
+                      const double      a,
+                      VectorType       &v,
+                      const double      exponent = 1) const;
 
     /** Whether v is non-zero on some active disc with r > 0 at x (a step along v rotates it). */
+    template <typename VectorType>
     bool
-    moves_active_discs(const dealii::Vector<double> &x, const dealii::Vector<double> &v) const;
+    moves_active_discs(const VectorType &x, const VectorType &v) const;
 
     /** Whether some disc block has a non-zero component of v (MPGP: β acts on a disc). */
+    template <typename VectorType>
     bool
-    nonzero_on_discs(const dealii::Vector<double> &v) const;
+    nonzero_on_discs(const VectorType &v) const;
 
     /**
      * The support function σ_Ω(w) = sup_{x∈Ω} xᵀw: per interval u w_i (w_i > 0) or l w_i
@@ -201,19 +216,22 @@ namespace FetiContact::QP
      * rounding of a w computed as Gᵀα). With it a vector α proves that Gλ = e has no solution in
      * Ω when αᵀe > σ_Ω(Gᵀα) (SMALBE's infeasibility certificate).
      */
+    template <typename VectorType>
     double
-    support(const dealii::Vector<double> &w, const double zero = 0) const;
+    support(const VectorType &w, const double zero = 0) const;
 
     /**
      * The largest violation of a block constraint: max(l − x_i, x_i − u, ‖x_k − c‖ − r, 0) over
      * all blocks (an absolute number, for tests).
      */
+    template <typename VectorType>
     double
-    largest_violation(const dealii::Vector<double> &x) const;
+    largest_violation(const VectorType &x) const;
 
     /** x ∈ Ω up to largest_violation(x) ≤ relative_tolerance · ‖x‖_∞. */
+    template <typename VectorType>
     bool
-    is_feasible(const dealii::Vector<double> &x, const double relative_tolerance) const;
+    is_feasible(const VectorType &x, const double relative_tolerance) const;
 
   private:
     enum class Kind : unsigned char
@@ -236,12 +254,14 @@ namespace FetiContact::QP
     interval_state(const unsigned int i, const double v) const;
 
     /** Whether disc d is active at x (on its boundary, or r = 0). */
+    template <typename VectorType>
     bool
-    disc_active(const Disc &d, const dealii::Vector<double> &x) const;
+    disc_active(const Disc &d, const VectorType &x) const;
 
     /** ν = (x − c)/‖x − c‖ of disc d (d active with r > 0, so x ≠ c). */
+    template <typename VectorType>
     std::array<double, 2>
-    outward_normal(const Disc &d, const dealii::Vector<double> &x) const;
+    outward_normal(const Disc &d, const VectorType &x) const;
 
     std::vector<Kind>   kind;
     std::vector<double> lower, upper, scale;

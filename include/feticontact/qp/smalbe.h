@@ -12,6 +12,96 @@
 
 namespace FetiContact::QP
 {
+  /** Parameters of SMALBE-M. Zero for a scale-dependent value means "choose it" (see smalbe()).
+   */
+  struct SMALBEParameters
+  {
+    /** ε_g: stop when ‖g^P‖ ≤ ε_g ‖h‖ (and the feasibility test holds). */
+    double tolerance = 1e-8;
+    /** ε_f: stop when ‖Gλ − e‖ ≤ ε_f ‖e‖ (‖G‖ ‖λ‖ when e = 0). */
+    double       feasibility_tolerance = 1e-8;
+    unsigned int max_outer_iterations  = 500;
+    /** Largest number of inner solver calls per outer iteration (see smalbe()). */
+    unsigned int max_inner_calls = 20;
+    /** ρ > 0, the penalty. 0: ‖F‖/‖G‖² (= ‖F‖ for normalized G). */
+    double rho = 0;
+    /** M_0 > 0. 0: M_0 = M0_factor · ρ ‖G‖. */
+    double M0        = 0;
+    double M0_factor = 1;
+    /** β_M > 1: M ← M/β_M when the Lagrangian did not increase enough. */
+    double beta_M = 10;
+    /**
+     * s ∈ (0, 2): the multiplier update μ ← μ + sρ(Gλ − e). 1 is SMALBE as published (Dostál),
+     * with its bound on the number of outer iterations. s > 1 over-relaxes the update, as in the
+     * method of multipliers, which converges for s ∈ (0, 2) when the inner problems are solved
+     * exactly. In the projector variant without active constraints the Hessian is ρ on the
+     * range of Gᵀ, and one update with s = 1 and an exact inner solve removes Gλ − e (s
+     * overshoots by s − 1); with active constraints ‖Gλ − e‖ falls by a fixed factor per outer
+     * iteration, which s > 1 can improve.
+     */
+    double multiplier_step = 1;
+    /**
+     * c ∈ (0, 1]: an inner solve stops no later than at ‖g^P‖ ≤ c ε_g ref_g (the floor of the
+     * adaptive precision). With c = 1 the inner solves stop at the final gradient tolerance; when
+     * ‖Gλ − e‖ is then still above ε_f, a multiplier update changes the gradient by less than
+     * that floor, the inner solver returns without a step and SMALBE stalls (seen at
+     * ‖Gλ − e‖ ≈ 5e-8 for a body held only by frictionless contact on a graded mesh,
+     * prm/hertz.prm; c = 0.1 converges there in 12 outer iterations).
+     */
+    double inner_floor = 1;
+    /**
+     * The floor c is divided by 10 (down to 1e-4 c) whenever ‖Gλ − e‖ has not reached a new
+     * minimum for this many outer iterations: the stall above, detected instead of avoided, so
+     * that runs that never stall keep their path.
+     */
+    unsigned int stall_iterations = 10;
+    /** η > 0. 0: η = eta_factor · ‖h‖. */
+    double eta        = 0;
+    double eta_factor = 0.1;
+    /** ‖F‖ and ‖G‖ if known (0: power method with norm_iterations steps). */
+    double       F_norm = 0, G_norm = 0;
+    unsigned int norm_iterations = 10;
+    /**
+     * Options of the default inner solver (MPGP on the whole set); its tolerance is set by
+     * SMALBE, its step 0 means ᾱ = 1.9/(‖F‖ + ρ‖G‖²) with the norms below: ‖F‖ + ρ‖G‖² bounds ‖F
+     * + ρGᵀG‖ without power iterations on the inner operator.
+     */
+    MPGPParameters inner;
+
+    /**
+     * The penalty as a multiple of the norm of the FETI part of the Hessian, read from the
+     * parameter file ('auto' keeps the value held when parsing); the caller turns it into rho.
+     */
+    double penalty_factor = 5;
+    /** How the caller enforces Gλ = e around SMALBE (see EqualityConstraint). */
+    enum class EqualityConstraint
+    {
+      projector, ///< homogenized, the Hessian PFP + ρQ (Farhat–Mandel–Roux)
+      penalty    ///< the Hessian F + ρG̃ᵀG̃
+    };
+    EqualityConstraint equality_constraint = EqualityConstraint::projector;
+    /** Which bound of ‖F + ρGᵀG‖ sets the inner MPGP's fixed step (see HessianNormBound). */
+    enum class HessianNormBound
+    {
+      sum, ///< ‖F‖ + ρ‖G‖², valid for either equality constraint
+      max  ///< max(‖F‖, ρ‖G‖²), valid for the projector only
+    };
+    HessianNormBound hessian_norm_bound = HessianNormBound::sum;
+
+    /**
+     * Declares, in the current subsection of @p prm: Maximum iterations, Penalty factor,
+     * Multiplier step factor, Inner tolerance floor, Equality constraint, Hessian norm bound.
+     * Entries that accept 'auto' leave the value that the object holds when parse_parameters()
+     * reads them: the caller sets its automatic choices first.
+     */
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /** Reads the entries of declare_parameters() from the current subsection of @p prm. */
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /**
    * SMALBE-M (semimonotonic augmented Lagrangian for bound and equality constraints with
    * adaptive precision control; Dostál, SIAM J. Numer. Anal. 2005) for
@@ -62,6 +152,7 @@ namespace FetiContact::QP
    * AdditionalData::inner, or one given by set_inner_solver() (block Gauss–Seidel in
    * Algorithms 1 and 2).
    */
+  template <typename VectorType>
   class SMALBE
   {
   public:
@@ -75,7 +166,7 @@ namespace FetiContact::QP
         : SolverReport(report)
       {}
       /** Aλ − b at the returned λ, or empty. */
-      dealii::Vector<double> gradient;
+      VectorType gradient;
       /**
        * For inner solvers that change the set Ω while they solve (the combined loop of
        * Algorithm 2 updates the disc radii): whether Ω is that of the previous call. The M test
@@ -109,11 +200,11 @@ namespace FetiContact::QP
      * test and the Lagrangian after the inner solve. A SolverReport converts to an InnerReport
      * without a gradient.
      */
-    using InnerSolver = std::function<InnerReport(const Operator               &A,
-                                                  const dealii::Vector<double> &b,
-                                                  dealii::Vector<double>       &lambda,
-                                                  const double                  tolerance,
-                                                  const dealii::Vector<double> &gradient)>;
+    using InnerSolver = std::function<InnerReport(const Operator<VectorType> &A,
+                                                  const VectorType           &b,
+                                                  VectorType                 &lambda,
+                                                  const double                tolerance,
+                                                  const VectorType           &gradient)>;
 
     /** State of SMALBE after one outer iteration, for the monitor. */
     struct Step
@@ -133,95 +224,8 @@ namespace FetiContact::QP
       bool   M_decreased = false;
     };
 
-    /** Parameters of SMALBE-M. Zero for a scale-dependent value means "choose it" (see smalbe()).
-     */
-    struct AdditionalData
-    {
-      /** ε_g: stop when ‖g^P‖ ≤ ε_g ‖h‖ (and the feasibility test holds). */
-      double tolerance = 1e-8;
-      /** ε_f: stop when ‖Gλ − e‖ ≤ ε_f ‖e‖ (‖G‖ ‖λ‖ when e = 0). */
-      double       feasibility_tolerance = 1e-8;
-      unsigned int max_outer_iterations  = 500;
-      /** Largest number of inner solver calls per outer iteration (see smalbe()). */
-      unsigned int max_inner_calls = 20;
-      /** ρ > 0, the penalty. 0: ‖F‖/‖G‖² (= ‖F‖ for normalized G). */
-      double rho = 0;
-      /** M_0 > 0. 0: M_0 = M0_factor · ρ ‖G‖. */
-      double M0        = 0;
-      double M0_factor = 1;
-      /** β_M > 1: M ← M/β_M when the Lagrangian did not increase enough. */
-      double beta_M = 10;
-      /**
-       * s ∈ (0, 2): the multiplier update μ ← μ + sρ(Gλ − e). 1 is SMALBE as published (Dostál),
-       * with its bound on the number of outer iterations. s > 1 over-relaxes the update, as in the
-       * method of multipliers, which converges for s ∈ (0, 2) when the inner problems are solved
-       * exactly. In the projector variant without active constraints the Hessian is ρ on the
-       * range of Gᵀ, and one update with s = 1 and an exact inner solve removes Gλ − e (s
-       * overshoots by s − 1); with active constraints ‖Gλ − e‖ falls by a fixed factor per outer
-       * iteration, which s > 1 can improve.
-       */
-      double multiplier_step = 1;
-      /**
-       * c ∈ (0, 1]: an inner solve stops no later than at ‖g^P‖ ≤ c ε_g ref_g (the floor of the
-       * adaptive precision). With c = 1 the inner solves stop at the final gradient tolerance; when
-       * ‖Gλ − e‖ is then still above ε_f, a multiplier update changes the gradient by less than
-       * that floor, the inner solver returns without a step and SMALBE stalls (seen at
-       * ‖Gλ − e‖ ≈ 5e-8 for a body held only by frictionless contact on a graded mesh,
-       * prm/hertz.prm; c = 0.1 converges there in 12 outer iterations).
-       */
-      double inner_floor = 1;
-      /**
-       * The floor c is divided by 10 (down to 1e-4 c) whenever ‖Gλ − e‖ has not reached a new
-       * minimum for this many outer iterations: the stall above, detected instead of avoided, so
-       * that runs that never stall keep their path.
-       */
-      unsigned int stall_iterations = 10;
-      /** η > 0. 0: η = eta_factor · ‖h‖. */
-      double eta        = 0;
-      double eta_factor = 0.1;
-      /** ‖F‖ and ‖G‖ if known (0: power method with norm_iterations steps). */
-      double       F_norm = 0, G_norm = 0;
-      unsigned int norm_iterations = 10;
-      /**
-       * Options of the default inner solver (MPGP on the whole set); its tolerance is set by
-       * SMALBE, its step 0 means ᾱ = 1.9/(‖F‖ + ρ‖G‖²) with the norms below: ‖F‖ + ρ‖G‖² bounds ‖F
-       * + ρGᵀG‖ without power iterations on the inner operator.
-       */
-      MPGP::AdditionalData inner;
-
-      /**
-       * The penalty as a multiple of the norm of the FETI part of the Hessian, read from the
-       * parameter file ('auto' keeps the value held when parsing); the caller turns it into rho.
-       */
-      double penalty_factor = 5;
-      /** How the caller enforces Gλ = e around SMALBE (see EqualityConstraint). */
-      enum class EqualityConstraint
-      {
-        projector, ///< homogenized, the Hessian PFP + ρQ (Farhat–Mandel–Roux)
-        penalty    ///< the Hessian F + ρG̃ᵀG̃
-      };
-      EqualityConstraint equality_constraint = EqualityConstraint::projector;
-      /** Which bound of ‖F + ρGᵀG‖ sets the inner MPGP's fixed step (see HessianNormBound). */
-      enum class HessianNormBound
-      {
-        sum, ///< ‖F‖ + ρ‖G‖², valid for either equality constraint
-        max  ///< max(‖F‖, ρ‖G‖²), valid for the projector only
-      };
-      HessianNormBound hessian_norm_bound = HessianNormBound::sum;
-
-      /**
-       * Declares, in the current subsection of @p prm: Maximum iterations, Penalty factor,
-       * Multiplier step factor, Inner tolerance floor, Equality constraint, Hessian norm bound.
-       * Entries that accept 'auto' leave the value that the object holds when parse_parameters()
-       * reads them: the caller sets its automatic choices first.
-       */
-      static void
-      declare_parameters(dealii::ParameterHandler &prm);
-
-      /** Reads the entries of declare_parameters() from the current subsection of @p prm. */
-      void
-      parse_parameters(dealii::ParameterHandler &prm);
-    };
+    /** The parameters: all numbers, set from a parameter file. */
+    using AdditionalData = SMALBEParameters;
 
     /** What SMALBE reports. iterations = outer iterations; relative_residual = relative_gradient.
      */
@@ -287,7 +291,7 @@ namespace FetiContact::QP
      * @param mu     in: μ₀ (size k, or empty for 0); out: μ.
      */
     Statistics
-    solve(const Problem &problem, dealii::Vector<double> &lambda, dealii::Vector<double> &mu);
+    solve(const Problem<VectorType> &problem, VectorType &lambda, dealii::Vector<double> &mu);
 
   private:
     /** ‖F‖, ‖G‖, ρ, M₀, η and the bound of ‖A‖. */
@@ -295,25 +299,25 @@ namespace FetiContact::QP
     choose_scales();
     /** y = A x with A = F + ρGᵀG (or the problem's augmented Hessian), counted. */
     void
-    apply_A(const dealii::Vector<double> &x, dealii::Vector<double> &y);
+    apply_A(const VectorType &x, VectorType &y);
     /** r = Gλ − e; returns ‖r‖. */
     double
     residual();
     /** The reference of ‖g^P‖ at x: ‖h‖ (‖F‖‖x‖ if h = 0), floored at the rounding level. */
     double
-    gradient_reference(const dealii::Vector<double> &x) const;
+    gradient_reference(const VectorType &x) const;
     /** The reference of ‖Gx − e‖: ‖e‖ (‖G‖‖x‖ if e = 0), floored at the rounding level. */
     double
-    feasibility_reference(const dealii::Vector<double> &x) const;
+    feasibility_reference(const VectorType &x) const;
     /** The inner stopping rule at x: max(min(M‖Gx − e‖, η), c ε_g ref_g). */
     double
-    inner_target(const dealii::Vector<double> &x);
+    inner_target(const VectorType &x);
     /** b = h − Gᵀ(μ − ρe), and the known gradient corrected for its change. */
     void
     update_linear_term();
     /** MPGP with the inner stopping rule evaluated at every step. */
     InnerReport
-    default_inner_solve(const dealii::Vector<double> &b, const double tolerance);
+    default_inner_solve(const VectorType &b, const double tolerance);
     /** Step 1: the inner solves of one outer iteration; whether the last one was capped. */
     bool
     inner_solves(Step &step, InnerReport &last);
@@ -332,15 +336,16 @@ namespace FetiContact::QP
     std::function<void(const Step &)> monitor;
 
     // The state of the current solve.
-    const Problem          *problem = nullptr;
-    dealii::Vector<double> *lambda  = nullptr;
-    dealii::Vector<double> *mu      = nullptr;
-    Statistics              statistics;
-    unsigned int            m = 0, k = 0;
+    const Problem<VectorType> *problem = nullptr;
+    VectorType                *lambda  = nullptr;
+    dealii::Vector<double>    *mu      = nullptr;
+    Statistics                 statistics;
+    unsigned int               m = 0, k = 0;
     double F_norm = 0, G_norm = 0, rho = 0, M = 0, eta = 0, A_norm = 0, h_norm = 0, e_norm = 0;
     double floor = 1, feasibility = 0, norm_gP = 0, best_feasibility = 0;
     unsigned int           since_best    = 0;
     bool                   eta_exhausted = false;
-    dealii::Vector<double> Gx, GtGx, Gx_e, r, b, Gtv, g, gP, g_known;
+    dealii::Vector<double> Gx, Gx_e, r;
+    VectorType             GtGx, b, Gtv, g, gP, g_known;
   };
 } // namespace FetiContact::QP

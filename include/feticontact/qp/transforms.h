@@ -15,6 +15,7 @@ namespace FetiContact::QP
    * and the projector P = I − G̃ᵀG̃ need no scaling. recover_multiplier() is the step back for
    * the multiplier: ν = L⁻ᵀν̃ satisfies Gᵀν = G̃ᵀν̃.
    */
+  template <typename VectorType>
   class Orthonormalization
   {
   public:
@@ -24,12 +25,12 @@ namespace FetiContact::QP
       std::function<void(dealii::Vector<double> &)> solve_L, solve_Lt;
     };
 
-    Orthonormalization(const Problem &original, const Factor &factor);
+    Orthonormalization(const Problem<VectorType> &original, const Factor &factor);
     /** The transform refers to the original problem: no temporaries. */
-    Orthonormalization(Problem &&, const Factor &) = delete;
+    Orthonormalization(Problem<VectorType> &&, const Factor &) = delete;
 
     /** The problem with G̃ and ẽ. */
-    Problem
+    Problem<VectorType>
     transformed() const;
 
     /** ν = L⁻ᵀν̃, the multiplier of Gλ = e from that of G̃λ = ẽ. */
@@ -37,8 +38,8 @@ namespace FetiContact::QP
     recover_multiplier(const dealii::Vector<double> &nu_tilde) const;
 
   private:
-    const Problem &original;
-    Factor         factor;
+    const Problem<VectorType> &original;
+    Factor                     factor;
   };
 
   /**
@@ -49,29 +50,30 @@ namespace FetiContact::QP
    * at −λ₀), since the caller also changes its radii between solves. recover() is the step
    * back, λ = λ̃ + λ₀.
    */
+  template <typename VectorType>
   class Homogenization
   {
   public:
     /** @p particular_solution is λ₀, any solution of Gλ₀ = e (e.g. of least norm). */
-    Homogenization(const Problem &original, const dealii::Vector<double> &particular_solution);
+    Homogenization(const Problem<VectorType> &original, const VectorType &particular_solution);
     /** The transform refers to the original problem: no temporaries. */
-    Homogenization(Problem &&, const dealii::Vector<double> &) = delete;
+    Homogenization(Problem<VectorType> &&, const VectorType &) = delete;
 
     /** The problem in λ̃ over @p shifted_set = Ω − λ₀. One multiplication by F (for Fλ₀). */
-    Problem
+    Problem<VectorType>
     transformed(const SeparableSet &shifted_set) const;
 
     /** λ̃ → λ = λ̃ + λ₀, in place. */
     void
-    recover(dealii::Vector<double> &lambda) const;
+    recover(VectorType &lambda) const;
 
     /** λ₀. */
-    const dealii::Vector<double> &
+    const VectorType &
     particular_solution() const;
 
   private:
-    const Problem         &original;
-    dealii::Vector<double> lambda0;
+    const Problem<VectorType> &original;
+    VectorType                 lambda0;
   };
 
   /**
@@ -87,16 +89,17 @@ namespace FetiContact::QP
    * recover_multiplier() is the step back for the multiplier of Gλ = 0: the ν of the
    * transformed problem is not that of the original one.
    */
+  template <typename VectorType>
   class ProjectorEnforcement
   {
   public:
     /** Requires e = 0 (apply Homogenization first) and G with orthonormal rows. */
-    explicit ProjectorEnforcement(const Problem &homogeneous);
+    explicit ProjectorEnforcement(const Problem<VectorType> &homogeneous);
     /** The transform refers to the homogeneous problem: no temporaries. */
-    explicit ProjectorEnforcement(Problem &&) = delete;
+    explicit ProjectorEnforcement(Problem<VectorType> &&) = delete;
 
     /** The problem with F → PFP and h → Ph. */
-    Problem
+    Problem<VectorType>
     transformed() const;
 
     /**
@@ -104,14 +107,14 @@ namespace FetiContact::QP
      * r = Fλ − h the gradient of the original objective at the solution.
      */
     void
-    recover_multiplier(const dealii::Vector<double> &r, dealii::Vector<double> &nu) const;
+    recover_multiplier(const VectorType &r, dealii::Vector<double> &nu) const;
 
     /** y = P x = x − GᵀG x. */
     void
-    project(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    project(const VectorType &x, VectorType &y) const;
 
   private:
-    const Problem         &homogeneous;
-    dealii::Vector<double> projected_linear_term;
+    const Problem<VectorType> &homogeneous;
+    VectorType                 projected_linear_term;
   };
 } // namespace FetiContact::QP

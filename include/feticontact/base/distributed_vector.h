@@ -1,0 +1,208 @@
+#pragma once
+
+#include <feticontact/base/exact_sum.h>
+
+#include <memory>
+#include <mpi.h>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * A vector of n numbers distributed over the MPI ranks of a communicator: each rank holds some
+   * of its entries (every entry on exactly one rank) and knows their global indices. The
+   * operations that the QP layer needs act on the local entries, and the reductions (dot
+   * products and norms) are the same bits on any number of ranks and any split of the entries:
+   * sums are exact and rounded once (ExactSum), maxima and minima are exact anyway.
+   *
+   * Local entries are addressed by their local index: operator[](i) is the i-th entry this rank
+   * holds, whose global index is global_index(i) (an element-wise loop runs over i <
+   * locally_owned_size()). size() is the global n, as for deal.II's distributed vectors.
+   *
+   * Written for the FETI dual vectors (each rank holds the rows of B that it adds up); knows
+   * nothing of FETI. The QP layer is instantiated for it and for dealii::Vector<double>.
+   */
+  class DistributedVector
+  {
+  public:
+    using value_type = double;
+    using size_type  = unsigned int;
+
+    /**
+     * Which entries a rank holds: their global indices, in the order of the local entries, and
+     * the global size. Shared by all vectors of one layout.
+     */
+    struct Layout
+    {
+      /** @p global_index of the local entries; @p n_global the global size (all ranks agree). */
+      Layout(const MPI_Comm comm, std::vector<unsigned int> global_index, const unsigned int n);
+
+      MPI_Comm                  comm;
+      std::vector<unsigned int> global_index;
+      unsigned int              n_global;
+    };
+
+    /** The empty vector (on no communicator). */
+    DistributedVector() = default;
+
+    /** A zero vector with @p layout. */
+    explicit DistributedVector(std::shared_ptr<const Layout> layout);
+
+    /** Makes this a vector with the layout of @p model, zero unless @p omit_zeroing. */
+    void
+    reinit(const DistributedVector &model, const bool omit_zeroing = false);
+
+    /** Makes this a zero vector with @p layout. */
+    void
+    reinit(std::shared_ptr<const Layout> layout);
+
+    /** The global size n (0 for the empty vector). */
+    size_type
+    size() const
+    {
+      return layout ? layout->n_global : 0;
+    }
+
+    /** The number of entries this rank holds. */
+    size_type
+    locally_owned_size() const
+    {
+      return values.size();
+    }
+
+    /** The global index of local entry @p i. */
+    size_type
+    global_index(const size_type i) const
+    {
+      return layout->global_index[i];
+    }
+
+    const std::shared_ptr<const Layout> &
+    get_layout() const
+    {
+      return layout;
+    }
+
+    MPI_Comm
+    get_mpi_communicator() const
+    {
+      return layout ? layout->comm : MPI_COMM_SELF;
+    }
+
+    /** Local entry @p i. */
+    double &
+    operator[](const size_type i)
+    {
+      return values[i];
+    }
+
+    double
+    operator[](const size_type i) const
+    {
+      return values[i];
+    }
+
+    double *
+    begin()
+    {
+      return values.data();
+    }
+
+    const double *
+    begin() const
+    {
+      return values.data();
+    }
+
+    double *
+    end()
+    {
+      return values.data() + values.size();
+    }
+
+    const double *
+    end() const
+    {
+      return values.data() + values.size();
+    }
+
+    /** Every entry ← @p s. */
+    DistributedVector &
+    operator=(const double s);
+
+    DistributedVector &
+    operator+=(const DistributedVector &v);
+
+    DistributedVector &
+    operator-=(const DistributedVector &v);
+
+    DistributedVector &
+    operator*=(const double s);
+
+    DistributedVector &
+    operator/=(const double s);
+
+    /** this ← this + a v. */
+    void
+    add(const double a, const DistributedVector &v);
+
+    /** this ← this + a v + b w. */
+    void
+    add(const double a, const DistributedVector &v, const double b, const DistributedVector &w);
+
+    /** this ← s this + a v. */
+    void
+    sadd(const double s, const double a, const DistributedVector &v);
+
+    /** this ← a v. */
+    void
+    equ(const double a, const DistributedVector &v);
+
+    /** this ← this ⊙ v, entry by entry. */
+    void
+    scale(const DistributedVector &v);
+
+    void
+    swap(DistributedVector &v);
+
+    /** The dot product, exact and rounded once (the same on any number of ranks). */
+    double
+    operator*(const DistributedVector &v) const;
+
+    /** ‖this‖², exact and rounded once. */
+    double
+    norm_sqr() const;
+
+    /** ‖this‖ = √(norm_sqr()). */
+    double
+    l2_norm() const;
+
+    /** max |entry|. */
+    double
+    linfty_norm() const;
+
+    /** The exact sum of the terms of @p local over the ranks, rounded once. Collective. */
+    double
+    sum_over_ranks(ExactSum local) const;
+
+    /** The minimum of @p local over the ranks. Collective. */
+    double
+    min_over_ranks(const double local) const;
+
+    /** The maximum of @p local over the ranks. Collective. */
+    double
+    max_over_ranks(const double local) const;
+
+    /** Whether @p local holds on some rank. Collective. */
+    bool
+    any_over_ranks(const bool local) const;
+
+  private:
+    /** @p local reduced over the ranks by @p operation (MPI_MIN, MPI_MAX). */
+    double
+    reduce(const double local, const MPI_Op operation) const;
+
+    std::shared_ptr<const Layout> layout;
+    std::vector<double>           values;
+  };
+} // namespace FetiContact

@@ -1,0 +1,120 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/distributed_vector.h>
+
+namespace FetiContact::QP
+{
+  /**
+   * What the QP layer needs of a vector type beyond its own operations: sums, minima and maxima
+   * of numbers computed from the local entries, taken over all entries (over the ranks for a
+   * distributed vector), and the global index of a local entry. The QP layer is instantiated for
+   * dealii::Vector<double> (one process holds everything; sums in the order of the entries) and
+   * DistributedVector (sums exact and rounded once, so the same bits on any number of ranks).
+   */
+  template <typename VectorType>
+  struct Reductions;
+
+  /** dealii::Vector<double>: every entry is local, sums in the order of the terms. */
+  template <>
+  struct Reductions<dealii::Vector<double>>
+  {
+    using VectorType = dealii::Vector<double>;
+
+    /** A sum of terms, in the order they are added. */
+    class Sum
+    {
+    public:
+      void
+      add(const double x)
+      {
+        sum += x;
+      }
+
+      double
+      result(const VectorType &) const
+      {
+        return sum;
+      }
+
+    private:
+      double sum = 0;
+    };
+
+    static double
+    min(const double local, const VectorType &)
+    {
+      return local;
+    }
+
+    static double
+    max(const double local, const VectorType &)
+    {
+      return local;
+    }
+
+    static bool
+    any(const bool local, const VectorType &)
+    {
+      return local;
+    }
+
+    static unsigned int
+    global_index(const VectorType &, const unsigned int i)
+    {
+      return i;
+    }
+  };
+
+  /** DistributedVector: reductions over the ranks, sums exact. */
+  template <>
+  struct Reductions<DistributedVector>
+  {
+    using VectorType = DistributedVector;
+
+    /** An exact sum of the terms of all ranks, rounded once. */
+    class Sum
+    {
+    public:
+      void
+      add(const double x)
+      {
+        sum.add(x);
+      }
+
+      double
+      result(const VectorType &v) const
+      {
+        return v.sum_over_ranks(sum);
+      }
+
+    private:
+      ExactSum sum;
+    };
+
+    static double
+    min(const double local, const VectorType &v)
+    {
+      return v.min_over_ranks(local);
+    }
+
+    static double
+    max(const double local, const VectorType &v)
+    {
+      return v.max_over_ranks(local);
+    }
+
+    static bool
+    any(const bool local, const VectorType &v)
+    {
+      return v.any_over_ranks(local);
+    }
+
+    static unsigned int
+    global_index(const VectorType &v, const unsigned int i)
+    {
+      return v.global_index(i);
+    }
+  };
+} // namespace FetiContact::QP

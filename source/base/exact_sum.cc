@@ -83,7 +83,7 @@ namespace FetiContact
     // The leading 64 bits (bit positions low … low + 63, counted in units of 2^-1074), with the
     // bits below them folded into the last one (a sticky bit), so that the one rounding of the
     // conversion to double is the rounding of the exact sum.
-    const auto digit_bits = [&](const int d) { return static_cast<std::uint64_t>(s.digit[d]); };
+    const auto digit_bits  = [&](const int d) { return static_cast<std::uint64_t>(s.digit[d]); };
     const int  leading_bit = 32 * top + 63 - __builtin_clzll(digit_bits(top));
     const int  low         = leading_bit - 63;
     const auto bit         = [&](const int k) -> std::uint64_t {

@@ -5,6 +5,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/coarse_problem.h>
+#include <feticontact/feti/dual_distribution.h>
 
 #include <algorithm>
 #include <cmath>
@@ -145,9 +146,89 @@ namespace FetiContact
   }
 
   void
+  CoarseProblem::distribute(const DualDistribution &d,
+                            const unsigned int      first_mode,
+                            const unsigned int      end_mode)
+  {
+    distribution = &d;
+    int n_ranks  = 1;
+    MPI_Comm_size(d.layout()->comm, &n_ranks);
+    std::vector<unsigned int> firsts(n_ranks + 1, n_rows);
+    MPI_Allgather(&first_mode, 1, MPI_UNSIGNED, firsts.data(), 1, MPI_UNSIGNED, d.layout()->comm);
+    own_modes = BlockPartition(d.layout()->comm, firsts);
+    AssertThrow(own_modes.begin() == first_mode && own_modes.end() == end_mode,
+                ExcMessage(
+                  "CoarseProblem::distribute: the ranks' modes do not follow each other."));
+    own_mode_column.clear();
+    for (unsigned int k = row_start[first_mode]; k < row_start[end_mode]; ++k)
+      own_mode_column.push_back(d.relevant_index(column[k]));
+    // G by the owned columns, modes increasing within each (as in add_Gt).
+    const auto               &own = d.layout()->global_index;
+    std::vector<unsigned int> local_of_column(n_cols, numbers::invalid_unsigned_int);
+    for (unsigned int i = 0; i < own.size(); ++i)
+      local_of_column[own[i]] = i;
+    own_column_start.assign(own.size() + 1, 0);
+    for (const unsigned int c : column)
+      if (local_of_column[c] != numbers::invalid_unsigned_int)
+        ++own_column_start[local_of_column[c] + 1];
+    for (unsigned int i = 0; i < own.size(); ++i)
+      own_column_start[i + 1] += own_column_start[i];
+    own_column_mode.resize(own_column_start.back());
+    own_column_value.resize(own_column_start.back());
+    std::vector<unsigned int> next(own_column_start.begin(), own_column_start.end() - 1);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+        if (const unsigned int i = local_of_column[column[k]]; i != numbers::invalid_unsigned_int)
+          {
+            own_column_mode[next[i]]    = r;
+            own_column_value[next[i]++] = value[k];
+          }
+  }
+
+  void
+  CoarseProblem::apply_G(const DistributedVector &x, Vector<double> &y) const
+  {
+    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
+    if (y.size() != n_rows)
+      y.reinit(n_rows, true);
+    distribution->import(x, relevant_work);
+    const unsigned int first = row_start[own_modes.begin()];
+    for (unsigned int r = own_modes.begin(); r < own_modes.end(); ++r)
+      {
+        double s = 0;
+        for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
+          s += value[k] * relevant_work[own_mode_column[k - first]];
+        y[r] = s;
+      }
+    own_modes.gather(y.begin());
+  }
+
+  void
   CoarseProblem::apply_Gt(const Vector<double> &x, Vector<double> &y) const
   {
     add_Gt(x, false, y);
+  }
+
+  void
+  CoarseProblem::apply_Gt(const Vector<double> &x, DistributedVector &y) const
+  {
+    add_Gt(x, false, y);
+  }
+
+  void
+  CoarseProblem::add_Gt(const Vector<double> &x, const bool add, DistributedVector &y) const
+  {
+    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
+    Assert(!add || y.get_layout() == distribution->layout(), ExcInternalError());
+    if (y.get_layout() != distribution->layout())
+      y.reinit(distribution->layout());
+    for (unsigned int i = 0; i < y.locally_owned_size(); ++i)
+      {
+        double s = add ? y[i] : 0.;
+        for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
+          s += own_column_value[k] * x[own_column_mode[k]];
+        y[i] = s;
+      }
   }
 
   void
@@ -168,16 +249,18 @@ namespace FetiContact
     column_blocks.gather(y.begin());
   }
 
+  template <typename VectorType>
   void
-  CoarseProblem::apply_G_orthonormal(const Vector<double> &x, Vector<double> &y) const
+  CoarseProblem::apply_G_orthonormal(const VectorType &x, Vector<double> &y) const
   {
     apply_G(x, y);
     if (n_rows > 0)
       GGt.solve_half(y, false);
   }
 
+  template <typename VectorType>
   void
-  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, Vector<double> &y) const
+  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, VectorType &y) const
   {
     Vector<double> z(x);
     if (n_rows > 0)
@@ -217,8 +300,9 @@ namespace FetiContact
       GGt.solve(x);
   }
 
+  template <typename VectorType>
   void
-  CoarseProblem::project(Vector<double> &x) const
+  CoarseProblem::project(VectorType &x) const
   {
     if (n_rows == 0)
       return;
@@ -236,6 +320,14 @@ namespace FetiContact
     solve_GGt(mu);
     apply_Gt(mu, lambda);
     return lambda;
+  }
+
+  void
+  CoarseProblem::least_norm_solution(const Vector<double> &e, DistributedVector &lambda) const
+  {
+    Vector<double> mu(e);
+    solve_GGt(mu);
+    apply_Gt(mu, lambda);
   }
 
   Vector<double>
@@ -298,8 +390,9 @@ namespace FetiContact
     return least_norm_solution(e);
   }
 
+  template <typename VectorType>
   double
-  CoarseProblem::restore_feasibility(Vector<double> &lambda, const Vector<double> &e) const
+  CoarseProblem::restore_feasibility(VectorType &lambda, const Vector<double> &e) const
   {
     if (n_rows == 0)
       return 0;
@@ -308,16 +401,32 @@ namespace FetiContact
     r -= Gl;
     const double norm_e = e.l2_norm();
     const double misfit = norm_e > 0 ? r.l2_norm() / norm_e : r.l2_norm();
-    lambda += least_norm_solution(r);
+    // λ + Gᵀ(GGᵀ)⁻¹r.
+    solve_GGt(r);
+    VectorType correction;
+    correction.reinit(lambda);
+    apply_Gt(r, correction);
+    lambda += correction;
     return misfit;
   }
 
+  template <typename VectorType>
   Vector<double>
-  CoarseProblem::coarse_coefficients(const Vector<double> &x) const
+  CoarseProblem::coarse_coefficients(const VectorType &x) const
   {
     Vector<double> alpha;
     apply_G(x, alpha);
     solve_GGt(alpha);
     return alpha;
   }
+#define FETICONTACT_INSTANTIATE_COARSE_PROBLEM(V)                                                 \
+  template void           CoarseProblem::apply_G_orthonormal(const V &, Vector<double> &) const;  \
+  template void           CoarseProblem::apply_Gt_orthonormal(const Vector<double> &, V &) const; \
+  template void           CoarseProblem::project(V &) const;                                      \
+  template double         CoarseProblem::restore_feasibility(V &, const Vector<double> &) const;  \
+  template Vector<double> CoarseProblem::coarse_coefficients(const V &) const;
+
+  FETICONTACT_INSTANTIATE_COARSE_PROBLEM(Vector<double>)
+  FETICONTACT_INSTANTIATE_COARSE_PROBLEM(DistributedVector)
+#undef FETICONTACT_INSTANTIATE_COARSE_PROBLEM
 } // namespace FetiContact

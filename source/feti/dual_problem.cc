@@ -131,6 +131,20 @@ namespace FetiContact
     sum_slots(h);
     h -= c;
     coarse.initialize(comm, G_entries, mode_offset.back(), m);
+    // G x on distributed vectors: every rank the modes of its subdomains, which follow each other
+    // in rank order (contiguous ranges of subdomains, Simulator::distribute_subdomains).
+    unsigned int n_own_modes = 0, first_own_mode = 0;
+    for (const Subdomain *s : owned)
+      n_own_modes += mode_offset[s->global_index + 1] - mode_offset[s->global_index];
+    MPI_Exscan(&n_own_modes, &first_own_mode, 1, MPI_UNSIGNED, MPI_SUM, comm);
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      first_own_mode = 0;
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      AssertThrow(mode_offset[owned[i]->global_index] ==
+                    (i == 0 ? first_own_mode : mode_offset[owned[i - 1]->global_index + 1]),
+                  ExcMessage("DualProblem: the subdomains of the ranks must be contiguous ranges "
+                             "in rank order."));
+    coarse.distribute(*row_distribution, first_own_mode, first_own_mode + n_own_modes);
   }
 
   void
@@ -217,6 +231,21 @@ namespace FetiContact
       }
     own_sums.resize(own_rows.size());
     gathered_sums.resize(m);
+
+    // The distributed dual vectors: this rank's rows, and the rows of its subdomains.
+    std::vector<unsigned int> relevant(own_rows);
+    for (const auto &b : B)
+      relevant.insert(relevant.end(), b.row.begin(), b.row.end());
+    std::sort(relevant.begin(), relevant.end());
+    relevant.erase(std::unique(relevant.begin(), relevant.end()), relevant.end());
+    row_distribution = std::make_unique<DualDistribution>(comm, own_rows, relevant, row_rank);
+    relevant_row.resize(B.size());
+    for (unsigned int i = 0; i < B.size(); ++i)
+      {
+        relevant_row[i].resize(B[i].row.size());
+        for (unsigned int k = 0; k < B[i].row.size(); ++k)
+          relevant_row[i][k] = row_distribution->relevant_index(B[i].row[k]);
+      }
   }
 
   void
@@ -247,6 +276,24 @@ namespace FetiContact
           y[r] = row_sum(r);
         return;
       }
+    exchange_slots();
+    sum_own_rows(own_sums.data());
+    // Every rank gets all rows.
+    MPI_Allgatherv(own_sums.data(),
+                   own_sums.size(),
+                   MPI_DOUBLE,
+                   gathered_sums.data(),
+                   row_count.data(),
+                   row_displacement.data(),
+                   MPI_DOUBLE,
+                   comm);
+    for (unsigned int q = 0; q < gathered_rows.size(); ++q)
+      y[gathered_rows[q]] = gathered_sums[q];
+  }
+
+  void
+  DualProblem::exchange_slots() const
+  {
     // The terms that other ranks' rows need from this rank, and those this rank's rows need
     // from others (only rows on the boundaries between the ranks' sets of subdomains).
     unsigned int n_requests = 0;
@@ -274,19 +321,19 @@ namespace FetiContact
     for (const auto &exchange : receive_slots)
       for (unsigned int j = 0; j < exchange.slots.size(); ++j)
         slot_values[exchange.slots[j]] = exchange.buffer[j];
-    // Every rank adds up its rows; then every rank gets all rows.
+  }
+
+  void
+  DualProblem::sum_own_rows(double *sums) const
+  {
     for (unsigned int j = 0; j < own_rows.size(); ++j)
-      own_sums[j] = row_sum(own_rows[j]);
-    MPI_Allgatherv(own_sums.data(),
-                   own_sums.size(),
-                   MPI_DOUBLE,
-                   gathered_sums.data(),
-                   row_count.data(),
-                   row_displacement.data(),
-                   MPI_DOUBLE,
-                   comm);
-    for (unsigned int q = 0; q < gathered_rows.size(); ++q)
-      y[gathered_rows[q]] = gathered_sums[q];
+      {
+        const unsigned int r   = own_rows[j];
+        double             sum = 0;
+        for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
+          sum += slot_values[slot_order[k]];
+        sums[j] = sum;
+      }
   }
 
   void
@@ -319,6 +366,103 @@ namespace FetiContact
     sum_slots(y);
     ++n_F_applications;
     F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void
+  DualProblem::set_Bt_relevant(const unsigned int    i,
+                               const Vector<double> &lambda_relevant,
+                               Vector<double>       &x) const
+  {
+    x             = 0;
+    const auto &b = B[i];
+    const auto &r = relevant_row[i];
+    for (unsigned int k = 0; k < b.row.size(); ++k)
+      x[b.dof[k]] += b.value[k] * lambda_relevant[r[k]];
+  }
+
+  void
+  DualProblem::apply_F(const DistributedVector &x, DistributedVector &y) const
+  {
+    if (shared)
+      {
+        // The reserves of the node's ranks need all of x (every rank may solve any subdomain).
+        Vector<double> full_y;
+        apply_F(row_distribution->gather(x), full_y);
+        y = row_distribution->restrict(full_y);
+        return;
+      }
+    const auto start = std::chrono::steady_clock::now();
+    row_distribution->import(x, x_relevant);
+    apply_F_relevant(x_relevant, y);
+    F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void
+  DualProblem::apply_F_relevant(const Vector<double> &x, DistributedVector &y) const
+  {
+    const auto start = std::chrono::steady_clock::now();
+    SubdomainThreads::for_each(
+      owned.size(),
+      [&](const unsigned int i) {
+        set_Bt_relevant(i, x, work[i]);
+        owned[i]->apply_generalized_inverse(work[i]);
+        set_B_slots(i, work[i]);
+      },
+      threaded);
+    n_subdomain_solves += owned.size();
+    F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    exchange_slots();
+    if (y.get_layout() != row_distribution->layout())
+      y.reinit(row_distribution->layout());
+    sum_own_rows(y.begin());
+    ++n_F_applications;
+  }
+
+  void
+  DualProblem::apply_lumped(const DistributedVector &x, DistributedVector &y) const
+  {
+    if (shared)
+      {
+        Vector<double> full_y;
+        apply_lumped(row_distribution->gather(x), full_y);
+        y = row_distribution->restrict(full_y);
+        return;
+      }
+    const auto start = std::chrono::steady_clock::now();
+    if (lumped_scale_relevant.size() != row_distribution->relevant_rows().size())
+      {
+        // diag(B Bᵀ)⁻¹ on this rank's rows, then on the relevant rows.
+        for (unsigned int i = 0; i < owned.size(); ++i)
+          {
+            const auto &b = B[i];
+            for (unsigned int k = 0; k < b.row.size(); ++k)
+              slot_values[b.slot[k]] = b.value[k] * b.value[k];
+          }
+        exchange_slots();
+        DistributedVector d = row_distribution->vector();
+        sum_own_rows(d.begin());
+        for (auto &di : d)
+          di = di > 0 ? 1 / di : 0.;
+        row_distribution->import(d, lumped_scale_relevant);
+      }
+    row_distribution->import(x, x_relevant);
+    x_relevant.scale(lumped_scale_relevant);
+    lumped_Ku.resize(owned.size());
+    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
+      set_Bt_relevant(i, x_relevant, work[i]);
+      lumped_Ku[i].reinit(work[i].size(), true);
+      owned[i]->K.vmult(lumped_Ku[i], work[i]);
+      set_B_slots(i, lumped_Ku[i]);
+    });
+    exchange_slots();
+    if (y.get_layout() != row_distribution->layout())
+      y.reinit(row_distribution->layout());
+    sum_own_rows(y.begin());
+    const auto &own = row_distribution->owned_relevant_indices();
+    for (unsigned int j = 0; j < own.size(); ++j)
+      y[j] *= lumped_scale_relevant[own[j]];
+    ++n_lumped_applications;
+    lumped_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   void
@@ -365,12 +509,35 @@ namespace FetiContact
   std::vector<Vector<double>>
   DualProblem::recover_primal(const Vector<double> &lambda, const Vector<double> &alpha) const
   {
+    return recover_primal(row_distribution->restrict(lambda), alpha);
+  }
+
+  std::vector<Vector<double>>
+  DualProblem::recover_primal(const DistributedVector &lambda) const
+  {
+    DistributedVector gradient;
+    apply_F(lambda, gradient);
+    gradient -= row_distribution->restrict(h);
+    return recover_primal(lambda, coarse.coarse_coefficients(gradient));
+  }
+
+  std::vector<Vector<double>>
+  DualProblem::recover_primal(const DistributedVector &lambda, const Vector<double> &alpha) const
+  {
+    row_distribution->import(lambda, x_relevant);
+    return recover_primal_relevant(x_relevant, alpha);
+  }
+
+  std::vector<Vector<double>>
+  DualProblem::recover_primal_relevant(const Vector<double> &lambda_relevant,
+                                       const Vector<double> &alpha) const
+  {
     std::vector<Vector<double>> u(owned.size());
     SubdomainThreads::for_each(
       owned.size(),
       [&](const unsigned int i) {
         const Subdomain &s = *owned[i];
-        set_Bt(i, lambda, work[i]);
+        set_Bt_relevant(i, lambda_relevant, work[i]);
         u[i] = s.f;
         u[i] -= work[i];
         s.apply_generalized_inverse(u[i]);
@@ -390,6 +557,28 @@ namespace FetiContact
       set_B_slots(i, u[i]);
     sum_slots(r);
     r -= c;
+    return r;
+  }
+
+  DistributedVector
+  DualProblem::distributed_constraint_residual(const std::vector<Vector<double>> &u) const
+  {
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      set_B_slots(i, u[i]);
+    DistributedVector r = row_distribution->vector();
+    if (shared)
+      {
+        Vector<double> full;
+        sum_slots(full);
+        r = row_distribution->restrict(full);
+      }
+    else
+      {
+        exchange_slots();
+        sum_own_rows(r.begin());
+      }
+    for (unsigned int i = 0; i < r.locally_owned_size(); ++i)
+      r[i] -= c[r.global_index(i)];
     return r;
   }
 } // namespace FetiContact

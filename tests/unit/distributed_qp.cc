@@ -175,7 +175,7 @@ namespace
   {
     Vector<double> x, mu;
     unsigned int   iterations = 0, multiplications = 0, inner_iterations = 0;
-    bool           converged  = false;
+    bool           converged = false;
   };
 
   /** A set with the blocks of the problem on the entries that @p model's rank holds. */
@@ -266,12 +266,9 @@ namespace
     else
       {
         typename QP::MPGP<V>::AdditionalData data;
-        data.tolerance           = 1e-10 * problem.linear_term.l2_norm();
-        const auto report        = QP::MPGP<V>(data).solve(problem.hessian,
-                                                    problem.linear_term,
-                                                    set,
-                                                    x);
-        solution.iterations      = report.iterations;
+        data.tolerance      = 1e-10 * problem.linear_term.l2_norm();
+        const auto report   = QP::MPGP<V>(data).solve(problem.hessian, problem.linear_term, set, x);
+        solution.iterations = report.iterations;
         solution.multiplications = report.hessian_multiplications;
         solution.converged       = report.converged;
       }
@@ -299,13 +296,12 @@ namespace
         MPI_Comm_split(world, rank < n_ranks ? 0 : MPI_UNDEFINED, rank, &comm);
         if (comm == MPI_COMM_NULL)
           continue;
-        const auto layout = std::make_shared<const DistributedVector::Layout>(
-          comm, owned_indices(p.n, n_ranks, rank), p.n);
+        const auto layout =
+          std::make_shared<const DistributedVector::Layout>(comm,
+                                                            owned_indices(p.n, n_ranks, rank),
+                                                            p.n);
         on[n_ranks] = solve<DistributedVector>(
-          p,
-          layout->global_index,
-          [&]() { return DistributedVector(layout); },
-          with_equality);
+          p, layout->global_index, [&]() { return DistributedVector(layout); }, with_equality);
         MPI_Comm_free(&comm);
       }
     if (rank != 0)

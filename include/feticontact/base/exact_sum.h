@@ -44,8 +44,8 @@ namespace FetiContact
       const unsigned int shift = biased > 0 ? biased - 1 : 0;
       const unsigned int d     = shift / 32;
       // m 2^r with r = shift mod 32 < 32 spans three digits (m 2^r < 2^85).
-      const unsigned int  r    = shift % 32;
-      const std::int64_t  low  = static_cast<std::int64_t>((mantissa << r) & 0xffffffffu),
+      const unsigned int r    = shift % 32;
+      const std::int64_t low  = static_cast<std::int64_t>((mantissa << r) & 0xffffffffu),
                          mid  = static_cast<std::int64_t>((mantissa >> (32 - r)) & 0xffffffffu),
                          high = r == 0 ? 0 : static_cast<std::int64_t>(mantissa >> (64 - r));
       if (bits >> 63)

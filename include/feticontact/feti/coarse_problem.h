@@ -5,6 +5,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/block_partition.h>
+#include <feticontact/base/distributed_vector.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <functional>
@@ -13,6 +14,8 @@
 
 namespace FetiContact
 {
+  class DualDistribution;
+
   /**
    * The natural coarse space of FETI: G = Rᵀ Bᵀ (one row per rigid body mode of a floating
    * subdomain, one column per dual unknown), the coarse matrix GGᵀ factorized once by CHOLMOD,
@@ -20,6 +23,12 @@ namespace FetiContact
    * G is sparse and replicated on every rank; applying it costs O(nnz(G)), divided among the
    * ranks (BlockPartition: G x by blocks of modes, Gᵀx by blocks of columns, then gathered; the
    * same bits on any number of ranks). Every rank must call the products together.
+   *
+   * On distributed dual vectors (after distribute()) each rank computes (G x)_a for the modes of
+   * its own subdomains from the values of x on the rows of those subdomains (imported from their
+   * owners), the coarse vector is gathered, and (Gᵀy)_c is computed for the rows c the rank owns:
+   * every number is summed in the same order as with replicated vectors, so the results are the
+   * same bits.
    */
   class CoarseProblem
   {
@@ -55,22 +64,39 @@ namespace FetiContact
       return value.size();
     }
 
+    /**
+     * Prepares the products with distributed dual vectors: this rank owns the dual vectors'
+     * entries of @p distribution and computes the modes [@p first_mode, @p end_mode) of G x
+     * (those of its subdomains, whose columns are all relevant rows). The ranks' mode ranges
+     * follow each other in rank order. Collective; @p distribution must outlive this object.
+     */
+    void
+    distribute(const DualDistribution &distribution,
+               const unsigned int      first_mode,
+               const unsigned int      end_mode);
+
     /** y = G x. */
     void
     apply_G(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    void
+    apply_G(const DistributedVector &x, dealii::Vector<double> &y) const;
     /** y = Gᵀ x. */
     void
     apply_Gt(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    void
+    apply_Gt(const dealii::Vector<double> &x, DistributedVector &y) const;
     /**
      * y = G̃x with G̃ = L⁻¹PG, where P GGᵀ Pᵀ = LLᵀ is the coarse factorization: G̃ has the row
      * space of G and orthonormal rows (G̃G̃ᵀ = I), so Gλ = e ⟺ G̃λ = ẽ with ẽ = L⁻¹Pe. The
      * augmented Lagrangian works with G̃ (Dostál's orthonormalized constraints).
      */
+    template <typename VectorType>
     void
-    apply_G_orthonormal(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    apply_G_orthonormal(const VectorType &x, dealii::Vector<double> &y) const;
     /** y = G̃ᵀx. */
+    template <typename VectorType>
     void
-    apply_Gt_orthonormal(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+    apply_Gt_orthonormal(const dealii::Vector<double> &x, VectorType &y) const;
     /** μ = PᵀL⁻ᵀμ̃: the multiplier of Gλ = e from that of G̃λ = ẽ (Gᵀμ = G̃ᵀμ̃). */
     dealii::Vector<double>
     multiplier_from_orthonormal(const dealii::Vector<double> &mu_tilde) const;
@@ -87,11 +113,15 @@ namespace FetiContact
     void
     solve_GGt(dealii::Vector<double> &x) const;
     /** x ← P x = x − Gᵀ(GGᵀ)⁻¹G x. */
+    template <typename VectorType>
     void
-    project(dealii::Vector<double> &x) const;
+    project(VectorType &x) const;
     /** The least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
     dealii::Vector<double>
     least_norm_solution(const dealii::Vector<double> &e) const;
+    /** The same as a distributed dual vector. */
+    void
+    least_norm_solution(const dealii::Vector<double> &e, DistributedVector &lambda) const;
     /**
      * A particular solution λ₀ of Gλ = e that leaves as many kinds of dual unknowns at zero as
      * the constraints allow. @p tier gives each column a rank (for contact: 0 gluing and
@@ -114,17 +144,21 @@ namespace FetiContact
      * about ‖Gλ − e‖/‖e‖, seen here up to 1e-10 after 150 iterations). Returns ‖Gλ − e‖/‖e‖ before
      * the correction.
      */
+    template <typename VectorType>
     double
-    restore_feasibility(dealii::Vector<double> &lambda, const dealii::Vector<double> &e) const;
+    restore_feasibility(VectorType &lambda, const dealii::Vector<double> &e) const;
 
     /** α = (GGᵀ)⁻¹ G x (the coefficients of the rigid modes in the primal recovery). */
+    template <typename VectorType>
     dealii::Vector<double>
-    coarse_coefficients(const dealii::Vector<double> &x) const;
+    coarse_coefficients(const VectorType &x) const;
 
   private:
     /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
     void
     add_Gt(const dealii::Vector<double> &x, const bool add, dealii::Vector<double> &y) const;
+    void
+    add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
     /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
     void
     assemble_GGt(const std::function<bool(unsigned int)> &use_column,
@@ -141,5 +175,17 @@ namespace FetiContact
     std::vector<double>            block_column_value;
     CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
+
+    /** The distribution of the dual vectors (distribute()), or none. */
+    const DualDistribution *distribution = nullptr;
+    /** The ranks' ranges of modes for G x on distributed vectors. */
+    BlockPartition own_modes;
+    /** For the entries of G in this rank's modes: the relevant index of their column. */
+    std::vector<unsigned int> own_mode_column;
+    /** G by the columns this rank owns (CSC in the order of the local entries, modes increasing).
+     */
+    std::vector<unsigned int>      own_column_start, own_column_mode;
+    std::vector<double>            own_column_value;
+    mutable dealii::Vector<double> relevant_work;
   };
 } // namespace FetiContact

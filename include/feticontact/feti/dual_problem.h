@@ -3,10 +3,12 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/feti/coarse_problem.h>
+#include <feticontact/feti/dual_distribution.h>
 #include <feticontact/feti/equality_constraints.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/subdomain/subdomain.h>
 
+#include <memory>
 #include <mpi.h>
 #include <vector>
 
@@ -34,6 +36,11 @@ namespace FetiContact
    * ranks of a node share their local work (SharedLocalWork), the slots are in shared memory,
    * any rank may solve any subdomain, and every rank adds up all rows itself; the sums are the
    * same. Knows nothing of friction: it sees rows of B and their right-hand side c.
+   *
+   * The same operations exist on distributed dual vectors (DistributedVector, spread over the
+   * ranks by distribution()): every rank holds the rows it adds up, gets the values of the other
+   * rows of its subdomains from their owners (DualDistribution::import), and F x is the same bits
+   * as on replicated vectors.
    */
   class DualProblem
   {
@@ -62,6 +69,20 @@ namespace FetiContact
     void
     apply_F(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
 
+    /** y = F x on distributed dual vectors (the same numbers as the replicated product). */
+    void
+    apply_F(const DistributedVector &x, DistributedVector &y) const;
+
+    /**
+     * How the dual vectors are distributed: the rows this rank adds up (those of its first
+     * subdomain in summation order) and the rows of its subdomains.
+     */
+    const DualDistribution &
+    distribution() const
+    {
+      return *row_distribution;
+    }
+
     /**
      * y = D B K Bᵀ D x, the lumped FETI preconditioner (Farhat–Mandel–Roux) with the row scaling
      * D = diag(B Bᵀ)⁻¹: a gluing row between two subdomains (entries ±1) counts ½, a Dirichlet
@@ -71,6 +92,10 @@ namespace FetiContact
      */
     void
     apply_lumped(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
+
+    /** The lumped preconditioner on distributed dual vectors. */
+    void
+    apply_lumped(const DistributedVector &x, DistributedVector &y) const;
 
     /**
      * The primal solution u_i = K_i⁺(f_i − B_iᵀλ) + R_i α_i of every owned subdomain, with
@@ -83,9 +108,21 @@ namespace FetiContact
     std::vector<dealii::Vector<double>>
     recover_primal(const dealii::Vector<double> &lambda, const dealii::Vector<double> &alpha) const;
 
+    /** recover_primal() from a distributed λ. */
+    std::vector<dealii::Vector<double>>
+    recover_primal(const DistributedVector &lambda) const;
+
+    /** recover_primal() from a distributed λ and given α. */
+    std::vector<dealii::Vector<double>>
+    recover_primal(const DistributedVector &lambda, const dealii::Vector<double> &alpha) const;
+
     /** r = B u − c from the subdomain solutions of this rank, summed over the ranks. */
     dealii::Vector<double>
     constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
+
+    /** B u − c on this rank's rows. */
+    DistributedVector
+    distributed_constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
 
     CoarseProblem          coarse;
     dealii::Vector<double> h, c, e;
@@ -121,6 +158,36 @@ namespace FetiContact
     set_Bt(const unsigned int            i,
            const dealii::Vector<double> &lambda,
            dealii::Vector<double>       &x) const;
+    /** x = B_iᵀ λ from the values of λ on the relevant rows (DualDistribution::import). */
+    void
+    set_Bt_relevant(const unsigned int            i,
+                    const dealii::Vector<double> &lambda_relevant,
+                    dealii::Vector<double>       &x) const;
+    /**
+     * Receives the slots of other ranks' subdomains in this rank's rows and sends this rank's
+     * slots in other ranks' rows.
+     */
+    void
+    exchange_slots() const;
+    /** The sums of this rank's rows (after exchange_slots()), in the order of own_rows. */
+    void
+    sum_own_rows(double *sums) const;
+    /** y = F x with x given on the relevant rows (the local work, then the row sums). */
+    void
+    apply_F_relevant(const dealii::Vector<double> &x_relevant, DistributedVector &y) const;
+    /** The local part of recover_primal(): u_i = K_i⁺(f_i − B_iᵀλ) + R_i α_i. */
+    std::vector<dealii::Vector<double>>
+    recover_primal_relevant(const dealii::Vector<double> &lambda_relevant,
+                            const dealii::Vector<double> &alpha) const;
+
+    /** The rows of this rank's dual vectors, and the relevant rows of its subdomains. */
+    std::unique_ptr<DualDistribution> row_distribution;
+    /** Per owned subdomain: the relevant index of the row of every entry of B_i. */
+    std::vector<std::vector<unsigned int>> relevant_row;
+    /** Work vectors of the distributed products: x on the relevant rows. */
+    mutable dealii::Vector<double> x_relevant;
+    /** D of apply_lumped on the relevant rows. */
+    mutable dealii::Vector<double> lumped_scale_relevant;
 
     /** D = diag(B Bᵀ)⁻¹ of apply_lumped (computed at its first call). */
     mutable dealii::Vector<double> lumped_row_scale;

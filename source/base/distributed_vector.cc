@@ -4,16 +4,47 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
 
 namespace FetiContact
 {
-  DistributedVector::Layout::Layout(const MPI_Comm            comm,
-                                    std::vector<unsigned int> global_index,
-                                    const unsigned int        n)
+  DistributedVector::Layout::Layout(const MPI_Comm               comm,
+                                    std::vector<unsigned int>    global_index,
+                                    const unsigned int           n,
+                                    const std::vector<unsigned> &chunk_of_entry)
     : comm(comm)
     , global_index(std::move(global_index))
     , n_global(n)
-  {}
+  {
+    if (chunk_of_entry.empty())
+      return;
+    AssertDimension(chunk_of_entry.size(), this->global_index.size());
+    // Local chunk numbers in the order of the given ones, entries increasing within each.
+    std::vector<unsigned int> keys(chunk_of_entry);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    chunk.resize(chunk_of_entry.size());
+    chunk_start.assign(keys.size() + 1, 0);
+    for (unsigned int i = 0; i < chunk.size(); ++i)
+      {
+        chunk[i] = std::lower_bound(keys.begin(), keys.end(), chunk_of_entry[i]) - keys.begin();
+        ++chunk_start[chunk[i] + 1];
+      }
+    for (unsigned int c = 0; c < keys.size(); ++c)
+      chunk_start[c + 1] += chunk_start[c];
+    chunk_entry.resize(chunk.size());
+    std::vector<unsigned int> next(chunk_start.begin(), chunk_start.end() - 1);
+    for (unsigned int i = 0; i < chunk.size(); ++i)
+      chunk_entry[next[chunk[i]]++] = i;
+    // Within a chunk by global index: the same order on any number of ranks.
+    for (unsigned int c = 0; c < keys.size(); ++c)
+      std::sort(chunk_entry.begin() + chunk_start[c],
+                chunk_entry.begin() + chunk_start[c + 1],
+                [this](const unsigned int a, const unsigned int b) {
+                  return this->global_index[a] < this->global_index[b];
+                });
+  }
 
   DistributedVector::DistributedVector(std::shared_ptr<const Layout> layout)
   {
@@ -130,29 +161,61 @@ namespace FetiContact
     values.swap(v.values);
   }
 
+  template <typename Term>
+  double
+  DistributedVector::chunked_sum(const Term &term) const
+  {
+    ExactSum sum;
+    if (!layout || layout->n_chunks() == 0)
+      for (std::size_t i = 0; i < values.size(); ++i)
+        sum.add(term(i));
+    else
+      for (unsigned int c = 0; c < layout->n_chunks(); ++c)
+        {
+          // Four partial sums by position in the chunk, added pairwise.
+          const unsigned int *entry = layout->chunk_entry.data() + layout->chunk_start[c];
+          const unsigned int  n     = layout->chunk_start[c + 1] - layout->chunk_start[c];
+          double              s[4]  = {0, 0, 0, 0};
+          unsigned int        j     = 0;
+          for (; j + 4 <= n; j += 4)
+            for (unsigned int q = 0; q < 4; ++q)
+              s[q] += term(entry[j + q]);
+          for (unsigned int q = 0; j < n; ++j, ++q)
+            s[q] += term(entry[j]);
+          sum.add((s[0] + s[1]) + (s[2] + s[3]));
+        }
+    return sum_over_ranks(sum);
+  }
+
   double
   DistributedVector::operator*(const DistributedVector &v) const
   {
     AssertDimension(v.values.size(), values.size());
-    ExactSum sum;
-    for (std::size_t i = 0; i < values.size(); ++i)
-      sum.add_product(values[i], v.values[i]);
-    return sum_over_ranks(sum);
+    const double *a = values.data(), *b = v.values.data();
+    return chunked_sum([a, b](const unsigned int i) { return a[i] * b[i]; });
   }
 
   double
   DistributedVector::norm_sqr() const
   {
-    ExactSum sum;
-    for (const double x : values)
-      sum.add_product(x, x);
-    return sum_over_ranks(sum);
+    const double *a = values.data();
+    return chunked_sum([a](const unsigned int i) { return a[i] * a[i]; });
   }
 
   double
   DistributedVector::l2_norm() const
   {
-    return std::sqrt(norm_sqr());
+    const double sum = norm_sqr();
+    if (std::isnan(sum) || (std::isfinite(sum) && sum >= std::numeric_limits<double>::min()))
+      return std::sqrt(sum);
+    // The squares overflowed or underflowed: the norm of x/‖x‖_∞, times ‖x‖_∞ (as
+    // dealii::Vector::l2_norm does).
+    const double scale = linfty_norm();
+    if (scale == 0 || !std::isfinite(scale))
+      return scale;
+    const double *a = values.data();
+    return scale * std::sqrt(chunked_sum(
+                     [a, scale](const unsigned int i) { return (a[i] / scale) * (a[i] / scale); }));
   }
 
   double

@@ -8,6 +8,11 @@ namespace FetiContact
   void
   ExactSum::normalize()
   {
+    for (unsigned int d = 0; d < n_digits; ++d)
+      {
+        digit[d] += digit[n_digits + d];
+        digit[n_digits + d] = 0;
+      }
     for (unsigned int d = 0; d + 1 < n_digits; ++d)
       {
         // Floor division by 2^32 (arithmetic shift), so that the remainder is in [0, 2^32).
@@ -48,10 +53,11 @@ namespace FetiContact
     // sign and is below 2^31: the sum of the ranks' digits does not overflow below 2^31 ranks.
     normalize();
     std::array<std::int64_t, n_digits + 3> all;
-    std::copy(digit.begin(), digit.end(), all.begin());
+    std::copy(digit.begin(), digit.begin() + n_digits, all.begin());
     std::copy(n_special.begin(), n_special.end(), all.begin() + n_digits);
     MPI_Allreduce(MPI_IN_PLACE, all.data(), all.size(), MPI_INT64_T, MPI_SUM, comm);
     std::copy(all.begin(), all.begin() + n_digits, digit.begin());
+    n_terms = 0;
     std::copy(all.begin() + n_digits, all.end(), n_special.begin());
   }
 

@@ -116,6 +116,14 @@ namespace FetiContact
       {
         layout.normal_row[k] = rows.n_rows();
         add_row(rows, nodes[k], nodes[k].n, nodes[k].gap);
+        // A node's rows (the blocks of its constraint set) stay on one rank.
+        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+          {
+            std::vector<unsigned int> node_rows{layout.normal_row[k]};
+            for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+              node_rows.push_back(layout.tangential_row[k] + j);
+            rows.held_together.push_back(std::move(node_rows));
+          }
       }
     layout.n_normal = nodes.size();
     return rows;

@@ -448,18 +448,13 @@ namespace FetiContact
   Simulator::solve_linear()
   {
     TimerOutput::Scope scope(timer, "solve");
-    // λ distributed over the ranks like the rows of B; the sums of its dot products are exact,
-    // so the iterates are the same bits on any number of ranks.
-    const DualDistribution &rows_of_rank = dual->distribution();
-    DistributedVector       lambda_of_rank;
-    dual->coarse.least_norm_solution(dual->e, lambda_of_rank);
-    const DistributedVector h_of_rank = rows_of_rank.restrict(dual->h);
-    const auto              report =
-      QP::ProjectedCG<DistributedVector>(parameters.feti.projected_cg)
-        .solve([this](const DistributedVector &x, DistributedVector &y) { dual->apply_F(x, y); },
-               [this](DistributedVector &x) { dual->coarse.project(x); },
-               h_of_rank,
-               lambda_of_rank,
+    lambda = dual->coarse.least_norm_solution(dual->e);
+    const auto report =
+      QP::ProjectedCG<DualVector>(parameters.feti.projected_cg)
+        .solve([this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
+               [this](Vector<double> &x) { dual->coarse.project(x); },
+               dual->h,
+               lambda,
                [this](unsigned int it, double residual) {
                  if (it % 50 == 0)
                    pcout << "  PCG iteration " << std::setw(5) << it
@@ -467,14 +462,11 @@ namespace FetiContact
                          << residual << std::defaultfloat << std::endl;
                },
                parameters.feti.lumped_preconditioner ?
-                 QP::Operator<DistributedVector>(
-                   [this](const DistributedVector &x, DistributedVector &y) {
-                     dual->apply_lumped(x, y);
-                   }) :
-                 QP::Operator<DistributedVector>());
-    const double drift = dual->coarse.restore_feasibility(lambda_of_rank, dual->e);
-    // The whole λ on every rank, for the contact results and the output.
-    lambda = rows_of_rank.gather(lambda_of_rank);
+                 QP::Operator<DualVector>([this](const Vector<double> &x, Vector<double> &y) {
+                   dual->apply_lumped(x, y);
+                 }) :
+                 QP::Operator<DualVector>());
+    const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;

@@ -12,10 +12,13 @@ namespace FetiContact
   DualDistribution::DualDistribution(const MPI_Comm                   comm,
                                      const std::vector<unsigned int> &owned_rows,
                                      const std::vector<unsigned int> &relevant_rows,
-                                     const std::vector<int>          &row_owner)
+                                     const std::vector<int>          &row_owner,
+                                     const std::vector<unsigned int> &chunk_of_owned_row)
     : comm(comm)
-    , vector_layout(
-        std::make_shared<const DistributedVector::Layout>(comm, owned_rows, row_owner.size()))
+    , vector_layout(std::make_shared<const DistributedVector::Layout>(comm,
+                                                                      owned_rows,
+                                                                      row_owner.size(),
+                                                                      chunk_of_owned_row))
     , relevant(relevant_rows)
   {
     int n_ranks = 1, this_rank = 0;
@@ -132,8 +135,7 @@ namespace FetiContact
         values[e.index[j]] = e.buffer[j];
   }
 
-  DistributedVector
-  DualDistribution::restrict(const Vector<double> &all) const
+  DistributedVector DualDistribution::restrict(const Vector<double> &all) const
   {
     DistributedVector x(vector_layout);
     for (unsigned int i = 0; i < x.locally_owned_size(); ++i)
@@ -159,21 +161,28 @@ namespace FetiContact
     return all;
   }
 
+  namespace
+  {
+    template <typename Exchange>
+    std::size_t
+    n_values(const std::vector<Exchange> &exchanges)
+    {
+      std::size_t n = 0;
+      for (const auto &e : exchanges)
+        n += e.index.size();
+      return n;
+    }
+  } // namespace
+
   std::size_t
   DualDistribution::n_sent() const
   {
-    std::size_t n = 0;
-    for (const auto &e : send)
-      n += e.index.size();
-    return n;
+    return n_values(send);
   }
 
   std::size_t
   DualDistribution::n_received() const
   {
-    std::size_t n = 0;
-    for (const auto &e : receive)
-      n += e.index.size();
-    return n;
+    return n_values(receive);
   }
 } // namespace FetiContact

@@ -178,10 +178,34 @@ namespace FetiContact
                              ", which no rank owns."));
       return subdomain_rank[s];
     };
+    // The first subdomain of every row (the lowest of a set of rows held together), its rank
+    // and its chunk of the dual vectors' sums: a chunk is the same rows on any number of ranks,
+    // and all on one rank (the subdomains of a rank are a contiguous range). Which rank adds up
+    // a row does not change its sum.
+    std::vector<unsigned int> first_subdomain(m, 0);
+    for (unsigned int r = 0; r < m; ++r)
+      if (slot_start[r] < slot_start[r + 1])
+        first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
+    for (const auto &set : rows.held_together)
+      {
+        unsigned int first = numbers::invalid_unsigned_int;
+        for (const unsigned int r : set)
+          first = std::min(first, first_subdomain[r]);
+        for (const unsigned int r : set)
+          first_subdomain[r] = first;
+      }
     std::vector<int> row_rank(m, 0);
     for (unsigned int r = 0; r < m; ++r)
       if (slot_start[r] < slot_start[r + 1])
         row_rank[r] = rank_of_slot(slot_order[slot_start[r]]);
+    for (const auto &set : rows.held_together)
+      {
+        int rank = n_ranks;
+        for (const unsigned int r : set)
+          rank = std::min(rank, row_rank[r]);
+        for (const unsigned int r : set)
+          row_rank[r] = rank;
+      }
 
     // The slots that cross ranks: terms of this rank's subdomains in other ranks' rows (sent)
     // and the other way round (received), both listed by increasing slot on either side.
@@ -238,7 +262,11 @@ namespace FetiContact
       relevant.insert(relevant.end(), b.row.begin(), b.row.end());
     std::sort(relevant.begin(), relevant.end());
     relevant.erase(std::unique(relevant.begin(), relevant.end()), relevant.end());
-    row_distribution = std::make_unique<DualDistribution>(comm, own_rows, relevant, row_rank);
+    std::vector<unsigned int> chunk_of_own_row(own_rows.size());
+    for (unsigned int j = 0; j < own_rows.size(); ++j)
+      chunk_of_own_row[j] = first_subdomain[own_rows[j]];
+    row_distribution =
+      std::make_unique<DualDistribution>(comm, own_rows, relevant, row_rank, chunk_of_own_row);
     relevant_row.resize(B.size());
     for (unsigned int i = 0; i < B.size(); ++i)
       {

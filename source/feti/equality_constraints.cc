@@ -16,6 +16,12 @@ namespace FetiContact
   void
   DualRows::append(const DualRows &other)
   {
+    for (auto set : other.held_together)
+      {
+        for (unsigned int &r : set)
+          r += n_rows();
+        held_together.push_back(std::move(set));
+      }
     for (unsigned int r = 0; r < other.n_rows(); ++r)
       add_row(std::vector<DualRowEntry>(other.entries.begin() + other.row_start[r],
                                         other.entries.begin() + other.row_start[r + 1]),

@@ -310,7 +310,7 @@ namespace FetiContact::QP
   double
   SeparableSet::arc_curvature(const VectorType &x, const VectorType &g, const VectorType &d) const
   {
-    typename Reductions<VectorType>::Sum curvature;
+    typename Reductions<VectorType>::Sum curvature(x);
     for (const Disc &disc : discs)
       {
         if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
@@ -319,7 +319,7 @@ namespace FetiContact::QP
         const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
         const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
         const double t1 = d[disc.i] - dn * nu[0], t2 = d[disc.j] - dn * nu[1];
-        curvature.add(sigma / disc.radius * (t1 * t1 + t2 * t2));
+        curvature.add(disc.i, sigma / disc.radius * (t1 * t1 + t2 * t2));
       }
     return curvature.result(x);
   }
@@ -428,7 +428,7 @@ namespace FetiContact::QP
     AssertDimension(w.locally_owned_size(), size());
     const double                         infinity = std::numeric_limits<double>::infinity();
     const double                         small    = zero * w.linfty_norm();
-    typename Reductions<VectorType>::Sum sup;
+    typename Reductions<VectorType>::Sum sup(w);
     bool                                 unbounded = false;
     for (unsigned int i = 0; i < size() && !unbounded; ++i)
       {
@@ -437,7 +437,7 @@ namespace FetiContact::QP
         const double end = w[i] > 0 ? upper[i] : lower[i]; // ±∞ for a free component
         unbounded        = !std::isfinite(end);
         if (!unbounded)
-          sup.add(end * w[i]);
+          sup.add(i, end * w[i]);
       }
     for (unsigned int k = 0; k < discs.size() && !unbounded; ++k)
       {
@@ -448,7 +448,7 @@ namespace FetiContact::QP
           continue;
         unbounded = !std::isfinite(d.radius);
         if (!unbounded)
-          sup.add(d.centre[0] * a + d.centre[1] * b + d.radius * std::hypot(a, b));
+          sup.add(d.i, d.centre[0] * a + d.centre[1] * b + d.radius * std::hypot(a, b));
       }
     if (Reductions<VectorType>::any(unbounded, w))
       return infinity;

@@ -277,9 +277,10 @@ namespace
   }
 
   void
-  check_solvers(const MPI_Comm world, const bool with_equality)
+  check_solvers(const MPI_Comm world, const bool with_equality, const bool chunks)
   {
-    const std::string   name = with_equality ? "SMALBE" : "MPGP";
+    const std::string name =
+      std::string(with_equality ? "SMALBE" : "MPGP") + (chunks ? " (sums by chunks)" : "");
     const GlobalProblem p    = make_problem();
     const unsigned int  P    = Utilities::MPI::n_mpi_processes(world);
     const unsigned int  rank = Utilities::MPI::this_mpi_process(world);
@@ -296,10 +297,14 @@ namespace
         MPI_Comm_split(world, rank < n_ranks ? 0 : MPI_UNDEFINED, rank, &comm);
         if (comm == MPI_COMM_NULL)
           continue;
+        // With chunks: the blocks of two consecutive indices, each on one rank.
+        const std::vector<unsigned int> owned = owned_indices(p.n, n_ranks, rank);
+        std::vector<unsigned int>       chunk_of_entry;
+        if (chunks)
+          for (const unsigned int i : owned)
+            chunk_of_entry.push_back(i / 2);
         const auto layout =
-          std::make_shared<const DistributedVector::Layout>(comm,
-                                                            owned_indices(p.n, n_ranks, rank),
-                                                            p.n);
+          std::make_shared<const DistributedVector::Layout>(comm, owned, p.n, chunk_of_entry);
         on[n_ranks] = solve<DistributedVector>(
           p, layout->global_index, [&]() { return DistributedVector(layout); }, with_equality);
         MPI_Comm_free(&comm);
@@ -338,8 +343,11 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                   world = MPI_COMM_WORLD;
   check_exact_sum(world);
-  check_solvers(world, false);
-  check_solvers(world, true);
+  for (const bool chunks : {false, true})
+    {
+      check_solvers(world, false, chunks);
+      check_solvers(world, true, chunks);
+    }
   const int failures = Utilities::MPI::max(n_failures, world);
   if (Utilities::MPI::this_mpi_process(world) == 0)
     std::cout << (failures == 0 ? "PASSED" : "FAILED") << std::endl;

@@ -12,8 +12,16 @@ namespace FetiContact
    * A vector of n numbers distributed over the MPI ranks of a communicator: each rank holds some
    * of its entries (every entry on exactly one rank) and knows their global indices. The
    * operations that the QP layer needs act on the local entries, and the reductions (dot
-   * products and norms) are the same bits on any number of ranks and any split of the entries:
-   * sums are exact and rounded once (ExactSum), maxima and minima are exact anyway.
+   * products and norms) are the same bits on any number of ranks and any split of the entries;
+   * maxima and minima are exact anyway.
+   *
+   * A sum is made in two stages. The entries fall into chunks that the layout names, each held
+   * whole by one rank whatever the number of ranks (for the FETI dual vectors: the rows whose
+   * first subdomain is the same); a chunk's terms are added in the order of their global
+   * indices, with four partial sums by position (the same numbers on any number of ranks, and
+   * a plain floating-point loop). The chunks' sums are then added exactly and rounded once
+   * (ExactSum) over all ranks. Without chunks every entry is its own chunk (about six times
+   * the cost of a plain sum; doc/performance.md, "Reproducible sums").
    *
    * Local entries are addressed by their local index: operator[](i) is the i-th entry this rank
    * holds, whose global index is global_index(i) (an element-wise loop runs over i <
@@ -34,12 +42,31 @@ namespace FetiContact
      */
     struct Layout
     {
-      /** @p global_index of the local entries; @p n_global the global size (all ranks agree). */
-      Layout(const MPI_Comm comm, std::vector<unsigned int> global_index, const unsigned int n);
+      /**
+       * @p global_index of the local entries; @p n_global the global size (all
+       * ranks agree); @p chunk_of_entry: the chunk of every local entry (any numbers; entries
+       * of one chunk must be local on one rank on any number of ranks), or empty: every entry
+       * its own chunk.
+       */
+      Layout(const MPI_Comm               comm,
+             std::vector<unsigned int>    global_index,
+             const unsigned int           n,
+             const std::vector<unsigned> &chunk_of_entry = {});
 
       MPI_Comm                  comm;
       std::vector<unsigned int> global_index;
       unsigned int              n_global;
+      /** The local chunk number of every local entry (chunks numbered 0, 1, … locally). */
+      std::vector<unsigned int> chunk;
+      /** The local entries of every chunk by global index (CSR: chunk_start, chunk_entry). */
+      std::vector<unsigned int> chunk_start, chunk_entry;
+
+      /** The number of local chunks (0: every entry its own chunk). */
+      unsigned int
+      n_chunks() const
+      {
+        return chunk_start.empty() ? 0 : chunk_start.size() - 1;
+      }
     };
 
     /** The empty vector (on no communicator). */
@@ -198,6 +225,11 @@ namespace FetiContact
     any_over_ranks(const bool local) const;
 
   private:
+    /** The sum over all entries of term(i) (i local), by chunks (see the class). Collective. */
+    template <typename Term>
+    double
+    chunked_sum(const Term &term) const;
+
     /** @p local reduced over the ranks by @p operation (MPI_MIN, MPI_MAX). */
     double
     reduce(const double local, const MPI_Op operation) const;

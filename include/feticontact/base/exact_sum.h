@@ -48,18 +48,14 @@ namespace FetiContact
       const std::int64_t low  = static_cast<std::int64_t>((mantissa << r) & 0xffffffffu),
                          mid  = static_cast<std::int64_t>((mantissa >> (32 - r)) & 0xffffffffu),
                          high = r == 0 ? 0 : static_cast<std::int64_t>(mantissa >> (64 - r));
-      if (bits >> 63)
-        {
-          digit[d] -= low;
-          digit[d + 1] -= mid;
-          digit[d + 2] -= high;
-        }
-      else
-        {
-          digit[d] += low;
-          digit[d + 1] += mid;
-          digit[d + 2] += high;
-        }
+      // Negative terms subtract: (v ^ s) − s with s = 0 or −1, without a branch (the signs of
+      // the products of a dot product are random).
+      // Successive terms go to alternate lanes: two chains of additions to memory instead of one.
+      const std::int64_t sign = -static_cast<std::int64_t>(bits >> 63);
+      std::int64_t      *lane = digit.data() + (n_terms & 1) * n_digits;
+      lane[d] += (low ^ sign) - sign;
+      lane[d + 1] += (mid ^ sign) - sign;
+      lane[d + 2] += (high ^ sign) - sign;
       if (++n_terms == carry_interval)
         normalize();
     }
@@ -89,7 +85,8 @@ namespace FetiContact
     /** Terms between two carry propagations (a digit then stays below 2^62 in magnitude). */
     static constexpr unsigned int carry_interval = 1u << 29;
 
-    /** Propagates the carries: every digit but the last to [0, 2^32). */
+    /** Adds the second lane to the first and propagates the carries: every digit of the first
+     * lane but the last to [0, 2^32). */
     void
     normalize();
 
@@ -97,7 +94,8 @@ namespace FetiContact
     void
     add_special(const double x);
 
-    std::array<std::int64_t, n_digits> digit{};
+    /** Two lanes of digits (terms alternate between them; normalize() adds them up). */
+    std::array<std::int64_t, 2 * n_digits> digit{};
     /** The numbers of NaN, +∞ and −∞ terms. */
     std::array<std::int64_t, 3> n_special{};
     unsigned int                n_terms = 0;

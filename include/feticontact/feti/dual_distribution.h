@@ -26,11 +26,14 @@ namespace FetiContact
      * @p owned_rows: the rows this rank owns, increasing; @p relevant_rows: the rows it needs,
      * increasing, a superset of the owned ones; @p n_rows: the number of all rows. Collective
      * (one exchange of the ghost lists with their owners, whom @p row_owner names).
+     * @p chunk_of_owned_row: the chunk of every owned row for the sums of the dual vectors
+     * (DistributedVector::Layout).
      */
     DualDistribution(const MPI_Comm                   comm,
                      const std::vector<unsigned int> &owned_rows,
                      const std::vector<unsigned int> &relevant_rows,
-                     const std::vector<int>          &row_owner);
+                     const std::vector<int>          &row_owner,
+                     const std::vector<unsigned int> &chunk_of_owned_row = {});
 
     /** The layout of the dual vectors (the owned rows in increasing order). */
     const std::shared_ptr<const DistributedVector::Layout> &
@@ -72,8 +75,7 @@ namespace FetiContact
     import(const DistributedVector &x, dealii::Vector<double> &values) const;
 
     /** The owned entries of a vector of all rows. */
-    DistributedVector
-    restrict(const dealii::Vector<double> &all) const;
+    DistributedVector restrict(const dealii::Vector<double> &all) const;
 
     /**
      * All rows of @p x on every rank (MPI_Allgatherv). For what still needs a global view (the
@@ -104,9 +106,9 @@ namespace FetiContact
       mutable std::vector<double> buffer;
     };
 
-    MPI_Comm                                  comm;
+    MPI_Comm                                         comm;
     std::shared_ptr<const DistributedVector::Layout> vector_layout;
-    std::vector<unsigned int>                 relevant;
+    std::vector<unsigned int>                        relevant;
     /** The relevant index of every owned row (in the order of the local entries). */
     std::vector<unsigned int> owned_relevant;
     /** send: local indices of owned rows; receive: relevant indices of ghosts. */

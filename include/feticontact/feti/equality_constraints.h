@@ -26,6 +26,12 @@ namespace FetiContact
     std::vector<unsigned int> row_start{0};
     std::vector<DualRowEntry> entries;
     std::vector<double>       c;
+    /**
+     * Sets of rows that one rank must hold together in the distributed dual vectors (the rows
+     * of one block of a separable constraint set, e.g. a contact node's normal and tangential
+     * rows); rows in no set are placed one by one.
+     */
+    std::vector<std::vector<unsigned int>> held_together;
 
     unsigned int
     n_rows() const

@@ -26,8 +26,12 @@ namespace FetiContact::QP
     class Sum
     {
     public:
+      explicit Sum(const VectorType &)
+      {}
+
+      /** Adds the term @p x that belongs to entry @p i. */
       void
-      add(const double x)
+      add(const unsigned int /*i*/, const double x)
       {
         sum += x;
       }
@@ -73,24 +77,42 @@ namespace FetiContact::QP
   {
     using VectorType = DistributedVector;
 
-    /** An exact sum of the terms of all ranks, rounded once. */
+    /**
+     * A sum of the terms of all ranks by the chunks of the vector's layout: every chunk's terms
+     * in the order they are added (each a term of a local entry, added in the order of the
+     * global indices by the caller's loop), then the chunks' sums exactly (DistributedVector).
+     */
     class Sum
     {
     public:
+      explicit Sum(const VectorType &v)
+        : chunk(v.get_layout() ? &v.get_layout()->chunk : nullptr)
+        , chunk_sum(v.get_layout() ? v.get_layout()->n_chunks() : 0, 0.)
+      {}
+
+      /** Adds the term @p x that belongs to local entry @p i. */
       void
-      add(const double x)
+      add(const unsigned int i, const double x)
       {
-        sum.add(x);
+        if (chunk_sum.empty())
+          sum.add(x);
+        else
+          chunk_sum[(*chunk)[i]] += x;
       }
 
       double
       result(const VectorType &v) const
       {
-        return v.sum_over_ranks(sum);
+        ExactSum total(sum);
+        for (const double s : chunk_sum)
+          total.add(s);
+        return v.sum_over_ranks(total);
       }
 
     private:
-      ExactSum sum;
+      const std::vector<unsigned int> *chunk;
+      std::vector<double>              chunk_sum;
+      ExactSum                         sum;
     };
 
     static double

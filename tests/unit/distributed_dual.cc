@@ -1,0 +1,135 @@
+// The FETI operators on distributed dual vectors (DualDistribution): on P ranks, each owning a
+// contiguous range of the 12 subdomains of the brick (TFETI, 3 × 2 × 2 blocks), F x, the lumped
+// preconditioner, G x, Gᵀy, the projector P, the least-norm solution of Gλ = e, the primal
+// recovery and B u − c must be the same bits as on one rank holding everything (a DualProblem on
+// MPI_COMM_SELF), and so must the dot products of the distributed vectors.
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+
+#include <feticontact/feti/dual_problem.h>
+#include <feticontact/feti/equality_constraints.h>
+
+#include "test_tools.h"
+
+#include <cstring>
+#include <random>
+
+using namespace dealii;
+using namespace FetiContact;
+
+namespace
+{
+  /** Whether @p a and @p b hold the same bits. */
+  bool
+  same_bits(const Vector<double> &a, const Vector<double> &b)
+  {
+    return a.size() == b.size() &&
+           std::memcmp(a.begin(), b.begin(), a.size() * sizeof(double)) == 0;
+  }
+
+  bool
+  same_bits(const double a, const double b)
+  {
+    return std::memcmp(&a, &b, sizeof(double)) == 0;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm                   world   = MPI_COMM_WORLD;
+  const unsigned int               n_ranks = Utilities::MPI::n_mpi_processes(world);
+  const unsigned int               rank    = Utilities::MPI::this_mpi_process(world);
+  const FESystem<3>                fe(FE_SimplexP<3>(1), 3);
+  const MappingFE<3>               mapping(FE_SimplexP<3>(1));
+
+  const auto scene = scene_from_text(brick_text("set Method = blocks\nset Blocks = 3, 2, 2"));
+  std::vector<std::unique_ptr<Body>> bodies;
+  bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
+  bodies[0]->setup();
+  const unsigned int n_sub = bodies[0]->partition.n_parts;
+  const DualRows     rows  = build_equality_rows(bodies, {0, n_sub}, true);
+
+  // Every subdomain on every rank (for the reference); this rank's contiguous range.
+  std::vector<std::unique_ptr<Subdomain>> subdomains;
+  std::vector<Subdomain *>                all, own;
+  std::vector<unsigned int>               mode_offset{0};
+  const unsigned int first = n_sub * rank / n_ranks, last = n_sub * (rank + 1) / n_ranks;
+  for (unsigned int p = 0; p < n_sub; ++p)
+    {
+      subdomains.push_back(std::make_unique<Subdomain>(*bodies[0], p, p, false, fe));
+      subdomains.back()->assemble(mapping);
+      subdomains.back()->factorize("cholmod");
+      all.push_back(subdomains.back().get());
+      if (p >= first && p < last)
+        own.push_back(subdomains.back().get());
+      mode_offset.push_back(mode_offset.back() + subdomains.back()->R.n());
+    }
+  const DualProblem reference(MPI_COMM_SELF, all, mode_offset, rows);
+  const DualProblem dual(world, own, mode_offset, rows);
+  const auto       &d = dual.distribution();
+  const std::string on =
+    " on " + std::to_string(n_ranks) + " rank(s) (" + std::to_string(d.n_neighbours()) +
+    " neighbours, " + std::to_string(d.n_received()) + " ghost values received)";
+
+  const unsigned int                     m = reference.size();
+  std::mt19937                           random(5);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  Vector<double>                         x(m), y(reference.coarse.n_modes());
+  for (auto &xi : x)
+    xi = uniform(random);
+  for (auto &yi : y)
+    yi = uniform(random);
+  const DistributedVector x_d = d.restrict(x);
+
+  Vector<double>    Fx, lumped_x;
+  DistributedVector Fx_d, lumped_x_d;
+  reference.apply_F(x, Fx);
+  dual.apply_F(x_d, Fx_d);
+  check(same_bits(d.gather(Fx_d), Fx), "F x" + on + ": the same bits as on one rank");
+  reference.apply_lumped(x, lumped_x);
+  dual.apply_lumped(x_d, lumped_x_d);
+  check(same_bits(d.gather(lumped_x_d), lumped_x),
+        "lumped preconditioner" + on + ": the same bits as on one rank");
+
+  Vector<double> Gx, Gx_d, Gty;
+  reference.coarse.apply_G(x, Gx);
+  dual.coarse.apply_G(x_d, Gx_d);
+  DistributedVector Gty_d;
+  reference.coarse.apply_Gt(y, Gty);
+  dual.coarse.apply_Gt(y, Gty_d);
+  check(same_bits(Gx, Gx_d) && same_bits(d.gather(Gty_d), Gty),
+        "G x and Gᵀy" + on + ": the same bits as on one rank");
+
+  Vector<double>    Px(x), lambda0 = reference.coarse.least_norm_solution(reference.e);
+  DistributedVector Px_d(x_d), lambda0_d;
+  reference.coarse.project(Px);
+  dual.coarse.project(Px_d);
+  dual.coarse.least_norm_solution(dual.e, lambda0_d);
+  check(same_bits(d.gather(Px_d), Px) && same_bits(d.gather(lambda0_d), lambda0),
+        "P x and the least-norm solution of Gλ = e" + on + ": the same bits as on one rank");
+
+  const auto u_reference = reference.recover_primal(lambda0);
+  const auto u           = dual.recover_primal(lambda0_d);
+  bool       same_u      = u.size() == own.size();
+  for (unsigned int i = 0; same_u && i < own.size(); ++i)
+    same_u = same_bits(u[i], u_reference[first + i]);
+  const Vector<double> r_reference = reference.constraint_residual(u_reference);
+  const Vector<double> r           = d.gather(dual.distributed_constraint_residual(u));
+  check(same_u && same_bits(r, r_reference),
+        "primal recovery and B u − c" + on + ": the same bits as on one rank");
+
+  const DistributedVector x_one = reference.distribution().restrict(x);
+  const DistributedVector Fx_one = reference.distribution().restrict(Fx);
+  check(same_bits(x_d * Fx_d, x_one * Fx_one) && same_bits(Fx_d.l2_norm(), Fx_one.l2_norm()),
+        "xᵀF x and ‖F x‖" + on + ": the same bits as on one rank (" + sci(x_d * Fx_d) + ")");
+
+  const int failures = Utilities::MPI::max(n_failures, world);
+  if (rank == 0)
+    std::cout << (failures == 0 ? "PASSED" : "FAILED") << std::endl;
+  return failures;
+}

@@ -71,10 +71,10 @@ main(int argc, char **argv)
     }
   const DualProblem reference(MPI_COMM_SELF, all, mode_offset, rows);
   const DualProblem dual(world, own, mode_offset, rows);
-  const auto       &d = dual.distribution();
-  const std::string on =
-    " on " + std::to_string(n_ranks) + " rank(s) (" + std::to_string(d.n_neighbours()) +
-    " neighbours, " + std::to_string(d.n_received()) + " ghost values received)";
+  const auto       &d  = dual.distribution();
+  const std::string on = " on " + std::to_string(n_ranks) + " rank(s) (" +
+                         std::to_string(d.n_neighbours()) + " neighbours, " +
+                         std::to_string(d.n_received()) + " ghost values received)";
 
   const unsigned int                     m = reference.size();
   std::mt19937                           random(5);
@@ -123,7 +123,7 @@ main(int argc, char **argv)
   check(same_u && same_bits(r, r_reference),
         "primal recovery and B u − c" + on + ": the same bits as on one rank");
 
-  const DistributedVector x_one = reference.distribution().restrict(x);
+  const DistributedVector x_one  = reference.distribution().restrict(x);
   const DistributedVector Fx_one = reference.distribution().restrict(Fx);
   check(same_bits(x_d * Fx_d, x_one * Fx_one) && same_bits(Fx_d.l2_norm(), Fx_one.l2_norm()),
         "xᵀF x and ‖F x‖" + on + ": the same bits as on one rank (" + sci(x_d * Fx_d) + ")");

@@ -28,31 +28,7 @@ namespace FetiContact
     for (unsigned int r = 0; r < m; ++r)
       c[r] = rows.c[r];
 
-    // B_i: the entries of the rows that touch subdomain i, with DoFs looked up by body vertex.
-    std::unordered_map<unsigned int, unsigned int> local_of_global;
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      local_of_global[owned[i]->global_index] = i;
-    std::vector<std::unordered_map<unsigned int, unsigned int>> vertex_of_body_vertex(owned.size());
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        for (unsigned int v = 0; v < owned[i]->body_vertex.size(); ++v)
-          vertex_of_body_vertex[i][owned[i]->body_vertex[v]] = v;
-        work[i].reinit(owned[i]->dof_handler.n_dofs());
-      }
-    for (unsigned int r = 0; r < m; ++r)
-      for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
-        {
-          const auto &entry = rows.entries[k];
-          const auto  it    = local_of_global.find(entry.subdomain);
-          if (it == local_of_global.end())
-            continue;
-          const unsigned int i = it->second;
-          const unsigned int v = vertex_of_body_vertex[i].at(entry.body_vertex);
-          B[i].row.push_back(r);
-          B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
-          B[i].value.push_back(entry.value);
-          B[i].slot.push_back(k);
-        }
+    build_blocks(rows);
     // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
     // entries: on one rank the order of the loop over the subdomains.
     slot_start.assign(rows.row_start.begin(), rows.row_start.end());
@@ -131,6 +107,42 @@ namespace FetiContact
     sum_slots(h);
     h -= c;
     coarse.initialize(comm, G_entries, mode_offset.back(), m);
+    distribute_coarse_problem(mode_offset);
+  }
+
+  void
+  DualProblem::build_blocks(const DualRows &rows)
+  {
+    // B_i: the entries of the rows that touch subdomain i, with DoFs looked up by body vertex.
+    std::unordered_map<unsigned int, unsigned int> local_of_global;
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      local_of_global[owned[i]->global_index] = i;
+    std::vector<std::unordered_map<unsigned int, unsigned int>> vertex_of_body_vertex(owned.size());
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      {
+        for (unsigned int v = 0; v < owned[i]->body_vertex.size(); ++v)
+          vertex_of_body_vertex[i][owned[i]->body_vertex[v]] = v;
+        work[i].reinit(owned[i]->dof_handler.n_dofs());
+      }
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
+      for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
+        {
+          const auto &entry = rows.entries[k];
+          const auto  it    = local_of_global.find(entry.subdomain);
+          if (it == local_of_global.end())
+            continue;
+          const unsigned int i = it->second;
+          const unsigned int v = vertex_of_body_vertex[i].at(entry.body_vertex);
+          B[i].row.push_back(r);
+          B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
+          B[i].value.push_back(entry.value);
+          B[i].slot.push_back(k);
+        }
+  }
+
+  void
+  DualProblem::distribute_coarse_problem(const std::vector<unsigned int> &mode_offset)
+  {
     // G x on distributed vectors: every rank the modes of its subdomains, which follow each other
     // in rank order (contiguous ranges of subdomains, Simulator::distribute_subdomains).
     unsigned int n_own_modes = 0, first_own_mode = 0;
@@ -409,14 +421,23 @@ namespace FetiContact
   }
 
   void
+  DualProblem::apply_replicated(void (DualProblem::*product)(const Vector<double> &,
+                                                             Vector<double> &) const,
+                                const DistributedVector &x,
+                                DistributedVector       &y) const
+  {
+    Vector<double> full_y;
+    (this->*product)(row_distribution->gather(x), full_y);
+    y = row_distribution->restrict(full_y);
+  }
+
+  void
   DualProblem::apply_F(const DistributedVector &x, DistributedVector &y) const
   {
     if (shared)
       {
         // The reserves of the node's ranks need all of x (every rank may solve any subdomain).
-        Vector<double> full_y;
-        apply_F(row_distribution->gather(x), full_y);
-        y = row_distribution->restrict(full_y);
+        apply_replicated(&DualProblem::apply_F, x, y);
         return;
       }
     const auto start = std::chrono::steady_clock::now();
@@ -451,9 +472,7 @@ namespace FetiContact
   {
     if (shared)
       {
-        Vector<double> full_y;
-        apply_lumped(row_distribution->gather(x), full_y);
-        y = row_distribution->restrict(full_y);
+        apply_replicated(&DualProblem::apply_lumped, x, y);
         return;
       }
     const auto start = std::chrono::steady_clock::now();

@@ -172,6 +172,21 @@ namespace FetiContact
     /** The sums of this rank's rows (after exchange_slots()), in the order of own_rows. */
     void
     sum_own_rows(double *sums) const;
+    /** B_i of every owned subdomain from the rows (DoFs looked up by body vertex). */
+    void
+    build_blocks(const DualRows &rows);
+    /**
+     * The rigid modes of this rank's subdomains for G x on distributed vectors
+     * (CoarseProblem::distribute): they follow each other in rank order.
+     */
+    void
+    distribute_coarse_problem(const std::vector<unsigned int> &mode_offset);
+    /** y = @p product (x) on distributed vectors through replicated ones (shared local work). */
+    void
+    apply_replicated(void (DualProblem::*product)(const dealii::Vector<double> &,
+                                                  dealii::Vector<double> &) const,
+                     const DistributedVector &x,
+                     DistributedVector       &y) const;
     /** y = F x with x given on the relevant rows (the local work, then the row sums). */
     void
     apply_F_relevant(const dealii::Vector<double> &x_relevant, DistributedVector &y) const;

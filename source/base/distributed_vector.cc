@@ -20,30 +20,39 @@ namespace FetiContact
     if (chunk_of_entry.empty())
       return;
     AssertDimension(chunk_of_entry.size(), this->global_index.size());
-    // Local chunk numbers in the order of the given ones, entries increasing within each.
+    // Local chunk numbers in the order of the given ones.
     std::vector<unsigned int> keys(chunk_of_entry);
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    chunk.resize(chunk_of_entry.size());
-    chunk_start.assign(keys.size() + 1, 0);
-    for (unsigned int i = 0; i < chunk.size(); ++i)
+    n_local_chunks             = keys.size();
+    const unsigned int n_local = this->global_index.size();
+    chunk.resize(n_local);
+    for (unsigned int i = 0; i < n_local; ++i)
+      chunk[i] = std::lower_bound(keys.begin(), keys.end(), chunk_of_entry[i]) - keys.begin();
+    // The local entries by global index, cut into runs of consecutive global indices of one
+    // chunk: the same runs on any number of ranks, since a chunk is whole on one rank.
+    run_entry.resize(n_local);
+    run.resize(n_local);
+    std::iota(run_entry.begin(), run_entry.end(), 0u);
+    if (!std::is_sorted(this->global_index.begin(), this->global_index.end()))
+      std::sort(run_entry.begin(), run_entry.end(), [this](const unsigned a, const unsigned b) {
+        return this->global_index[a] < this->global_index[b];
+      });
+    for (unsigned int j = 0; j < n_local; ++j)
       {
-        chunk[i] = std::lower_bound(keys.begin(), keys.end(), chunk_of_entry[i]) - keys.begin();
-        ++chunk_start[chunk[i] + 1];
+        const unsigned int i = run_entry[j];
+        if (j == 0 || chunk[i] != chunk[run_entry[j - 1]] ||
+            this->global_index[i] != this->global_index[run_entry[j - 1]] + 1)
+          {
+            run_start.push_back(j);
+            run_chunk.push_back(chunk[i]);
+          }
+        run[i] = run_start.size() - 1;
       }
-    for (unsigned int c = 0; c < keys.size(); ++c)
-      chunk_start[c + 1] += chunk_start[c];
-    chunk_entry.resize(chunk.size());
-    std::vector<unsigned int> next(chunk_start.begin(), chunk_start.end() - 1);
-    for (unsigned int i = 0; i < chunk.size(); ++i)
-      chunk_entry[next[chunk[i]]++] = i;
-    // Within a chunk by global index: the same order on any number of ranks.
-    for (unsigned int c = 0; c < keys.size(); ++c)
-      std::sort(chunk_entry.begin() + chunk_start[c],
-                chunk_entry.begin() + chunk_start[c + 1],
-                [this](const unsigned int a, const unsigned int b) {
-                  return this->global_index[a] < this->global_index[b];
-                });
+    run_start.push_back(n_local);
+    contiguous = true;
+    for (unsigned int j = 0; j < n_local; ++j)
+      contiguous = contiguous && run_entry[j] == j;
   }
 
   DistributedVector::DistributedVector(std::shared_ptr<const Layout> layout)
@@ -161,60 +170,35 @@ namespace FetiContact
     values.swap(v.values);
   }
 
-  template <typename Term>
-  double
-  DistributedVector::chunked_sum(const Term &term) const
-  {
-    ExactSum sum;
-    if (!layout || layout->n_chunks() == 0)
-      for (std::size_t i = 0; i < values.size(); ++i)
-        sum.add(term(i));
-    else
-      for (unsigned int c = 0; c < layout->n_chunks(); ++c)
-        {
-          // Four partial sums by position in the chunk, added pairwise.
-          const unsigned int *entry = layout->chunk_entry.data() + layout->chunk_start[c];
-          const unsigned int  n     = layout->chunk_start[c + 1] - layout->chunk_start[c];
-          double              s[4]  = {0, 0, 0, 0};
-          unsigned int        j     = 0;
-          for (; j + 4 <= n; j += 4)
-            for (unsigned int q = 0; q < 4; ++q)
-              s[q] += term(entry[j + q]);
-          for (unsigned int q = 0; j < n; ++j, ++q)
-            s[q] += term(entry[j]);
-          sum.add((s[0] + s[1]) + (s[2] + s[3]));
-        }
-    return sum_over_ranks(sum);
-  }
-
   double
   DistributedVector::operator*(const DistributedVector &v) const
   {
     AssertDimension(v.values.size(), values.size());
     const double *a = values.data(), *b = v.values.data();
-    return chunked_sum([a, b](const unsigned int i) { return a[i] * b[i]; });
+    return sum([a, b](const unsigned int i) { return a[i] * b[i]; });
   }
 
   double
   DistributedVector::norm_sqr() const
   {
     const double *a = values.data();
-    return chunked_sum([a](const unsigned int i) { return a[i] * a[i]; });
+    return sum([a](const unsigned int i) { return a[i] * a[i]; });
   }
 
   double
   DistributedVector::l2_norm() const
   {
-    const double sum = norm_sqr();
-    if (std::isnan(sum) || (std::isfinite(sum) && sum >= std::numeric_limits<double>::min()))
-      return std::sqrt(sum);
+    const double sum_of_squares = norm_sqr();
+    if (std::isnan(sum_of_squares) ||
+        (std::isfinite(sum_of_squares) && sum_of_squares >= std::numeric_limits<double>::min()))
+      return std::sqrt(sum_of_squares);
     // The squares overflowed or underflowed: the norm of x/‖x‖_∞, times ‖x‖_∞ (as
     // dealii::Vector::l2_norm does).
     const double scale = linfty_norm();
     if (scale == 0 || !std::isfinite(scale))
       return scale;
     const double *a = values.data();
-    return scale * std::sqrt(chunked_sum(
+    return scale * std::sqrt(sum(
                      [a, scale](const unsigned int i) { return (a[i] / scale) * (a[i] / scale); }));
   }
 

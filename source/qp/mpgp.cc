@@ -265,13 +265,14 @@ namespace FetiContact::QP
     // f(x) − f(x_old) = ½(x − x_old)ᵀ(g + g_old) (exact for a quadratic), and whether it is an
     // increase beyond the rounding level (the projection onto a disc is exact only to ε r, times
     // the multiplier g·ν).
-    typename Reductions<VectorType>::Sum df(*x), noise(*x);
-    for (unsigned int i = 0; i < x->locally_owned_size(); ++i)
-      {
-        df.add(i, ((*x)[i] - x_old[i]) * (g[i] + g_old[i]));
-        noise.add(i, std::abs((*x)[i]) * (std::abs(g[i]) + std::abs(g_old[i])));
-      }
-    return df.result(*x) > 32 * std::numeric_limits<double>::epsilon() * noise.result(*x);
+    const VectorType &xx    = *x;
+    const double      df    = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
+      return (xx[i] - x_old[i]) * (g[i] + g_old[i]);
+    });
+    const double      noise = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
+      return std::abs(xx[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
+    });
+    return df > 32 * std::numeric_limits<double>::epsilon() * noise;
   }
 
   template <typename VectorType>
@@ -369,10 +370,11 @@ namespace FetiContact::QP
     y = *x;
     y.add(-alpha_bar, phi);
     set->project(y);
-    typename Reductions<VectorType>::Sum sum(*x);
-    for (unsigned int i = 0; i < x->locally_owned_size(); ++i)
-      sum.add(i, ((*x)[i] - y[i]) * phi[i]);
-    const double phi_tilde_phi = sum.result(*x) / alpha_bar;
+    const VectorType &xx = *x;
+    const double      phi_tilde_phi =
+      Reductions<VectorType>::sum(xx,
+                                  [&](const unsigned int i) { return (xx[i] - y[i]) * phi[i]; }) /
+      alpha_bar;
     return beta.norm_sqr() <= additional_data.gamma * additional_data.gamma * phi_tilde_phi;
   }
 

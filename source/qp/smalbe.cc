@@ -402,10 +402,9 @@ namespace FetiContact::QP
   double
   SMALBE<VectorType>::lagrangian() const
   {
-    typename Reductions<VectorType>::Sum sum(*lambda);
-    for (unsigned int i = 0; i < lambda->locally_owned_size(); ++i)
-      sum.add(i, (*lambda)[i] * (g[i] - b[i]));
-    const double L = sum.result(*lambda);
+    const VectorType &l = *lambda;
+    const double      L =
+      Reductions<VectorType>::sum(l, [&](const unsigned int i) { return l[i] * (g[i] - b[i]); });
     return L / 2 - (k > 0 ? *mu * problem->e : 0.) + rho / 2 * e_norm * e_norm;
   }
 

@@ -17,10 +17,12 @@ namespace FetiContact
    *
    * A sum is made in two stages. The entries fall into chunks that the layout names, each held
    * whole by one rank whatever the number of ranks (for the FETI dual vectors: the rows whose
-   * first subdomain is the same); a chunk's terms are added in the order of their global
-   * indices, with four partial sums by position (the same numbers on any number of ranks, and
-   * a plain floating-point loop). The chunks' sums are then added exactly and rounded once
-   * (ExactSum) over all ranks. Without chunks every entry is its own chunk (about six times
+   * first subdomain is the same), and a chunk into runs of consecutive global indices. A run's
+   * terms are added in the order of their global indices, with four partial sums by position
+   * (a plain floating-point loop, contiguous in memory when the local entries are stored by
+   * global index), and the runs' sums to their chunk's in the order of global indices: the
+   * same numbers on any number of ranks. The chunks' sums are then added exactly and rounded
+   * once (ExactSum) over all ranks. Without chunks every entry is its own chunk (about six times
    * the cost of a plain sum; doc/performance.md, "Reproducible sums").
    *
    * Local entries are addressed by their local index: operator[](i) is the i-th entry this rank
@@ -58,14 +60,24 @@ namespace FetiContact
       unsigned int              n_global;
       /** The local chunk number of every local entry (chunks numbered 0, 1, … locally). */
       std::vector<unsigned int> chunk;
-      /** The local entries of every chunk by global index (CSR: chunk_start, chunk_entry). */
-      std::vector<unsigned int> chunk_start, chunk_entry;
+      /** The number of local chunks (0: every entry its own chunk). */
+      unsigned int n_local_chunks = 0;
+      /**
+       * The runs: largest sets of entries of one chunk with consecutive global indices, in the
+       * order of global indices (CSR: the local entries run_entry[run_start[c]…], and the
+       * chunk run_chunk[c] of run c).
+       */
+      std::vector<unsigned int> run_start, run_entry, run_chunk;
+      /** The run of every local entry. */
+      std::vector<unsigned int> run;
+      /** Whether the local entries are stored by global index (run_entry the identity). */
+      bool contiguous = false;
 
       /** The number of local chunks (0: every entry its own chunk). */
       unsigned int
       n_chunks() const
       {
-        return chunk_start.empty() ? 0 : chunk_start.size() - 1;
+        return n_local_chunks;
       }
     };
 
@@ -224,12 +236,15 @@ namespace FetiContact
     bool
     any_over_ranks(const bool local) const;
 
-  private:
-    /** The sum over all entries of term(i) (i local), by chunks (see the class). Collective. */
+    /**
+     * The sum over all entries of term(i) (i local), by runs and chunks (see the class): the
+     * same bits on any number of ranks. Collective.
+     */
     template <typename Term>
     double
-    chunked_sum(const Term &term) const;
+    sum(const Term &term) const;
 
+  private:
     /** @p local reduced over the ranks by @p operation (MPI_MIN, MPI_MAX). */
     double
     reduce(const double local, const MPI_Op operation) const;
@@ -237,4 +252,47 @@ namespace FetiContact
     std::shared_ptr<const Layout> layout;
     std::vector<double>           values;
   };
+  template <typename Term>
+  inline double
+  DistributedVector::sum(const Term &term) const
+  {
+    ExactSum total;
+    if (!layout || layout->n_chunks() == 0)
+      for (std::size_t i = 0; i < values.size(); ++i)
+        total.add(term(i));
+    else
+      {
+        // Each run with four partial sums by position, added pairwise; the runs' sums added to
+        // their chunk's in the order of global indices; the chunks' sums exactly.
+        std::vector<double> chunk_sum(layout->n_chunks(), 0.);
+        for (unsigned int c = 0; c + 1 < layout->run_start.size(); ++c)
+          {
+            const unsigned int begin = layout->run_start[c], n = layout->run_start[c + 1] - begin;
+            double             s[4] = {0, 0, 0, 0};
+            unsigned int       j    = 0;
+            if (layout->contiguous)
+              {
+                for (; j + 4 <= n; j += 4)
+                  for (unsigned int q = 0; q < 4; ++q)
+                    s[q] += term(begin + j + q);
+                for (unsigned int q = 0; j < n; ++j, ++q)
+                  s[q] += term(begin + j);
+              }
+            else
+              {
+                const unsigned int *entry = layout->run_entry.data() + begin;
+                for (; j + 4 <= n; j += 4)
+                  for (unsigned int q = 0; q < 4; ++q)
+                    s[q] += term(entry[j + q]);
+                for (unsigned int q = 0; j < n; ++j, ++q)
+                  s[q] += term(entry[j]);
+              }
+            chunk_sum[layout->run_chunk[c]] += (s[0] + s[1]) + (s[2] + s[3]);
+          }
+        for (const double x : chunk_sum)
+          total.add(x);
+      }
+    return sum_over_ranks(total);
+  }
+
 } // namespace FetiContact

@@ -46,6 +46,17 @@ namespace FetiContact::QP
       double sum = 0;
     };
 
+    /** The sum of term(i) over all entries, in the order of the entries. */
+    template <typename Term>
+    static double
+    sum(const VectorType &v, const Term &term)
+    {
+      double sum = 0;
+      for (unsigned int i = 0; i < v.size(); ++i)
+        sum += term(i);
+      return sum;
+    }
+
     static double
     min(const double local, const VectorType &)
     {
@@ -78,42 +89,57 @@ namespace FetiContact::QP
     using VectorType = DistributedVector;
 
     /**
-     * A sum of the terms of all ranks by the chunks of the vector's layout: every chunk's terms
-     * in the order they are added (each a term of a local entry, added in the order of the
-     * global indices by the caller's loop), then the chunks' sums exactly (DistributedVector).
+     * A sum of the terms of all ranks by the runs and chunks of the vector's layout (see
+     * DistributedVector): the terms of a run in the order they are added, the runs' sums to
+     * their chunk's in the order of global indices, the chunks' sums exactly. Without chunks
+     * every term is added exactly.
      */
     class Sum
     {
     public:
       explicit Sum(const VectorType &v)
-        : chunk(v.get_layout() ? &v.get_layout()->chunk : nullptr)
-        , chunk_sum(v.get_layout() ? v.get_layout()->n_chunks() : 0, 0.)
+        : layout(v.get_layout() && v.get_layout()->n_chunks() > 0 ? v.get_layout().get() : nullptr)
+        , run_sum(layout ? layout->run_chunk.size() : 0, 0.)
       {}
 
       /** Adds the term @p x that belongs to local entry @p i. */
       void
       add(const unsigned int i, const double x)
       {
-        if (chunk_sum.empty())
+        if (layout == nullptr)
           sum.add(x);
         else
-          chunk_sum[(*chunk)[i]] += x;
+          run_sum[layout->run[i]] += x;
       }
 
       double
       result(const VectorType &v) const
       {
         ExactSum total(sum);
-        for (const double s : chunk_sum)
-          total.add(s);
+        if (layout != nullptr)
+          {
+            std::vector<double> chunk_sum(layout->n_chunks(), 0.);
+            for (unsigned int r = 0; r < run_sum.size(); ++r)
+              chunk_sum[layout->run_chunk[r]] += run_sum[r];
+            for (const double s : chunk_sum)
+              total.add(s);
+          }
         return v.sum_over_ranks(total);
       }
 
     private:
-      const std::vector<unsigned int> *chunk;
-      std::vector<double>              chunk_sum;
+      const DistributedVector::Layout *layout;
+      std::vector<double>              run_sum;
       ExactSum                         sum;
     };
+
+    /** The sum of term(i) over all local entries i of all ranks (DistributedVector::sum). */
+    template <typename Term>
+    static double
+    sum(const VectorType &v, const Term &term)
+    {
+      return v.sum(term);
+    }
 
     static double
     min(const double local, const VectorType &v)

@@ -66,6 +66,8 @@ def steps(exe):
          [[PY, b + "scaling.py", "--exe", exe, "--a", "3,4", "--np", "1,2", "--repeats", "3",
            "--paper-k", "", "--coarse-a", "", "--csv", "doc/data/scaling_mpi.csv",
            "--markdown", "doc/data/scaling_mpi.md", *DEFAULTS]]),
+        ("communication", "1 min", "doc/data/communication.{csv,md}",
+         [[PY, b + "communication.py", "--exe", exe]]),
         ("scaling_k48", "5 min", "doc/data/scaling_k48.{csv,md}",
          [[PY, b + "scaling.py", "--exe", exe, "--a", "6", "--np", "1,2", "--repeats", "1",
            "--paper-k", "", "--coarse-a", "", "--csv", "doc/data/scaling_k48.csv",

@@ -721,6 +721,22 @@ namespace FetiContact
   }
 
   JsonObject
+  Simulator::summarize_communication() const
+  {
+    const DualProblem::CommunicationVolume v        = dual->communication_volume();
+    const auto                             per_rank = [this](const std::size_t x) {
+      return Utilities::MPI::all_gather(comm, static_cast<double>(x));
+    };
+    return JsonObject()
+      .set("slot_neighbours_per_rank", per_rank(v.slot_neighbours))
+      .set("slots_sent_per_rank", per_rank(v.slots_sent))
+      .set("slots_received_per_rank", per_rank(v.slots_received))
+      .set("gathered_values_per_rank", per_rank(v.gathered_values))
+      .set("ghost_neighbours_per_rank", per_rank(v.ghost_neighbours))
+      .set("ghosts_received_per_rank", per_rank(v.ghosts_received));
+  }
+
+  JsonObject
   Simulator::summarize_local_work() const
   {
     // How the local work of the multiplications by F was split: shared by the node's ranks
@@ -764,10 +780,11 @@ namespace FetiContact
     const unsigned int n_bound_total = contact_nodes.empty() ? dual->n_F_applications : n_bound;
     const unsigned int n_A = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
 
-    double           total_time = 0;
-    const JsonObject times      = summarize_times(total_time);
-    const JsonObject memory     = summarize_memory();
-    const JsonObject local_work = summarize_local_work();
+    double           total_time    = 0;
+    const JsonObject times         = summarize_times(total_time);
+    const JsonObject memory        = summarize_memory();
+    const JsonObject communication = summarize_communication();
+    const JsonObject local_work    = summarize_local_work();
     summary.set_leading("converged", converged)
       .set_leading("n_primal", n_primal)
       .set_leading("n_primal_feti", n_primal_feti)
@@ -795,7 +812,8 @@ namespace FetiContact
       .set_leading("local_solver", parameters.feti.local_solver)
       .set_leading("local_work", local_work)
       .set_leading("times", times)
-      .set_leading("memory", memory);
+      .set_leading("memory", memory)
+      .set_leading("communication", communication);
 
     const auto timer_data                  = timer.get_summary_data(TimerOutput::total_wall_time);
     const auto solve_time                  = timer_data.find("solve");

@@ -288,6 +288,29 @@ namespace FetiContact
       }
   }
 
+  DualProblem::CommunicationVolume
+  DualProblem::communication_volume() const
+  {
+    CommunicationVolume v;
+    std::vector<int>    slot_ranks;
+    for (const auto &exchange : send_slots)
+      {
+        v.slots_sent += exchange.slots.size();
+        slot_ranks.push_back(exchange.rank);
+      }
+    for (const auto &exchange : receive_slots)
+      {
+        v.slots_received += exchange.slots.size();
+        slot_ranks.push_back(exchange.rank);
+      }
+    std::sort(slot_ranks.begin(), slot_ranks.end());
+    v.slot_neighbours  = std::unique(slot_ranks.begin(), slot_ranks.end()) - slot_ranks.begin();
+    v.gathered_values  = single_rank ? 0 : size() - own_rows.size();
+    v.ghost_neighbours = row_distribution->n_neighbours();
+    v.ghosts_received  = row_distribution->n_received();
+    return v;
+  }
+
   void
   DualProblem::sum_slots(Vector<double> &y) const
   {

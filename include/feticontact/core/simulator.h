@@ -192,6 +192,9 @@ namespace FetiContact
     /** The peak memory of every rank and the estimate (summary.json: memory). */
     JsonObject
     summarize_memory() const;
+    /** The exchanges of one application of F, per rank (DualProblem::communication_volume). */
+    JsonObject
+    summarize_communication() const;
     /** How the subdomain solves were shared among the ranks (summary.json: local_work). */
     JsonObject
     summarize_local_work() const;

@@ -83,6 +83,24 @@ namespace FetiContact
       return *row_distribution;
     }
 
+    /** What one application of F exchanges on this rank, counted in values (doubles). */
+    struct CommunicationVolume
+    {
+      /** Ranks this rank exchanges slots with (terms B_i u_i of rows another rank adds up). */
+      unsigned int slot_neighbours = 0;
+      /** Slot values sent and received (point to point, both paths). */
+      std::size_t slots_sent = 0, slots_received = 0;
+      /** Replicated dual vectors: the other ranks' row sums (MPI_Allgatherv). */
+      std::size_t gathered_values = 0;
+      /** Distributed dual vectors: ranks the ghost rows come from, and their number. */
+      unsigned int ghost_neighbours = 0;
+      std::size_t  ghosts_received  = 0;
+    };
+
+    /** This rank's exchanges in one application of F (from the setup; no communication). */
+    CommunicationVolume
+    communication_volume() const;
+
     /**
      * y = D B K Bᵀ D x, the lumped FETI preconditioner (Farhat–Mandel–Roux) with the row scaling
      * D = diag(B Bᵀ)⁻¹: a gluing row between two subdomains (entries ±1) counts ½, a Dirichlet

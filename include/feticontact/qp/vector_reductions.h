@@ -91,14 +91,17 @@ namespace FetiContact::QP
     /**
      * A sum of the terms of all ranks by the runs and chunks of the vector's layout (see
      * DistributedVector): the terms of a run in the order they are added, the runs' sums to
-     * their chunk's in the order of global indices, the chunks' sums exactly. Without chunks
-     * every term is added exactly.
+     * their chunk's in the order of global indices, the chunks' sums exactly. Without chunks,
+     * or if the local entries are not stored by global index (then the order in which the
+     * caller adds a run's terms could depend on the split), every term is added exactly.
      */
     class Sum
     {
     public:
       explicit Sum(const VectorType &v)
-        : layout(v.get_layout() && v.get_layout()->n_chunks() > 0 ? v.get_layout().get() : nullptr)
+        : layout(v.get_layout() && v.get_layout()->n_chunks() > 0 && v.get_layout()->contiguous ?
+                   v.get_layout().get() :
+                   nullptr)
         , run_sum(layout ? layout->run_chunk.size() : 0, 0.)
       {}
 

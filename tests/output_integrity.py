@@ -71,7 +71,7 @@ def looks_like_results(outdir):
 
 
 COMPLETE = ["summary.json", "contact.csv", "history.csv", "solution.pvd", "solution.pvtu",
-            "contact_surface.vtu", "contact_surface.pvd"]
+            "contact_surface.pvtu", "contact_surface.pvd"]
 
 
 def check_complete(outdir, what):

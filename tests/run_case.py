@@ -6,6 +6,7 @@
       [--reference-displacements CSV TOL] [--alt-set PATH=VALUE]... [--check-contact-vtu]
       [--contact-area ZONE=AREA]... [--alt-scale S] [--same-counts] [--fewer-multiplications]
       [--exact-field "BODY: UX, UY, UZ"]... [--exact-tolerance TOL] [--uniform-pressure ZONE=P TOL]
+      [--same-files PATTERN[,PATTERN...]]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
       [--no-equilibrium]
 
@@ -20,7 +21,10 @@ further overrides, compared the same way (e.g. μ = 0 against Tresca with slip b
 with scaled loads). --same-counts requires every run to take the same MSA iterations and Hessian
 multiplications; --fewer-multiplications requires the first run to take fewer Hessian
 multiplications than the --alt-set run (an option that must save work against the setting it
-replaces).
+replaces). --same-files requires the files of the output folder that match the patterns
+(fnmatch, e.g. contact_surface*) to be the same, names and bytes, in the runs with --np and
+--threads (the --alt-set run excepted): written by the ranks of their own subdomains, they must
+not depend on how many ranks there are.
 --exact-field gives the exact displacement of body BODY (1, 2, …) as three Python expressions in
 x, y, z (e.g. a patch test's linear field); every node of every body named must have it to
 --exact-tolerance (default 1e-8) relative to the largest exact displacement (max norm).
@@ -117,8 +121,12 @@ def check_expectation(summary, expectation):
 
 
 def read_displacements(path):
+    """The displacements of displacements.csv by body and position (the file's rows are by
+    subdomain, which differs between decompositions; a run in other units has its positions
+    scaled, which keeps their order)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
+    rows.sort(key=lambda r: (int(r.get("body", 0)),) + tuple(float(r[k]) for k in "xyz"))
     return [[float(r[k]) for k in ("ux", "uy", "uz")] for r in rows]
 
 
@@ -142,27 +150,46 @@ def compare_with_reference(ours_file, reference_file, tol):
 
 
 def check_contact_vtu(directory, csv_name="contact.csv"):
-    """contact_surface.vtu parses, its arrays have one value (or vector) per point, and the
-    normal forces on it are those of contact.csv (the same nodes, the same values)."""
+    """contact_surface.pvd points to contact_surface.pvtu, whose pieces parse, declare the fields
+    of the record and have one value (or vector) per point; a contact node that is a point of
+    several pieces has the same values in each, and the normal forces of the points are those of
+    contact.csv (the same nodes, matched by zone and position, the same values)."""
     import xml.etree.ElementTree as ET
-    root = ET.parse(os.path.join(directory, "contact_surface.vtu")).getroot()
-    piece = root.find("UnstructuredGrid/Piece")
-    n_points, n_cells = int(piece.get("NumberOfPoints")), int(piece.get("NumberOfCells"))
-    ok = n_points > 0 and n_cells > 0
-    arrays = {a.get("Name"): [float(v) for v in a.text.split()]
-              for a in piece.find("PointData").findall("DataArray")}
-    for name, values in arrays.items():
-        components = 3 if name in ("tangential_force", "contact_force", "slip") else 1
-        ok &= len(values) == components * n_points
+    pvd = ET.parse(os.path.join(directory, "contact_surface.pvd")).getroot()
+    ok = [d.get("file") for d in pvd.iter("DataSet")] == ["contact_surface.pvtu"]
+    record = ET.parse(os.path.join(directory, "contact_surface.pvtu")).getroot()
+    declared = [a.get("Name") for a in record.find("PUnstructuredGrid/PPointData")]
+    sources = [p.get("Source") for p in record.iter("Piece")]
+    ok &= len(sources) > 0
+    nodes, n_points, n_cells = {}, 0, 0
+    for source in sources:
+        piece = ET.parse(os.path.join(directory, source)).getroot().find("UnstructuredGrid/Piece")
+        points, cells = int(piece.get("NumberOfPoints")), int(piece.get("NumberOfCells"))
+        n_points, n_cells = n_points + points, n_cells + cells
+        ok &= points > 0 and cells > 0
+        xyz = [float(v) for v in piece.find("Points/DataArray").text.split()]
+        arrays = {a.get("Name"): [float(v) for v in a.text.split()]
+                  for a in piece.find("PointData").findall("DataArray")}
+        ok &= list(arrays) == declared
+        for name, values in arrays.items():
+            components = 3 if name in ("tangential_force", "contact_force", "slip") else 1
+            ok &= len(values) == components * points
+        for p in range(points):
+            if arrays["status"][p] < 0:
+                continue
+            key = (int(arrays["zone"][p]),) + tuple(round(c, 6) for c in xyz[3 * p:3 * p + 3])
+            value = arrays["normal_force"][p]
+            ok &= nodes.setdefault(key, value) == value
     with open(os.path.join(directory, csv_name)) as f:
         rows = list(csv.DictReader(f))
-    from_csv = sorted(float(r["lambda_N"]) for r in rows)
-    from_vtu = sorted(v for v, st in zip(arrays["normal_force"], arrays["status"]) if st >= 0)
-    scale = max(abs(v) for v in from_csv) or 1
-    ok &= len(from_csv) == len(from_vtu) and all(
-        abs(a - b) <= 1e-9 * scale for a, b in zip(from_csv, from_vtu))
-    print(f"  contact_surface.vtu: {n_points} points, {n_cells} triangles, fields "
-          f"{', '.join(arrays)}; normal forces as in contact.csv -> {'ok' if ok else 'FAILED'}")
+    from_csv = {(int(r["zone"]),) + tuple(round(float(r[c]), 6) for c in "xyz"): float(r["lambda_N"])
+                for r in rows}
+    scale = max(abs(v) for v in from_csv.values()) or 1
+    ok &= len(from_csv) == len(rows) and set(from_csv) == set(nodes) and all(
+        abs(from_csv[k] - nodes[k]) <= 1e-9 * scale for k in nodes)
+    print(f"  contact_surface.pvtu: {len(sources)} piece(s), {n_points} points, {n_cells} triangles,"
+          f" fields {', '.join(declared)}; normal forces as in contact.csv -> "
+          f"{'ok' if ok else 'FAILED'}")
     return ok
 
 
@@ -195,6 +222,17 @@ def check_uniform_pressure(directory, zone, pressure, tol):
     return good
 
 
+def read_matching_files(directory, patterns):
+    """{name: bytes} of the files in DIRECTORY whose names match one of the fnmatch PATTERNS."""
+    import fnmatch
+    found = {}
+    for name in sorted(os.listdir(directory)):
+        if any(fnmatch.fnmatch(name, p) for p in patterns):
+            with open(os.path.join(directory, name), "rb") as f:
+                found[name] = f.read()
+    return found
+
+
 def check_contact_area(directory, zone, area):
     """The areas lumped at the contact nodes of ZONE add up to the area of its surface, and
     pressure × area = λ_N for every node (contact.csv)."""
@@ -215,6 +253,7 @@ def scene(args):
     threads = [None]
     check_vtu, areas, alt_scale, same_counts, counts = False, [], 1.0, False, []
     fewer, exact_fields, exact_tol, pressures = False, {}, 1e-8, []
+    same_files, files = [], []
     i = 3
     while i < len(args):
         if args[i] == "--set":
@@ -241,6 +280,8 @@ def scene(args):
             i -= 1
         elif args[i] == "--alt-set":
             alt_sets += ["--set", args[i + 1]]
+        elif args[i] == "--same-files":
+            same_files = args[i + 1].split(",")
         elif args[i] == "--exact-field":
             body, expressions = args[i + 1].split(":")
             exact_fields[int(body)] = [e.strip() for e in expressions.split(",")]
@@ -283,6 +324,8 @@ def scene(args):
             displacements.append(u)
         if check_vtu:
             ok &= check_contact_vtu(d)
+        if same_files and not more:
+            files.append(read_matching_files(d, same_files))
         for zone, area in areas:
             ok &= check_contact_area(d, zone, area)
         if reference is not None:
@@ -291,6 +334,12 @@ def scene(args):
             ok &= check_exact_field(os.path.join(d, "displacements.csv"), exact_fields, exact_tol)
         for zone, value, tol in pressures:
             ok &= check_uniform_pressure(d, zone, value, tol)
+    for (np, t, more), other in zip(runs[1:], files[1:]):
+        good = other == files[0] and len(files[0]) > 0
+        print(f"  files {', '.join(same_files)}: {len(files[0])} with -np {nps[0]}, "
+              f"{'the same' if other == files[0] else 'different'} with -np {np}"
+              + (f", {t} thread(s)" if t else "") + f" -> {'ok' if good else 'FAILED'}")
+        ok &= good
     if same_tol is not None:
         ref = displacements[0]
         scale = max(abs(c) for row in ref for c in row)

@@ -6,9 +6,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <regex>
 #include <system_error>
+#include <unistd.h>
 
 namespace FetiContact
 {
@@ -83,6 +85,57 @@ namespace FetiContact
   }
 
   void
+  ResultFiles::write_collectively(const MPI_Comm     comm,
+                                  const std::string &path,
+                                  const std::string &local_text)
+  {
+    const std::string partial = path + OutputFiles::partial_suffix;
+    const bool        root    = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    const auto        failure = [&](const int error) {
+      return "Cannot write the output file <" + path + ">: " + system_reason(error, path) + ".";
+    };
+    // Rank 0 creates the file (empty) before any rank opens it.
+    std::string error;
+    if (root)
+      {
+        files.push_back(File{path, nullptr});
+        errno                = 0;
+        const int descriptor = ::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (descriptor < 0 || ::close(descriptor) != 0)
+          error = "Cannot create the output file <" + path + ">: " + system_reason(errno) + ".";
+      }
+    OutputFiles::throw_if_any_failed(comm, error);
+
+    unsigned long long length = local_text.size(), offset = 0;
+    MPI_Exscan(&length, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+    if (root)
+      offset = 0; // MPI_Exscan leaves rank 0's result undefined
+    if (length > 0)
+      {
+        errno                = 0;
+        const int descriptor = ::open(partial.c_str(), O_WRONLY);
+        if (descriptor < 0)
+          error = failure(errno);
+        for (std::size_t done = 0; error.empty() && done < length;)
+          {
+            errno             = 0;
+            const ssize_t put = ::pwrite(descriptor,
+                                         local_text.data() + done,
+                                         length - done,
+                                         static_cast<off_t>(offset + done));
+            if (put <= 0 && errno != EINTR)
+              error = failure(put < 0 ? errno : 0);
+            else if (put > 0)
+              done += put;
+          }
+        errno = 0;
+        if (descriptor >= 0 && ::close(descriptor) != 0 && error.empty())
+          error = failure(errno);
+      }
+    OutputFiles::throw_if_any_failed(comm, error);
+  }
+
+  void
   ResultFiles::complete()
   {
     for (auto &f : files)
@@ -145,7 +198,8 @@ namespace FetiContact
       static const std::regex names(
         "(log\\.txt|summary\\.json|parameters\\.prm|input\\.prm|history\\.csv|contact\\.csv|"
         "displacements\\.csv|solution\\.pvd|solution\\.pvtu|solution_[0-9]+\\.vtu|"
-        "contact_surface\\.vtu|contact_surface\\.pvd|fclib_problem\\.hdf5|"
+        "contact_surface\\.pvtu|contact_surface(_[0-9]+)?\\.vtu|contact_surface\\.pvd|"
+        "fclib_problem\\.hdf5|"
         "convergence_table\\.txt|convergence_table\\.org|refinement_study\\.json)"
         "(\\.partial)?");
       return std::regex_match(name, names);

@@ -55,6 +55,7 @@ namespace FetiContact
       double                                   mean_edge = 0;
       std::vector<std::array<unsigned int, 3>> triangles;
       std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
+      std::vector<unsigned int>                cell;    ///< per triangle, its active cell
     };
 
     Surface
@@ -78,6 +79,7 @@ namespace FetiContact
               s.triangles.push_back(
                 {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
               s.outward.push_back(area_normal);
+              s.cell.push_back(cell->active_cell_index());
               s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
               n_edges += 3;
             }
@@ -675,8 +677,8 @@ namespace FetiContact
           }
         const Surface slave = collect_surface(body.mesh, surface);
         if (triangles != nullptr)
-          for (const auto &t : slave.triangles)
-            triangles->push_back({z, zone.body, t});
+          for (unsigned int t = 0; t < slave.triangles.size(); ++t)
+            triangles->push_back({z, zone.body, slave.triangles[t], slave.cell[t]});
 
         const ZoneSide     side{z, zone, body, slave, where};
         ZoneReport         report;

@@ -355,12 +355,15 @@ namespace FetiContact
   void
   write_contact_csv(std::ostream                         &out,
                     const std::vector<ContactNode>       &nodes,
-                    const std::vector<ContactNodeResult> &results)
+                    const std::vector<ContactNodeResult> &results,
+                    const std::vector<unsigned int>      &which,
+                    const bool                            header)
   {
-    out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure,"
-           "weighted_gap,D_kk\n"
-        << std::setprecision(12);
-    for (unsigned int k = 0; k < nodes.size(); ++k)
+    if (header)
+      out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure,"
+             "weighted_gap,D_kk\n";
+    out << std::setprecision(12);
+    for (const unsigned int k : which)
       {
         const auto &n = nodes[k];
         const auto &r = results[k];

@@ -1,115 +1,276 @@
 #include <deal.II/base/data_out_base.h>
+#include <deal.II/base/mpi.h>
 
 #include <feticontact/postprocessing/contact_output.h>
+#include <feticontact/scene/decomposition.h>
 
+#include <algorithm>
 #include <array>
-#include <fstream>
+#include <cstdio>
 #include <iomanip>
 #include <map>
+#include <sstream>
 
 namespace FetiContact
 {
   using namespace dealii;
 
-  // Written by hand, not by DataOut on a Triangulation<2,3> of the contact faces: DataOut writes
-  // every cell's vertices as points of their own (a contact node would be up to six points with
-  // its values repeated), and deal.II 9.4.1 built with zlib (Debian 12) writes VTU data arrays
-  // as compressed base64 with no plain-text option (VtkFlags::ZlibCompressionLevel only). This
-  // file has one point per (zone, vertex) with the node's values in plain text, which
-  // tests/run_case.py --check-contact-vtu compares node by node with contact.csv. Its cost is
-  // small: at k = 16 (prm/brick_contact.prm, Subdivisions 48, 16, 16; 816 contact nodes, a file
-  // of 159 kB) the whole output phase, solution VTU and checks included, took 0.62 s (median of
-  // 3 runs of 5.5 to 6.9 s).
+  namespace
+  {
+    std::string
+    piece_name(const unsigned int subdomain)
+    {
+      char name[64];
+      std::snprintf(name, sizeof(name), "contact_surface_%04u.vtu", subdomain);
+      return name;
+    }
+
+    /** A point array of the contact surface: its name and number of components. */
+    struct Field
+    {
+      const char  *name;
+      unsigned int components;
+    };
+    constexpr std::array<Field, 9> fields{{{"normal_force", 1},
+                                           {"pressure", 1},
+                                           {"tangential_force", 3},
+                                           {"contact_force", 3},
+                                           {"gap", 1},
+                                           {"slip", 3},
+                                           {"status", 1},
+                                           {"zone", 1},
+                                           {"D_kk", 1}}};
+
+    /** The values of every field at contact node k, in the order of `fields`. */
+    std::vector<double>
+    node_values(const ContactNode &node, const ContactNodeResult &r)
+    {
+      const Tensor<1, 3> tangential = -(r.lambda_T[0] * node.t1 + r.lambda_T[1] * node.t2);
+      const Tensor<1, 3> force      = -r.lambda_N * node.n + tangential;
+      const Tensor<1, 3> slip       = r.slip[0] * node.t1 + r.slip[1] * node.t2;
+      return {r.lambda_N,
+              r.lambda_N / node.pressure_area,
+              tangential[0],
+              tangential[1],
+              tangential[2],
+              force[0],
+              force[1],
+              force[2],
+              r.gap,
+              slip[0],
+              slip[1],
+              slip[2],
+              static_cast<double>(static_cast<int>(r.status)),
+              static_cast<double>(node.zone + 1),
+              node.pressure_area};
+    }
+
+    /** The values of a surface vertex that is not a contact node: zeros, status −1. */
+    std::vector<double>
+    no_node_values()
+    {
+      std::vector<double> values;
+      for (const Field &field : fields)
+        values.insert(values.end(), field.components, std::string(field.name) == "status" ? -1 : 0);
+      return values;
+    }
+
+    using PointKey = std::array<unsigned int, 3>; // zone, body, vertex
+
+    // Written by hand, not by DataOut on a Triangulation<2,3> of the contact faces: DataOut writes
+    // every cell's vertices as points of their own (a contact node would be up to six points
+    // with its values repeated), and deal.II 9.4.1 built with zlib (Debian 12) writes VTU data
+    // arrays as compressed base64 with no plain-text option (VtkFlags::ZlibCompressionLevel
+    // only). A piece has one point per (zone, vertex) of its triangles with the node's values in
+    // plain text, which tests/run_case.py --check-contact-vtu compares node by node with
+    // contact.csv; a node on the faces of two subdomains is a point of both pieces.
+    std::string
+    piece_vtu(const std::vector<std::unique_ptr<Body>> &bodies,
+              const std::map<PointKey, unsigned int>   &node_at,
+              const std::vector<ContactNode>           &nodes,
+              const std::vector<ContactNodeResult>     &results,
+              const std::vector<ContactTriangle>       &triangles,
+              const std::vector<unsigned int>          &which)
+    {
+      // Points: the distinct (zone, body, vertex) of the triangles; a vertex on the surfaces of
+      // two zones (an edge where two obstacles meet) is a point of each zone's patch, with that
+      // zone's contact data.
+      std::map<PointKey, unsigned int> point_of;
+      std::vector<PointKey>            points;
+      for (const unsigned int t : which)
+        for (const unsigned int v : triangles[t].vertices)
+          if (point_of.emplace(PointKey{{triangles[t].zone, triangles[t].body, v}}, points.size())
+                .second)
+            points.push_back({{triangles[t].zone, triangles[t].body, v}});
+
+      std::ostringstream out;
+      out << std::setprecision(10);
+      out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+             "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+          << points.size() << "\" NumberOfCells=\"" << which.size() << "\">\n";
+      out << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+      for (const auto &[z, b, v] : points)
+        {
+          const auto &x = bodies[b]->mesh.get_vertices()[v];
+          out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
+        }
+      out << "</DataArray></Points>\n<Cells>\n"
+             "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+      for (const unsigned int t : which)
+        {
+          const auto &c = triangles[t];
+          out << point_of[{{c.zone, c.body, c.vertices[0]}}] << ' '
+              << point_of[{{c.zone, c.body, c.vertices[1]}}] << ' '
+              << point_of[{{c.zone, c.body, c.vertices[2]}}] << '\n';
+        }
+      out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+      for (unsigned int c = 0; c < which.size(); ++c)
+        out << 3 * (c + 1) << '\n';
+      out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+      for (unsigned int c = 0; c < which.size(); ++c)
+        out << "5\n"; // VTK_TRIANGLE
+      out << "</DataArray>\n</Cells>\n<PointData Scalars=\"normal_force\">\n";
+
+      std::vector<std::vector<double>> values(points.size());
+      for (unsigned int p = 0; p < points.size(); ++p)
+        {
+          const auto it = node_at.find(points[p]);
+          values[p] = it != node_at.end() ? node_values(nodes[it->second], results[it->second]) :
+                                            no_node_values();
+        }
+      unsigned int first = 0;
+      for (const Field &field : fields)
+        {
+          out << "<DataArray type=\"Float64\" Name=\"" << field.name << '"';
+          if (field.components > 1)
+            out << " NumberOfComponents=\"" << field.components << '"';
+          out << " format=\"ascii\">\n";
+          for (const auto &v : values)
+            for (unsigned int c = 0; c < field.components; ++c)
+              out << v[first + c] << (c + 1 < field.components ? ' ' : '\n');
+          out << "</DataArray>\n";
+          first += field.components;
+        }
+      out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+      return out.str();
+    }
+
+    /** The parallel record: the fields of the pieces and the pieces' file names. */
+    std::string
+    pvtu_record(const std::vector<unsigned int> &subdomains)
+    {
+      std::ostringstream out;
+      out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" "
+             "byte_order=\"LittleEndian\">\n<PUnstructuredGrid GhostLevel=\"0\">\n"
+             "<PPointData Scalars=\"normal_force\">\n";
+      for (const Field &field : fields)
+        out << "<PDataArray type=\"Float64\" Name=\"" << field.name << "\" NumberOfComponents=\""
+            << field.components << "\"/>\n";
+      out << "</PPointData>\n<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>"
+             "</PPoints>\n";
+      for (const unsigned int s : subdomains)
+        out << "<Piece Source=\"" << piece_name(s) << "\"/>\n";
+      out << "</PUnstructuredGrid>\n</VTKFile>\n";
+      return out.str();
+    }
+  } // namespace
+
+  ContactOutputShare::ContactOutputShare(const std::vector<std::unique_ptr<Body>> &bodies,
+                                         const std::vector<unsigned int>          &first_subdomain,
+                                         const std::vector<Subdomain *>           &owned,
+                                         const std::vector<ContactNode>           &contact_nodes,
+                                         const std::vector<ContactTriangle> &contact_triangles)
+  {
+    std::vector<unsigned int> mine;
+    for (const Subdomain *s : owned)
+      mine.push_back(s->global_index);
+    std::sort(mine.begin(), mine.end());
+    const auto is_mine = [&](const unsigned int s) {
+      return std::binary_search(mine.begin(), mine.end(), s);
+    };
+
+    // The lowest subdomain of every vertex of the bodies with contact nodes.
+    std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
+    for (const auto &node : contact_nodes)
+      if (parts[node.body].empty())
+        parts[node.body] = parts_of_vertices(bodies[node.body]->mesh, bodies[node.body]->partition);
+    std::vector<std::pair<unsigned int, unsigned int>> node_subdomain; // (subdomain, node)
+    for (unsigned int k = 0; k < contact_nodes.size(); ++k)
+      {
+        const auto        &node = contact_nodes[k];
+        const unsigned int s = first_subdomain[node.body] + parts[node.body][node.vertex].front();
+        if (is_mine(s))
+          node_subdomain.emplace_back(s, k);
+      }
+    std::sort(node_subdomain.begin(), node_subdomain.end());
+    for (const auto &[s, k] : node_subdomain)
+      nodes.push_back(k);
+
+    std::map<unsigned int, std::vector<unsigned int>> of_subdomain;
+    for (unsigned int t = 0; t < contact_triangles.size(); ++t)
+      {
+        const auto        &triangle = contact_triangles[t];
+        const unsigned int s        = first_subdomain[triangle.body] +
+                               bodies[triangle.body]->partition.part_of_cell[triangle.cell];
+        if (is_mine(s))
+          of_subdomain[s].push_back(t);
+      }
+    for (auto &[s, list] : of_subdomain)
+      {
+        subdomains.push_back(s);
+        triangles.push_back(std::move(list));
+      }
+  }
+
+  void
+  write_contact_csv(ResultFiles                          &files,
+                    const MPI_Comm                        comm,
+                    const std::string                    &directory,
+                    const ContactOutputShare             &share,
+                    const std::vector<ContactNode>       &nodes,
+                    const std::vector<ContactNodeResult> &results)
+  {
+    std::ostringstream rows;
+    write_contact_csv(
+      rows, nodes, results, share.nodes, Utilities::MPI::this_mpi_process(comm) == 0);
+    files.write_collectively(comm, directory + "/contact.csv", rows.str());
+  }
+
   void
   write_contact_surface_vtu(ResultFiles                              &files,
+                            const MPI_Comm                            comm,
                             const std::string                        &directory,
                             const std::vector<std::unique_ptr<Body>> &bodies,
+                            const ContactOutputShare                 &share,
                             const std::vector<ContactNode>           &nodes,
                             const std::vector<ContactNodeResult>     &results,
                             const std::vector<ContactTriangle>       &triangles)
   {
-    // Points: the distinct (zone, body, vertex) of the triangles; a vertex on the surfaces of
-    // two zones (an edge where two obstacles meet) is a point of each zone's patch, with that
-    // zone's contact data.
-    using PointKey = std::array<unsigned int, 3>;
-    std::map<PointKey, unsigned int> point_of;
-    std::vector<PointKey>            points;
-    for (const auto &t : triangles)
-      for (const unsigned int v : t.vertices)
-        if (point_of.emplace(PointKey{{t.zone, t.body, v}}, points.size()).second)
-          points.push_back({{t.zone, t.body, v}});
-    std::vector<int> node_of(points.size(), -1);
+    std::map<PointKey, unsigned int> node_at;
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      {
-        const auto it = point_of.find({{nodes[k].zone, nodes[k].body, nodes[k].vertex}});
-        if (it != point_of.end())
-          node_of[it->second] = k;
-      }
+      node_at.emplace(PointKey{{nodes[k].zone, nodes[k].body, nodes[k].vertex}}, k);
+    const auto                pieces = Utilities::MPI::gather(comm, share.subdomains, 0);
+    std::vector<unsigned int> all;
+    for (const auto &p : pieces)
+      all.insert(all.end(), p.begin(), p.end());
+    std::sort(all.begin(), all.end());
 
-    std::ostream &out = files.open(directory + "/contact_surface.vtu");
-    out << std::setprecision(10);
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-        << points.size() << "\" NumberOfCells=\"" << triangles.size() << "\">\n";
-    out << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto &[z, b, v] : points)
-      {
-        const auto &x = bodies[b]->mesh.get_vertices()[v];
-        out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
-      }
-    out << "</DataArray></Points>\n<Cells>\n"
-           "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto &t : triangles)
-      out << point_of[{{t.zone, t.body, t.vertices[0]}}] << ' '
-          << point_of[{{t.zone, t.body, t.vertices[1]}}] << ' '
-          << point_of[{{t.zone, t.body, t.vertices[2]}}] << '\n';
-    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (unsigned int c = 0; c < triangles.size(); ++c)
-      out << 3 * (c + 1) << '\n';
-    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (unsigned int c = 0; c < triangles.size(); ++c)
-      out << "5\n"; // VTK_TRIANGLE
-    out << "</DataArray>\n</Cells>\n<PointData Scalars=\"normal_force\">\n";
-
-    const auto scalar = [&](const std::string &name, const auto &value) {
-      out << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
-      for (unsigned int p = 0; p < points.size(); ++p)
-        out << (node_of[p] < 0 ? 0.0 : double(value(node_of[p]))) << '\n';
-      out << "</DataArray>\n";
-    };
-    const auto vector = [&](const std::string &name, const auto &value) {
-      out << "<DataArray type=\"Float64\" Name=\"" << name
-          << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-      for (unsigned int p = 0; p < points.size(); ++p)
+    OutputFiles::on_all_ranks(comm, [&]() {
+      for (unsigned int i = 0; i < share.subdomains.size(); ++i)
         {
-          const Tensor<1, 3> v = node_of[p] < 0 ? Tensor<1, 3>() : value(node_of[p]);
-          out << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+          const std::string text =
+            piece_vtu(bodies, node_at, nodes, results, triangles, share.triangles[i]);
+          files.write(directory + "/" + piece_name(share.subdomains[i]),
+                      [&](std::ostream &out) { out << text; });
         }
-      out << "</DataArray>\n";
-    };
-    scalar("normal_force", [&](int k) { return results[k].lambda_N; });
-    scalar("pressure", [&](int k) { return results[k].lambda_N / nodes[k].pressure_area; });
-    const auto tangential = [&](int k) {
-      return Tensor<1, 3>(
-        -(results[k].lambda_T[0] * nodes[k].t1 + results[k].lambda_T[1] * nodes[k].t2));
-    };
-    vector("tangential_force", tangential);
-    vector("contact_force",
-           [&](int k) { return Tensor<1, 3>(-results[k].lambda_N * nodes[k].n + tangential(k)); });
-    scalar("gap", [&](int k) { return results[k].gap; });
-    vector("slip", [&](int k) {
-      return Tensor<1, 3>(results[k].slip[0] * nodes[k].t1 + results[k].slip[1] * nodes[k].t2);
-    });
-    out << "<DataArray type=\"Float64\" Name=\"status\" format=\"ascii\">\n";
-    for (unsigned int p = 0; p < points.size(); ++p)
-      out << (node_of[p] < 0 ? -1 : static_cast<int>(results[node_of[p]].status)) << '\n';
-    out << "</DataArray>\n";
-    scalar("zone", [&](int k) { return nodes[k].zone + 1; });
-    scalar("D_kk", [&](int k) { return nodes[k].pressure_area; });
-    out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-
-    files.write(directory + "/contact_surface.pvd", [](std::ostream &pvd) {
-      DataOutBase::write_pvd_record(pvd, {{0.0, "contact_surface.vtu"}});
+      if (Utilities::MPI::this_mpi_process(comm) == 0)
+        {
+          files.write(directory + "/contact_surface.pvtu",
+                      [&](std::ostream &out) { out << pvtu_record(all); });
+          files.write(directory + "/contact_surface.pvd", [](std::ostream &pvd) {
+            DataOutBase::write_pvd_record(pvd, {{0.0, "contact_surface.pvtu"}});
+          });
+        }
     });
   }
 } // namespace FetiContact

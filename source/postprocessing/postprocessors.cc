@@ -5,9 +5,13 @@
 #include <feticontact/postprocessing/postprocessors.h>
 #include <feticontact/postprocessing/solution_output.h>
 #include <feticontact/postprocessing/verification.h>
+#include <feticontact/scene/decomposition.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 namespace FetiContact::Postprocessing
@@ -253,20 +257,26 @@ namespace FetiContact::Postprocessing
   void
   ContactOutput::execute(const Input &input)
   {
-    input.on_all_ranks([&]() {
-      if (!input.root())
-        return;
-      write_contact_csv(input.result_files.open(input.output_directory + "/contact.csv"),
-                        input.contact_nodes,
-                        input.contact_results);
-      if (input.parameters.output.write_vtu)
-        write_contact_surface_vtu(input.result_files,
-                                  input.output_directory,
-                                  input.bodies,
-                                  input.contact_nodes,
-                                  input.contact_results,
-                                  input.contact_triangles);
-    });
+    const ContactOutputShare share(input.bodies,
+                                   input.first_subdomain,
+                                   input.owned,
+                                   input.contact_nodes,
+                                   input.contact_triangles);
+    write_contact_csv(input.result_files,
+                      input.comm,
+                      input.output_directory,
+                      share,
+                      input.contact_nodes,
+                      input.contact_results);
+    if (input.parameters.output.write_vtu)
+      write_contact_surface_vtu(input.result_files,
+                                input.comm,
+                                input.output_directory,
+                                input.bodies,
+                                share,
+                                input.contact_nodes,
+                                input.contact_results,
+                                input.contact_triangles);
   }
 
   std::string
@@ -338,20 +348,42 @@ namespace FetiContact::Postprocessing
   void
   DisplacementCsv::execute(const Input &input)
   {
-    input.on_all_ranks([&]() {
-      if (!input.root())
-        return;
-      std::ostream &csv = input.result_files.open(input.output_directory + "/displacements.csv");
-      csv << "body,x,y,z,ux,uy,uz\n" << std::setprecision(17);
-      for (const auto &body : input.bodies)
-        for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
-          if (body->mesh.get_used_vertices()[v])
-            {
-              const auto &x = body->mesh.get_vertices()[v];
-              const auto &d = input.vertex_u[body->index][v];
-              csv << body->index << ',' << x[0] << ',' << x[1] << ',' << x[2] << ',' << d[0] << ','
-                  << d[1] << ',' << d[2] << '\n';
-            }
+    // This rank's rows: its subdomains in increasing order, each with the vertices whose lowest
+    // copy it holds, by vertex number (the ranks hold consecutive ranges of subdomains, so the
+    // file is the same on any number of ranks).
+    std::vector<unsigned int> order(input.owned.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](const unsigned int a, const unsigned int b) {
+      return input.owned[a]->global_index < input.owned[b]->global_index;
     });
+    std::vector<std::vector<std::vector<unsigned int>>> parts(input.bodies.size());
+    std::ostringstream                                  rows;
+    if (input.root())
+      rows << "body,x,y,z,ux,uy,uz\n";
+    rows << std::setprecision(17);
+    for (const unsigned int i : order)
+      {
+        const Subdomain &s    = *input.owned[i];
+        const Body      &body = s.body;
+        if (parts[body.index].empty())
+          parts[body.index] = parts_of_vertices(body.mesh, body.partition);
+        std::vector<std::pair<unsigned int, unsigned int>> vertices; // (body vertex, own vertex)
+        for (unsigned int v = 0; v < s.body_vertex.size(); ++v)
+          if (input.first_subdomain[body.index] + parts[body.index][s.body_vertex[v]].front() ==
+              s.global_index)
+            vertices.emplace_back(s.body_vertex[v], v);
+        std::sort(vertices.begin(), vertices.end());
+        for (const auto &[w, v] : vertices)
+          {
+            const auto &x = body.mesh.get_vertices()[w];
+            rows << body.index << ',' << x[0] << ',' << x[1] << ',' << x[2];
+            for (unsigned int c = 0; c < 3; ++c)
+              rows << ',' << input.u[i][s.vertex_dofs[v][c]];
+            rows << '\n';
+          }
+      }
+    input.result_files.write_collectively(input.comm,
+                                          input.output_directory + "/displacements.csv",
+                                          rows.str());
   }
 } // namespace FetiContact::Postprocessing

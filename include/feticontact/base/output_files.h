@@ -56,6 +56,17 @@ namespace FetiContact
     std::string
     reserve(const std::string &path);
 
+    /**
+     * Writes the @p local_text of every rank of @p comm into the one file @p path, in rank order:
+     * each rank writes its own text at the offset of the texts of the ranks before it (an exclusive
+     * prefix sum of the lengths), so that no rank holds more than its share. Rank 0 creates the
+     * file and registers it with its set (renamed by its commit(), removed if the run stops).
+     * Collective; if any rank fails, every rank throws OutputError with the first failed rank's
+     * message.
+     */
+    void
+    write_collectively(const MPI_Comm comm, const std::string &path, const std::string &local_text);
+
     /** Flushes, closes and checks every open file; throws OutputError naming the first failed. */
     void
     complete();
@@ -91,9 +102,10 @@ namespace FetiContact
      * Whether @p name (a file name without directory) is one that this program writes into an
      * output directory: log.txt, summary.json, parameters.prm, input.prm, history.csv,
      * contact.csv, displacements.csv, solution.pvd, solution.pvtu, solution_NNNN.vtu,
-     * contact_surface.vtu, contact_surface.pvd, fclib_problem.hdf5, the refinement study's
-     * convergence_table.txt, convergence_table.org and refinement_study.json, and any of these
-     * with the suffix `.partial`.
+     * contact_surface.pvd, contact_surface.pvtu, contact_surface_NNNN.vtu, fclib_problem.hdf5, the
+     * refinement study's convergence_table.txt, convergence_table.org and refinement_study.json,
+     * and any of these with the suffix `.partial`; also contact_surface.vtu, which folders written
+     * by older versions of the program hold.
      */
     bool
     written_by_this_program(const std::string &name);

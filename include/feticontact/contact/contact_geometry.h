@@ -124,6 +124,8 @@ namespace FetiContact
     unsigned int                zone;
     unsigned int                body;
     std::array<unsigned int, 3> vertices;
+    /** The active cell of the body's mesh whose face the triangle is. */
+    unsigned int cell;
   };
 
   /**

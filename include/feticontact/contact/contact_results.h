@@ -128,12 +128,16 @@ namespace FetiContact
                    const std::optional<double> tresca_slip_bound = std::nullopt);
 
   /**
-   * Writes contact.csv: zone, body, x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1, slip_2, status, the
-   * lumped area, the pressure λ_N / D_kk, the weighted initial gap g̃_k = D_kk d_k and D_kk per
-   * node (D_kk: the dual-basis area of a mortar node, the lumped area otherwise).
+   * Writes the rows of contact.csv for the nodes @p which (indices into @p nodes, in that order),
+   * after the header line if @p header: zone, body, x, y, z, λ_N, λ_T1, λ_T2, gap, slip_1,
+   * slip_2, status, the lumped area, the pressure λ_N / D_kk, the weighted initial gap
+   * g̃_k = D_kk d_k and D_kk per node (D_kk: the dual-basis area of a mortar node, the lumped area
+   * otherwise).
    */
   void
   write_contact_csv(std::ostream                         &out,
                     const std::vector<ContactNode>       &nodes,
-                    const std::vector<ContactNodeResult> &results);
+                    const std::vector<ContactNodeResult> &results,
+                    const std::vector<unsigned int>      &which,
+                    const bool                            header);
 } // namespace FetiContact

@@ -3,24 +3,65 @@
 #include <feticontact/base/output_files.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_results.h>
+#include <feticontact/subdomain/subdomain.h>
 
+#include <mpi.h>
 #include <string>
 #include <vector>
 
 namespace FetiContact
 {
   /**
-   * Writes the contact surfaces for ParaView: `contact_surface.vtu` (the triangles of every
-   * zone's slave surface, with per-vertex data: the normal force λ_N, the contact force on the
-   * body as a vector −(λ_N n + λ_T1 t1 + λ_T2 t2), the tangential part of it, the gap d − N u, the
-   * slip vector (T1 u) t1 + (T2 u) t2, the status 0 open / 1 stick / 2 slip (−1 for surface
-   * vertices that are not contact nodes, e.g. Dirichlet vertices), and the zone) and
-   * `contact_surface.pvd` pointing to it, into @p directory through @p files.
+   * The contact output's share of one rank: the contact nodes and the triangles of the contact
+   * surfaces that belong to the rank's subdomains, by subdomain. A node belongs to the subdomain
+   * of lowest number that holds its vertex (the copy whose displacement the output reports), a
+   * triangle to the subdomain of the cell whose face it is. The ranks hold contiguous ranges of
+   * subdomains in rank order, so output by subdomain in rank order is the same on any number of
+   * ranks.
+   */
+  struct ContactOutputShare
+  {
+    /** This rank's contact nodes, by subdomain and then in the order of the nodes. */
+    std::vector<unsigned int> nodes;
+    /** The subdomains of this rank with triangles, increasing, and the triangles of each. */
+    std::vector<unsigned int>              subdomains;
+    std::vector<std::vector<unsigned int>> triangles;
+
+    ContactOutputShare(const std::vector<std::unique_ptr<Body>> &bodies,
+                       const std::vector<unsigned int>          &first_subdomain,
+                       const std::vector<Subdomain *>           &owned,
+                       const std::vector<ContactNode>           &nodes,
+                       const std::vector<ContactTriangle>       &triangles);
+  };
+
+  /**
+   * Writes contact.csv (write_contact_csv()): every rank the rows of its share's nodes, in rank
+   * order, into the one file (ResultFiles::write_collectively()). Collective.
+   */
+  void
+  write_contact_csv(ResultFiles                          &files,
+                    const MPI_Comm                        comm,
+                    const std::string                    &directory,
+                    const ContactOutputShare             &share,
+                    const std::vector<ContactNode>       &nodes,
+                    const std::vector<ContactNodeResult> &results);
+
+  /**
+   * Writes the contact surfaces for ParaView: every rank one piece `contact_surface_NNNN.vtu` per
+   * subdomain NNNN of its share (the triangles of that subdomain's faces on the zones' slave
+   * surfaces, with per-vertex data: the normal force λ_N, the pressure λ_N / D_kk, the contact
+   * force on the body as a vector −(λ_N n + λ_T1 t1 + λ_T2 t2), the tangential part of it, the
+   * gap d − N u, the slip vector (T1 u) t1 + (T2 u) t2, the status 0 open / 1 stick / 2 slip (−1
+   * for surface vertices that are not contact nodes, e.g. Dirichlet vertices), the zone and D_kk),
+   * and rank 0 the records `contact_surface.pvtu` (the pieces of all ranks) and
+   * `contact_surface.pvd` pointing to it, into @p directory through @p files. Collective.
    */
   void
   write_contact_surface_vtu(ResultFiles                              &files,
+                            const MPI_Comm                            comm,
                             const std::string                        &directory,
                             const std::vector<std::unique_ptr<Body>> &bodies,
+                            const ContactOutputShare                 &share,
                             const std::vector<ContactNode>           &nodes,
                             const std::vector<ContactNodeResult>     &results,
                             const std::vector<ContactTriangle>       &triangles);

@@ -110,7 +110,7 @@ namespace FetiContact::Postprocessing
    * The postprocessors the parameter file selects, in the order they run: first the checks and
    * comparisons, which may refuse the scene (Verification/Hertz) or the solution, then the
    * files. Always: the constraint check and the force balance; with contact nodes the contact
-   * check and the contact output (contact.csv, and contact_surface.vtu with Output/Write vtu);
+   * check and the contact output (contact.csv, and the contact surface VTU with Output/Write vtu);
    * Verification/Hertz, Verification/Compare with monolithic solve, Verification/Reference
    * displacements, Output/Write FCLIB problem, Output/Write vtu and Output/Write displacement
    * csv each add theirs.

@@ -109,7 +109,9 @@ namespace FetiContact::Postprocessing
 
   /**
    * The contact nodes' results: contact.csv, and with Output/Write vtu the contact surfaces for
-   * ParaView (contact_surface.vtu, contact_surface.pvd). Rank 0 writes them.
+   * ParaView (contact_surface_NNNN.vtu, contact_surface.pvtu, contact_surface.pvd). Every rank
+   * writes the nodes and the faces of its own subdomains (ContactOutputShare), rank 0 the
+   * records.
    */
   class ContactOutput : public Interface
   {
@@ -148,7 +150,9 @@ namespace FetiContact::Postprocessing
 
   /**
    * Output/Write displacement csv: displacements.csv, the position and the displacement of
-   * every vertex of every body (body, x, y, z, ux, uy, uz), written by rank 0.
+   * every vertex of every body (body, x, y, z, ux, uy, uz), by body, subdomain and vertex
+   * number: every rank writes the vertices whose lowest copy is in one of its subdomains, with
+   * that copy's displacement, into the one file (ResultFiles::write_collectively()).
    */
   class DisplacementCsv : public Interface
   {

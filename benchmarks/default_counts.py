@@ -15,8 +15,9 @@ Each (μ, k) is one run of
 
 (the automatic decomposition: blocks of about 6 × 6 × 6 cubes). From its summary.json: n
 (`n_primal`), the subdomains, n_A (`hessian_multiplications.total`), the MSA iterations
-(`outer_iterations`) and the solve time. The counts do not depend on the machine; the solve time
-does (one run, whatever threads the machine offers). The CSV is rewritten after every run;
+(`outer_iterations`) and the solve time. The counts do not depend on the machine's speed but on
+the rounding of OpenBLAS's kernels (regenerate_doc.py runs with the AVX2 kernels;
+doc/data/blas_kernels.md); the solve time does (one run, whatever threads the machine offers). The CSV is rewritten after every run;
 --merge keeps the rows of (μ, k) not run again; --report-only rewrites the table from the CSV.
 Standard library only.
 """

@@ -12,7 +12,10 @@ doc/accuracy.md and doc/local_solvers.md), in order: short runs first.
 and the files they write. --only runs the named steps, --all every step (about 15 hours in all;
 most of it the accuracy sweep and the local solver comparison). --dry-run prints the commands.
 Run from anywhere; the commands run in the repository root. The timed steps assume an otherwise
-idle machine; never run two at a time. Build first: `cmake --build build -j2` (the local solver
+idle machine; never run two at a time. The steps run with OpenBLAS's AVX2 kernels
+(OPENBLAS_CORETYPE=Haswell, unless the variable is set) wherever the CPU has AVX2, as the tests
+do: the counts follow the kernels' rounding (step blas_kernels), and the documented counts are
+those of the AVX2 kernels. Build first: `cmake --build build -j2` (the local solver
 steps need the targets local_solver_benchmark and triangular_solves, the linear solve
 monolithic_solve). Standard library only; the steps use /usr/bin/python3 (matplotlib for the
 plots, python3-getfem for against_getfem).
@@ -68,6 +71,8 @@ def steps(exe):
            "--markdown", "doc/data/scaling_mpi.md", *DEFAULTS]]),
         ("communication", "1 min", "doc/data/communication.{csv,md}",
          [[PY, b + "communication.py", "--exe", exe]]),
+        ("blas_kernels", "5 min", "doc/data/blas_kernels.{csv,md}",
+         [[PY, b + "blas_kernels.py", "--exe", exe]]),
         ("scaling_k48", "5 min", "doc/data/scaling_k48.{csv,md}",
          [[PY, b + "scaling.py", "--exe", exe, "--a", "6", "--np", "1,2", "--repeats", "1",
            "--paper-k", "", "--coarse-a", "", "--csv", "doc/data/scaling_k48.csv",
@@ -142,6 +147,20 @@ def steps(exe):
     ]
 
 
+def environment():
+    """The environment of the steps: OPENBLAS_CORETYPE=Haswell where the CPU has AVX2 and the
+    variable is not set."""
+    env = dict(os.environ)
+    try:
+        with open("/proc/cpuinfo") as f:
+            avx2 = " avx2" in f.read()
+    except OSError:
+        avx2 = False
+    if avx2:
+        env.setdefault("OPENBLAS_CORETYPE", "Haswell")
+    return env
+
+
 def show(command):
     return " ".join(shlex.quote(c) for c in command)
 
@@ -176,7 +195,7 @@ def main():
             if "--dry-run" in argv:
                 continue
             start = time.time()
-            result = subprocess.run(command, cwd=ROOT)
+            result = subprocess.run(command, cwd=ROOT, env=environment())
             if result.returncode != 0:
                 raise SystemExit(f"{name}: exit status {result.returncode}")
             print(f"   ({time.time() - start:.0f} s)", flush=True)

@@ -215,7 +215,10 @@ namespace FetiContact
   DistributedVector::sum_over_ranks(ExactSum local) const
   {
     if (layout)
-      local.sum_over_ranks(layout->comm);
+      {
+        local.sum_over_ranks(layout->comm);
+        ++layout->n_reductions;
+      }
     return local.value();
   }
 
@@ -224,7 +227,10 @@ namespace FetiContact
   {
     double global = local;
     if (layout)
-      MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, operation, layout->comm);
+      {
+        MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, operation, layout->comm);
+        ++layout->n_reductions;
+      }
     return global;
   }
 
@@ -245,7 +251,10 @@ namespace FetiContact
   {
     int global = local ? 1 : 0;
     if (layout)
-      MPI_Allreduce(MPI_IN_PLACE, &global, 1, MPI_INT, MPI_MAX, layout->comm);
+      {
+        MPI_Allreduce(MPI_IN_PLACE, &global, 1, MPI_INT, MPI_MAX, layout->comm);
+        ++layout->n_reductions;
+      }
     return global != 0;
   }
 } // namespace FetiContact

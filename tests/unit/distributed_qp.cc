@@ -19,10 +19,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <iomanip>
 #include <limits>
 #include <numeric>
 #include <random>
+#include <sstream>
+#include <type_traits>
 
 using namespace dealii;
 using namespace FetiContact;
@@ -30,6 +34,14 @@ using namespace FetiContact;
 namespace
 {
   using namespace QPTestProblems;
+
+  std::string
+  one_decimal(const double v)
+  {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(1) << v;
+    return s.str();
+  }
 
   /** Whether two doubles are the same bits. */
   bool
@@ -175,7 +187,9 @@ namespace
   {
     Vector<double> x, mu;
     unsigned int   iterations = 0, multiplications = 0, inner_iterations = 0;
-    bool           converged = false;
+    /** The global reductions of the vectors (DistributedVector::Layout::n_reductions). */
+    std::uint64_t reductions = 0;
+    bool          converged  = false;
   };
 
   /** A set with the blocks of the problem on the entries that @p model's rank holds. */
@@ -252,6 +266,8 @@ namespace
       }
     Solution solution;
     V        x = zero();
+    if constexpr (std::is_same_v<V, DistributedVector>)
+      solution.reductions = x.get_layout()->n_reductions;
     if (with_equality)
       {
         typename QP::SMALBE<V>::AdditionalData data;
@@ -272,6 +288,8 @@ namespace
         solution.multiplications = report.hessian_multiplications;
         solution.converged       = report.converged;
       }
+    if constexpr (std::is_same_v<V, DistributedVector>)
+      solution.reductions = x.get_layout()->n_reductions - solution.reductions;
     solution.x = full_of(x);
     return solution;
   }
@@ -328,11 +346,15 @@ namespace
           same = same_bits(on[n_ranks].mu[r], on[1].mu[r]);
         check(same && on[n_ranks].iterations == on[1].iterations &&
                 on[n_ranks].inner_iterations == on[1].inner_iterations &&
-                on[n_ranks].multiplications == on[1].multiplications,
+                on[n_ranks].multiplications == on[1].multiplications &&
+                on[n_ranks].reductions == on[1].reductions,
               name + " on " + std::to_string(n_ranks) +
                 " ranks: the same bits and counts as on 1 rank (" +
                 std::to_string(on[n_ranks].iterations) + " iterations, " +
-                std::to_string(on[n_ranks].multiplications) + " multiplications)");
+                std::to_string(on[n_ranks].multiplications) + " multiplications, " +
+                std::to_string(on[n_ranks].reductions) + " global reductions: " +
+                one_decimal(double(on[n_ranks].reductions) / on[n_ranks].multiplications) +
+                " per multiplication)");
       }
   }
 } // namespace

@@ -2,6 +2,7 @@
 
 #include <feticontact/base/exact_sum.h>
 
+#include <cstdint>
 #include <memory>
 #include <mpi.h>
 #include <vector>
@@ -72,6 +73,12 @@ namespace FetiContact
       std::vector<unsigned int> run;
       /** Whether the local entries are stored by global index (run_entry the identity). */
       bool contiguous = false;
+      /**
+       * The global reductions made so far by the vectors of this layout (sums, minima, maxima,
+       * any: one MPI_Allreduce each), the same number on every rank (doc/performance.md, the
+       * parallel model).
+       */
+      mutable std::uint64_t n_reductions = 0;
 
       /** The number of local chunks (0: every entry its own chunk). */
       unsigned int

@@ -73,6 +73,8 @@ def steps(exe):
          [[PY, b + "communication.py", "--exe", exe]]),
         ("blas_kernels", "5 min", "doc/data/blas_kernels.{csv,md}",
          [[PY, b + "blas_kernels.py", "--exe", exe]]),
+        ("weak_scaling", "3 min", "doc/data/weak_scaling.{csv,md}",
+         [[PY, b + "weak_scaling.py", "--exe", exe]]),
         ("parallel_model", "1 min", "doc/data/parallel_model.{csv,md}",
          [[PY, b + "parallel_model.py", "--exe", exe,
            "--mpi-costs", "build/benchmarks/mpi_costs"]]),

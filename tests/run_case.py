@@ -150,18 +150,23 @@ def compare_with_reference(ours_file, reference_file, tol):
 
 
 def check_contact_vtu(directory, csv_name="contact.csv"):
-    """contact_surface.pvd points to contact_surface.pvtu, whose pieces parse, declare the fields
-    of the record and have one value (or vector) per point; a contact node that is a point of
-    several pieces has the same values in each, and the normal forces of the points are those of
-    contact.csv (the same nodes, matched by zone and position, the same values)."""
+    """contact_surface.pvd points to contact_surface.pvtu, whose pieces are the folder's
+    contact_surface_NNNN.vtu, parse, declare the fields of the record and have one value (or
+    vector) per point. A point of several pieces has the same values in each and is its own
+    (vtkGhostType 0) in exactly one; the contact nodes among the own points are those of
+    contact.csv (matched by zone and position, with the same normal forces), so sums over the
+    own points equal the file's."""
+    import glob
     import xml.etree.ElementTree as ET
     pvd = ET.parse(os.path.join(directory, "contact_surface.pvd")).getroot()
     ok = [d.get("file") for d in pvd.iter("DataSet")] == ["contact_surface.pvtu"]
     record = ET.parse(os.path.join(directory, "contact_surface.pvtu")).getroot()
     declared = [a.get("Name") for a in record.find("PUnstructuredGrid/PPointData")]
     sources = [p.get("Source") for p in record.iter("Piece")]
-    ok &= len(sources) > 0
-    nodes, n_points, n_cells = {}, 0, 0
+    on_disk = sorted(os.path.basename(p)
+                     for p in glob.glob(os.path.join(directory, "contact_surface_*.vtu")))
+    ok &= len(sources) > 0 and sorted(sources) == on_disk
+    values, own, n_points, n_cells = {}, {}, 0, 0
     for source in sources:
         piece = ET.parse(os.path.join(directory, source)).getroot().find("UnstructuredGrid/Piece")
         points, cells = int(piece.get("NumberOfPoints")), int(piece.get("NumberOfCells"))
@@ -171,25 +176,26 @@ def check_contact_vtu(directory, csv_name="contact.csv"):
         arrays = {a.get("Name"): [float(v) for v in a.text.split()]
                   for a in piece.find("PointData").findall("DataArray")}
         ok &= list(arrays) == declared
-        for name, values in arrays.items():
+        for name, array in arrays.items():
             components = 3 if name in ("tangential_force", "contact_force", "slip") else 1
-            ok &= len(values) == components * points
+            ok &= len(array) == components * points
         for p in range(points):
-            if arrays["status"][p] < 0:
-                continue
             key = (int(arrays["zone"][p]),) + tuple(round(c, 6) for c in xyz[3 * p:3 * p + 3])
-            value = arrays["normal_force"][p]
-            ok &= nodes.setdefault(key, value) == value
+            value = (arrays["status"][p], arrays["normal_force"][p])
+            ok &= values.setdefault(key, value) == value
+            own[key] = own.get(key, 0) + (arrays["vtkGhostType"][p] == 0)
+    ok &= all(n == 1 for n in own.values())
     with open(os.path.join(directory, csv_name)) as f:
         rows = list(csv.DictReader(f))
     from_csv = {(int(r["zone"]),) + tuple(round(float(r[c]), 6) for c in "xyz"): float(r["lambda_N"])
                 for r in rows}
+    nodes = {k: v[1] for k, v in values.items() if v[0] >= 0}
     scale = max(abs(v) for v in from_csv.values()) or 1
     ok &= len(from_csv) == len(rows) and set(from_csv) == set(nodes) and all(
         abs(from_csv[k] - nodes[k]) <= 1e-9 * scale for k in nodes)
-    print(f"  contact_surface.pvtu: {len(sources)} piece(s), {n_points} points, {n_cells} triangles,"
-          f" fields {', '.join(declared)}; normal forces as in contact.csv -> "
-          f"{'ok' if ok else 'FAILED'}")
+    print(f"  contact_surface.pvtu: {len(sources)} piece(s), {n_points} points ({len(own)} own), "
+          f"{n_cells} triangles, fields {', '.join(declared)}; every point own in one piece, "
+          f"normal forces as in contact.csv -> {'ok' if ok else 'FAILED'}")
     return ok
 
 
@@ -334,6 +340,11 @@ def scene(args):
             ok &= check_exact_field(os.path.join(d, "displacements.csv"), exact_fields, exact_tol)
         for zone, value, tol in pressures:
             ok &= check_uniform_pressure(d, zone, value, tol)
+    import fnmatch
+    for pattern in same_files if files else []:
+        if not any(fnmatch.fnmatch(name, pattern) for name in files[0]):
+            print(f"  FAILED: no file matches {pattern}")
+            ok = False
     for (np, t, more), other in zip(runs[1:], files[1:]):
         good = other == files[0] and len(files[0]) > 0
         print(f"  files {', '.join(same_files)}: {len(files[0])} with -np {nps[0]}, "

@@ -94,13 +94,14 @@ namespace FetiContact
     const auto        failure = [&](const int error) {
       return "Cannot write the output file <" + path + ">: " + system_reason(error, path) + ".";
     };
-    // Rank 0 creates the file (empty) before any rank opens it.
+    // Rank 0 creates the file (empty) before any rank opens it, with the permissions of the
+    // other result files (0666 less the umask).
     std::string error;
     if (root)
       {
         files.push_back(File{path, nullptr});
         errno                = 0;
-        const int descriptor = ::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int descriptor = ::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
         if (descriptor < 0 || ::close(descriptor) != 0)
           error = "Cannot create the output file <" + path + ">: " + system_reason(errno) + ".";
       }

@@ -90,7 +90,9 @@ namespace FetiContact
               const std::vector<ContactNode>           &nodes,
               const std::vector<ContactNodeResult>     &results,
               const std::vector<ContactTriangle>       &triangles,
-              const std::vector<unsigned int>          &which)
+              const std::vector<unsigned int>          &which,
+              const unsigned int                        subdomain,
+              const std::map<PointKey, unsigned int>   &point_owner)
     {
       // Points: the distinct (zone, body, vertex) of the triangles; a vertex on the surfaces of
       // two zones (an edge where two obstacles meet) is a point of each zone's patch, with that
@@ -151,6 +153,11 @@ namespace FetiContact
           out << "</DataArray>\n";
           first += field.components;
         }
+      // vtkDataSetAttributes::DUPLICATEPOINT (1): a point that another piece holds as its own.
+      out << "<DataArray type=\"UInt8\" Name=\"vtkGhostType\" format=\"ascii\">\n";
+      for (const PointKey &p : points)
+        out << (point_owner.at(p) == subdomain ? 0 : 1) << '\n';
+      out << "</DataArray>\n";
       out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
       return out.str();
     }
@@ -166,6 +173,7 @@ namespace FetiContact
       for (const Field &field : fields)
         out << "<PDataArray type=\"Float64\" Name=\"" << field.name << "\" NumberOfComponents=\""
             << field.components << "\"/>\n";
+      out << "<PDataArray type=\"UInt8\" Name=\"vtkGhostType\" NumberOfComponents=\"1\"/>\n";
       out << "</PPointData>\n<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>"
              "</PPoints>\n";
       for (const unsigned int s : subdomains)
@@ -207,14 +215,27 @@ namespace FetiContact
       nodes.push_back(k);
 
     std::map<unsigned int, std::vector<unsigned int>> of_subdomain;
+    std::vector<unsigned int>                         subdomain_of(contact_triangles.size());
     for (unsigned int t = 0; t < contact_triangles.size(); ++t)
       {
-        const auto        &triangle = contact_triangles[t];
-        const unsigned int s        = first_subdomain[triangle.body] +
-                               bodies[triangle.body]->partition.part_of_cell[triangle.cell];
-        if (is_mine(s))
-          of_subdomain[s].push_back(t);
+        const auto &triangle = contact_triangles[t];
+        subdomain_of[t]      = first_subdomain[triangle.body] +
+                          bodies[triangle.body]->partition.part_of_cell[triangle.cell];
+        if (is_mine(subdomain_of[t]))
+          {
+            of_subdomain[subdomain_of[t]].push_back(t);
+            for (const unsigned int v : triangle.vertices)
+              point_owner.emplace(PointKey{{triangle.zone, triangle.body, v}}, subdomain_of[t]);
+          }
       }
+    for (unsigned int t = 0; t < contact_triangles.size(); ++t)
+      for (const unsigned int v : contact_triangles[t].vertices)
+        {
+          const auto it =
+            point_owner.find(PointKey{{contact_triangles[t].zone, contact_triangles[t].body, v}});
+          if (it != point_owner.end())
+            it->second = std::min(it->second, subdomain_of[t]);
+        }
     for (auto &[s, list] : of_subdomain)
       {
         subdomains.push_back(s);
@@ -258,8 +279,14 @@ namespace FetiContact
     OutputFiles::on_all_ranks(comm, [&]() {
       for (unsigned int i = 0; i < share.subdomains.size(); ++i)
         {
-          const std::string text =
-            piece_vtu(bodies, node_at, nodes, results, triangles, share.triangles[i]);
+          const std::string text = piece_vtu(bodies,
+                                             node_at,
+                                             nodes,
+                                             results,
+                                             triangles,
+                                             share.triangles[i],
+                                             share.subdomains[i],
+                                             share.point_owner);
           files.write(directory + "/" + piece_name(share.subdomains[i]),
                       [&](std::ostream &out) { out << text; });
         }

@@ -5,6 +5,8 @@
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/subdomain/subdomain.h>
 
+#include <array>
+#include <map>
 #include <mpi.h>
 #include <string>
 #include <vector>
@@ -26,6 +28,13 @@ namespace FetiContact
     /** The subdomains of this rank with triangles, increasing, and the triangles of each. */
     std::vector<unsigned int>              subdomains;
     std::vector<std::vector<unsigned int>> triangles;
+    /**
+     * For every point (zone, body, vertex) of this rank's triangles, the subdomain whose piece
+     * holds it as its own: the lowest subdomain with a triangle at the point. In the other pieces
+     * with the point it is a duplicate (vtkGhostType), so that sums over the whole surface in
+     * ParaView count every point once.
+     */
+    std::map<std::array<unsigned int, 3>, unsigned int> point_owner;
 
     ContactOutputShare(const std::vector<std::unique_ptr<Body>> &bodies,
                        const std::vector<unsigned int>          &first_subdomain,
@@ -52,8 +61,9 @@ namespace FetiContact
    * surfaces, with per-vertex data: the normal force λ_N, the pressure λ_N / D_kk, the contact
    * force on the body as a vector −(λ_N n + λ_T1 t1 + λ_T2 t2), the tangential part of it, the
    * gap d − N u, the slip vector (T1 u) t1 + (T2 u) t2, the status 0 open / 1 stick / 2 slip (−1
-   * for surface vertices that are not contact nodes, e.g. Dirichlet vertices), the zone and D_kk),
-   * and rank 0 the records `contact_surface.pvtu` (the pieces of all ranks) and
+   * for surface vertices that are not contact nodes, e.g. Dirichlet vertices), the zone and D_kk;
+   * vtkGhostType marks a point that another piece holds as its own, ContactOutputShare::
+   * point_owner), and rank 0 the records `contact_surface.pvtu` (the pieces of all ranks) and
    * `contact_surface.pvd` pointing to it, into @p directory through @p files. Collective.
    */
   void

@@ -698,6 +698,15 @@ namespace FetiContact
     return t;
   }
 
+  double
+  Simulator::meshes_mib() const
+  {
+    std::size_t bytes = 0;
+    for (const auto &body : bodies)
+      bytes += body->mesh.memory_consumption();
+    return static_cast<double>(bytes) / (1024.0 * 1024.0);
+  }
+
   JsonObject
   Simulator::summarize_memory() const
   {
@@ -712,7 +721,8 @@ namespace FetiContact
       .set("peak_rss_mib_per_rank", peak_mib)
       .set("estimated_peak_mib", memory_estimate.peak_mib)
       .set("model_cells", memory_estimate.cells)
-      .set("model_factor_units", memory_estimate.factor_units);
+      .set("model_factor_units", memory_estimate.factor_units)
+      .set("meshes_mib", meshes_mib());
     pcout << "Peak resident memory per rank: ";
     for (const double p : peak_mib)
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;

@@ -192,6 +192,12 @@ namespace FetiContact
     /** The peak memory of every rank and the estimate (summary.json: memory). */
     JsonObject
     summarize_memory() const;
+    /**
+     * The memory of the meshes of all bodies (Triangulation::memory_consumption()), which every
+     * rank holds whole, in MiB.
+     */
+    double
+    meshes_mib() const;
     /** The exchanges of one application of F, per rank (DualProblem::communication_volume). */
     JsonObject
     summarize_communication() const;

@@ -16,20 +16,19 @@ rank (`communication.*_per_rank`, `memory.peak_rss_mib_per_rank`):
 - distributed dual vectors: the ghost rows a rank imports (point to point) and from how many
   ranks;
 - the values received per application of F on either kind (slots + gathered or + ghosts);
-- the peak resident memory.
+- the peak resident memory, and the memory of the meshes, which every rank holds whole
+  (`memory.meshes_mib`).
 
 The table gives the largest value over the ranks (and the smallest for the memory). The CSV is
 rewritten after every case; --report-only writes the table from it. Standard library only.
 """
 import csv
-import json
 import os
-import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from runs import summary_of_run  # noqa: E402
 
 arguments(__doc__, ["--exe", "--prm", "--k", "--blocks", "--np", "--csv", "--markdown"],
           ["--report-only"])
@@ -45,29 +44,16 @@ MD = option("--markdown", "doc/data/communication.md")
 FIELDS = ["np", "m_total", "n_subdomains", "slot_neighbours_max", "slots_received_max",
           "gathered_values_max", "ghost_neighbours_max", "ghosts_received_max",
           "replicated_received_max", "distributed_received_max", "peak_rss_mib_max",
-          "peak_rss_mib_min"]
+          "peak_rss_mib_min", "meshes_mib"]
 
 
 def run(np_):
     """One run on np_ ranks: the row of the table."""
-    with tempfile.TemporaryDirectory() as out:
-        settings = ["Body 1/Mesh/Subdivisions=%d, %d, %d" % (3 * K, K, K),
-                    "Body 1/Decomposition/Method=blocks",
-                    "Body 1/Decomposition/Blocks=" + BLOCKS.replace(",", ", "),
-                    "Contact solver/Maximum MSA iterations=1",
-                    "Output/Write vtu=false", "Output/Directory=" + out]
-        command = ["mpirun", "-np", str(np_), "--oversubscribe", EXE]
-        for s in settings:
-            command += ["--set", s]
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        done = subprocess.run(command + [PRM], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE, text=True, env=env)
-        path = os.path.join(out, "summary.json")
-        if not os.path.exists(path):
-            raise SystemExit("communication.py: np = %d gave no summary.json (exit %d): %s"
-                             % (np_, done.returncode, done.stderr[-2000:]))
-        with open(path) as f:
-            s = json.load(f)
+    s = summary_of_run(EXE, PRM, ["Body 1/Mesh/Subdivisions=%d, %d, %d" % (3 * K, K, K),
+                                  "Body 1/Decomposition/Method=blocks",
+                                  "Body 1/Decomposition/Blocks=" + BLOCKS.replace(",", ", "),
+                                  "Contact solver/Maximum MSA iterations=1",
+                                  "Output/Write vtu=false"], np=np_)
     c, m = s["communication"], s["memory"]["peak_rss_mib_per_rank"]
     replicated = [a + b for a, b in zip(c["slots_received_per_rank"],
                                         c["gathered_values_per_rank"])]
@@ -81,7 +67,8 @@ def run(np_):
             "ghosts_received_max": int(max(c["ghosts_received_per_rank"])),
             "replicated_received_max": int(max(replicated)),
             "distributed_received_max": int(max(distributed)),
-            "peak_rss_mib_max": round(max(m)), "peak_rss_mib_min": round(min(m))}
+            "peak_rss_mib_max": round(max(m)), "peak_rss_mib_min": round(min(m)),
+            "meshes_mib": round(s["memory"]["meshes_mib"], 1)}
 
 
 def write_csv(rows):
@@ -99,14 +86,14 @@ def write_markdown(rows):
              "",
              "| np | slot neighbours | slots received | replicated: row sums gathered | "
              "distributed: ghost neighbours | ghosts received | received per F, replicated | "
-             "received per F, distributed | peak memory per rank [MiB] |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "received per F, distributed | peak memory per rank [MiB] | meshes [MiB] |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s–%s |" % (
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s–%s | %s |" % (
             r["np"], r["slot_neighbours_max"], r["slots_received_max"],
             r["gathered_values_max"], r["ghost_neighbours_max"], r["ghosts_received_max"],
             r["replicated_received_max"], r["distributed_received_max"],
-            r["peak_rss_mib_min"], r["peak_rss_mib_max"]))
+            r["peak_rss_mib_min"], r["peak_rss_mib_max"], r["meshes_mib"]))
     with open(MD, "w") as f:
         f.write("\n".join(lines) + "\n")
 

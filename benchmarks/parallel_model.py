@@ -42,15 +42,14 @@ here: shared memory is the fastest case). Memory per rank: s m_s plus the replic
 factor m_c(N_s). Standard library only.
 """
 import csv
-import json
 import math
 import os
 import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from runs import summary_of_run  # noqa: E402
 
 arguments(__doc__, ["--exe", "--mpi-costs", "--h", "--dofs-per-rank", "--ranks", "--reductions",
                     "--latency-factor", "--communication", "--coarse", "--csv", "--markdown"],
@@ -90,19 +89,13 @@ def mpi_costs():
 
 def run_brick(h, cubes):
     """One MSA step of the brick in 6 × 2 × 2 blocks of h cubes (cubes: cells per block edge)."""
-    with tempfile.TemporaryDirectory() as out:
-        command = [EXE, "prm/brick_contact.prm",
-                   "--set", f"Body 1/Mesh/Subdivisions={6 * cubes}, {2 * cubes}, {2 * cubes}",
-                   "--set", "Body 1/Decomposition/Method=blocks",
-                   "--set", "Body 1/Decomposition/Blocks=6, 2, 2",
-                   "--set", "Contact solver/Maximum MSA iterations=1",
-                   "--set", "Output/Write vtu=false", "--set", f"Output/Directory={out}"]
-        subprocess.run(command, env=ENV, capture_output=True, text=True)
-        path = os.path.join(out, "summary.json")
-        if not os.path.exists(path):
-            raise SystemExit(f"{' '.join(command)} wrote no summary.json")
-        with open(path) as f:
-            return json.load(f)
+    return summary_of_run(EXE, "prm/brick_contact.prm",
+                          [f"Body 1/Mesh/Subdivisions={6 * cubes}, {2 * cubes}, {2 * cubes}",
+                           "Body 1/Decomposition/Method=blocks",
+                           "Body 1/Decomposition/Blocks=6, 2, 2",
+                           "Contact solver/Maximum MSA iterations=1",
+                           "Output/Write vtu=false"],
+                          env={"OPENBLAS_NUM_THREADS": "1", "DEAL_II_NUM_THREADS": "1"})
 
 
 def subdomain_costs(h):

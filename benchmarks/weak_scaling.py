@@ -10,19 +10,18 @@ np·C, C, C`, `Decomposition/Method = blocks`, `Blocks = np, 1, 1`): every rank 
 of the same size. One MSA step (`Contact solver/Maximum MSA iterations = 1`: the meshes, the
 factors and the QP vectors all exist by then), under `mpirun --oversubscribe`. From summary.json:
 the unknowns, the largest and smallest peak resident memory over the ranks
-(`memory.peak_rss_mib_per_rank`), and the program's own estimate (`memory.estimated_peak_mib`).
+(`memory.peak_rss_mib_per_rank`), the program's own estimate (`memory.estimated_peak_mib`) and
+the memory of the meshes, which every rank holds whole (`memory.meshes_mib`).
 The table gives the largest peak against that of np = 1. The CSV is rewritten after every case;
 --report-only writes the table from it. Standard library only.
 """
 import csv
-import json
 import os
-import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
+from runs import summary_of_run  # noqa: E402
 
 arguments(__doc__, ["--exe", "--prm", "--cubes", "--np", "--csv", "--markdown"],
           ["--report-only"])
@@ -33,33 +32,22 @@ CUBES = int(option("--cubes", "16"))
 NP = [int(n) for n in option("--np", "1,2,4,8,16").split(",")]
 CSV = option("--csv", "doc/data/weak_scaling.csv")
 MD = option("--markdown", "doc/data/weak_scaling.md")
-FIELDS = ["np", "n_primal", "m_total", "peak_rss_mib_max", "peak_rss_mib_min", "estimated_mib"]
+FIELDS = ["np", "n_primal", "m_total", "peak_rss_mib_max", "peak_rss_mib_min", "estimated_mib",
+          "meshes_mib"]
 
 
 def run(np_):
-    with tempfile.TemporaryDirectory() as out:
-        settings = [f"Body 1/Mesh/Subdivisions={CUBES * np_}, {CUBES}, {CUBES}",
-                    "Body 1/Decomposition/Method=blocks",
-                    f"Body 1/Decomposition/Blocks={np_}, 1, 1",
-                    "Contact solver/Maximum MSA iterations=1",
-                    "Output/Write vtu=false", "Output/Directory=" + out]
-        command = ["mpirun", "-np", str(np_), "--oversubscribe", EXE]
-        for s in settings:
-            command += ["--set", s]
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                   OPENBLAS_NUM_THREADS="1")
-        done = subprocess.run(command + [PRM], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE, text=True, env=env)
-        path = os.path.join(out, "summary.json")
-        if not os.path.exists(path):
-            raise SystemExit("weak_scaling.py: np = %d gave no summary.json (exit %d): %s"
-                             % (np_, done.returncode, done.stderr[-2000:]))
-        with open(path) as f:
-            s = json.load(f)
+    s = summary_of_run(EXE, PRM, [f"Body 1/Mesh/Subdivisions={CUBES * np_}, {CUBES}, {CUBES}",
+                                  "Body 1/Decomposition/Method=blocks",
+                                  f"Body 1/Decomposition/Blocks={np_}, 1, 1",
+                                  "Contact solver/Maximum MSA iterations=1",
+                                  "Output/Write vtu=false"],
+                       np=np_, env={"OPENBLAS_NUM_THREADS": "1"})
     peaks = s["memory"]["peak_rss_mib_per_rank"]
     return {"np": np_, "n_primal": s["n_primal"], "m_total": s["m_total"],
             "peak_rss_mib_max": round(max(peaks)), "peak_rss_mib_min": round(min(peaks)),
-            "estimated_mib": round(s["memory"]["estimated_peak_mib"])}
+            "estimated_mib": round(s["memory"]["estimated_peak_mib"]),
+            "meshes_mib": round(s["memory"]["meshes_mib"], 1)}
 
 
 def write_csv(rows):
@@ -74,11 +62,12 @@ def write_markdown(rows):
     lines = [f"Brick `{PRM}` as a bar of np blocks of {CUBES}³ cubes, one subdomain per rank "
              "(`/usr/bin/python3 benchmarks/weak_scaling.py`).", "",
              "| np | unknowns | dual unknowns | peak memory per rank [MiB] | largest / np = 1 | "
-             "estimate [MiB] |", "|---|---|---|---|---|---|"]
+             "estimate [MiB] | meshes [MiB] |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['np']} | {int(r['n_primal']):,} | {int(r['m_total']):,} | "
                      f"{r['peak_rss_mib_min']}–{r['peak_rss_mib_max']} | "
-                     f"{float(r['peak_rss_mib_max']) / base:.2f} | {r['estimated_mib']} |")
+                     f"{float(r['peak_rss_mib_max']) / base:.2f} | {r['estimated_mib']} | "
+                     f"{r['meshes_mib']} |")
     with open(MD, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -1,0 +1,26 @@
+"""Running the program for a benchmark and reading its summary.json (standard library only)."""
+import json
+import os
+import subprocess
+import tempfile
+
+
+def summary_of_run(exe, prm, settings, np=None, env=None):
+    """Runs `exe prm` with the `--set` entries of `settings` into a temporary output folder,
+    under `mpirun -np NP --oversubscribe` if np is given, and returns its summary.json. Exits
+    naming the command and the end of its stderr if the run wrote none (a run that stops at an
+    iteration limit still writes one)."""
+    with tempfile.TemporaryDirectory() as out:
+        command = (["mpirun", "-np", str(np), "--oversubscribe"] if np else []) + [exe]
+        for s in settings + ["Output/Directory=" + out]:
+            command += ["--set", s]
+        environment = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1",
+                           OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", **(env or {}))
+        done = subprocess.run(command + [prm], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE, text=True, env=environment)
+        path = os.path.join(out, "summary.json")
+        if not os.path.exists(path):
+            raise SystemExit("%s wrote no summary.json (exit %d): %s"
+                             % (" ".join(command + [prm]), done.returncode, done.stderr[-2000:]))
+        with open(path) as f:
+            return json.load(f)

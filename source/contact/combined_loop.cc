@@ -6,15 +6,16 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  CombinedLoop::CombinedLoop(
-    TrescaProblem                                                     &tresca,
-    const Parameters::ContactSolver                                   &parameters,
-    std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of)
+  template <typename VectorType>
+  CombinedLoop<VectorType>::CombinedLoop(
+    TrescaProblem<VectorType>                             &tresca,
+    const Parameters::ContactSolver                       &parameters,
+    std::function<std::vector<double>(const VectorType &)> slip_bound_of)
     : tresca(tresca)
     , parameters(parameters)
     , slip_bound_of(std::move(slip_bound_of))
   {
-    moving_set.update    = [this](const Vector<double> &lambda) { update_radii(lambda); };
+    moving_set.update    = [this](const VectorType &lambda) { update_radii(lambda); };
     moving_set.unchanged = [this]() { return change <= this->parameters.msa_tolerance; };
     // At the start λ_N = 0 and g = 0 do not change either: final only after a few updates.
     moving_set.final = [this]() {
@@ -22,14 +23,16 @@ namespace FetiContact
     };
   }
 
+  template <typename VectorType>
   double
-  CombinedLoop::last_change() const
+  CombinedLoop<VectorType>::last_change() const
   {
     return change;
   }
 
+  template <typename VectorType>
   void
-  CombinedLoop::update_radii(const Vector<double> &lambda)
+  CombinedLoop<VectorType>::update_radii(const VectorType &lambda)
   {
     const auto                 target = slip_bound_of(lambda);
     const std::vector<double> &g_old  = tresca.slip_bounds();
@@ -41,11 +44,12 @@ namespace FetiContact
     tresca.set_slip_bounds(g);
   }
 
-  CombinedLoop::Outcome
-  CombinedLoop::run(Vector<double>               &lambda,
-                    Vector<double>               &nu,
-                    const double                  msa_tolerance,
-                    const TrescaProblem::Monitor &monitor)
+  template <typename VectorType>
+  typename CombinedLoop<VectorType>::Outcome
+  CombinedLoop<VectorType>::run(VectorType                                        &lambda,
+                                Vector<double>                                    &nu,
+                                const double                                       msa_tolerance,
+                                const typename TrescaProblem<VectorType>::Monitor &monitor)
   {
     Outcome outcome;
     for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
@@ -71,4 +75,7 @@ namespace FetiContact
                       InputParsing::number_text(change);
     return outcome;
   }
+
+  template class CombinedLoop<Vector<double>>;
+  template class CombinedLoop<DistributedVector>;
 } // namespace FetiContact

@@ -16,8 +16,10 @@ namespace FetiContact
     constexpr double negligible_slip_bound = 1e-12;
   } // namespace
 
+  template <typename VectorType>
   void
-  TrescaProblem::Statistics::count_steps(const QP::MPGP<DualVector>::Statistics &r)
+  TrescaProblem<VectorType>::Statistics::count_steps(
+    const typename QP::MPGP<VectorType>::Statistics &r)
   {
     cg_steps += r.cg_steps;
     expansion_steps += r.expansion_steps;
@@ -26,29 +28,50 @@ namespace FetiContact
     recursive_gradient_updates += r.recursive_gradient_updates;
   }
 
-  TrescaProblem::TrescaProblem(const DualProblem               &dual,
-                               const DualLayout                &layout,
-                               const std::vector<ContactNode>  &nodes,
-                               const Parameters::ContactSolver &parameters,
-                               std::ostream                    &out)
+  template <typename VectorType>
+  TrescaProblem<VectorType>::TrescaProblem(const DualProblem               &dual,
+                                           const DualLayout                &layout,
+                                           const std::vector<ContactNode>  &nodes,
+                                           const Parameters::ContactSolver &parameters,
+                                           std::ostream                    &out)
     : dual(dual)
     , layout(layout)
     , nodes(nodes)
     , parameters(parameters)
-    , set(layout.size())
-    , set_c(layout.size() - layout.n_tangential)
-    , set_t(layout.n_tangential)
-    , disc_of_node(nodes.size(), numbers::invalid_unsigned_int)
+    , rows(dual)
+    , block_t(rows.block(0, layout.n_tangential))
+    , block_c(rows.block(layout.n_tangential, layout.size() - layout.n_tangential))
+    , h(rows.restrict(dual.h))
+    , set(rows.n_local())
+    , set_c(block_c.end - block_c.begin)
+    , set_t(block_t.end - block_t.begin)
     , slip_bound(nodes.size(), 0.0)
   {
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        const unsigned int r = rows.local_index(layout.normal_row[k]);
+        if (r == numbers::invalid_unsigned_int)
+          continue;
+        const unsigned int t = layout.tangential_row[k];
+        local_node.push_back(k);
+        local_normal_row.push_back(r);
+        local_tangential_row.push_back(t == numbers::invalid_unsigned_int ? t :
+                                                                            rows.local_index(t));
+        AssertThrow(t == numbers::invalid_unsigned_int ||
+                      local_tangential_row.back() != numbers::invalid_unsigned_int,
+                    ExcMessage("The rows of contact node " + std::to_string(k) +
+                               " are held by different ranks."));
+      }
+    disc_of_node.assign(local_node.size(), numbers::invalid_unsigned_int);
     build_problems();
     build_constraint_sets();
     set_slip_bounds(slip_bound);
     estimate_scales(out);
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::build_problems()
+  TrescaProblem<VectorType>::build_problems()
   {
     // Homogenization for the projector variant: Gλ₀ = e, h − Fλ₀, ẽ − G̃λ₀ = 0. λ₀ is taken
     // from the gluing and Dirichlet rows alone when they restrain the floating subdomains, else
@@ -58,19 +81,17 @@ namespace FetiContact
     row_tier.assign(layout.size(), 0);
     for (unsigned int r = 0; r < layout.first_equality(); ++r)
       row_tier[r] = r < layout.first_normal() ? 2 : 1;
-    unscaled.hessian = [this](const Vector<double> &x, Vector<double> &y) {
-      this->dual.apply_F(x, y);
-    };
-    unscaled.linear_term = dual.h;
+    unscaled.hessian     = [this](const VectorType &x, VectorType &y) { this->dual.apply_F(x, y); };
+    unscaled.linear_term = h;
     unscaled.set         = &set;
-    unscaled.G           = [this](const Vector<double> &x, Vector<double> &y) {
+    unscaled.G           = [this](const VectorType &x, Vector<double> &y) {
       this->dual.coarse.apply_G(x, y);
     };
-    unscaled.Gt = [this](const Vector<double> &x, Vector<double> &y) {
+    unscaled.Gt = [this](const Vector<double> &x, VectorType &y) {
       this->dual.coarse.apply_Gt(x, y);
     };
     unscaled.e = dual.e;
-    QP::Orthonormalization<DualVector>::Factor factor;
+    typename QP::Orthonormalization<VectorType>::Factor factor;
     factor.solve_L = [this](Vector<double> &v) {
       this->dual.coarse.apply_orthonormalizing_factor(v, false);
     };
@@ -78,15 +99,16 @@ namespace FetiContact
       this->dual.coarse.apply_orthonormalizing_factor(v, true);
     };
     orthonormalization.emplace(unscaled, factor);
-    original = orthonormalization->transformed();
-    problem  = original;
-    lambda0.reinit(layout.size());
+    original  = orthonormalization->transformed();
+    problem   = original;
+    lambda0   = rows.vector();
     projector = parameters.smalbe.equality_constraint ==
                   QP::SMALBEParameters::EqualityConstraint::projector &&
                 dual.coarse.n_modes() > 0;
     if (projector)
       {
-        homogenization.emplace(original, dual.coarse.particular_solution(dual.e, row_tier));
+        homogenization.emplace(original,
+                               rows.restrict(dual.coarse.particular_solution(dual.e, row_tier)));
         lambda0     = homogenization->particular_solution();
         homogeneous = homogenization->transformed(set);
         projector_enforcement.emplace(homogeneous);
@@ -94,55 +116,56 @@ namespace FetiContact
       }
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::build_constraint_sets()
+  TrescaProblem<VectorType>::build_constraint_sets()
   {
-    const unsigned int n_T = layout.n_tangential;
-    for (unsigned int k = 0; k < nodes.size(); ++k)
+    for (unsigned int j = 0; j < local_node.size(); ++j)
       {
-        const unsigned int r = layout.normal_row[k];
+        const unsigned int r = local_normal_row[j];
         set.set_lower_bound(r, -lambda0[r]);
-        set_c.set_lower_bound(r - n_T, -lambda0[r]);
-        const unsigned int t = layout.tangential_row[k];
+        set_c.set_lower_bound(r - block_c.begin, -lambda0[r]);
+        const unsigned int t = local_tangential_row[j];
         if (t == numbers::invalid_unsigned_int)
           continue;
         if (!layout.polygonal)
           {
             const std::array<double, 2> centre{{-lambda0[t], -lambda0[t + 1]}};
-            disc_of_node[k] = set.add_disc(t, t + 1, centre, 0.0);
-            set_t.add_disc(t, t + 1, centre, 0.0);
+            disc_of_node[j] = set.add_disc(t, t + 1, centre, 0.0);
+            set_t.add_disc(t - block_t.begin, t + 1 - block_t.begin, centre, 0.0);
           }
       }
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::estimate_scales(std::ostream &out)
+  TrescaProblem<VectorType>::estimate_scales(std::ostream &out)
   {
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
-    G_norm = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
+    G_norm                 = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
+    const VectorType start = rows.restrict(dual.c);
     // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
     // with floating subdomains it also measures the local pseudo-inverses on the rigid body
     // modes, which P removes: with the projector SMALBE gets ‖PFP‖, the norm of the FETI part
     // of the Hessian it applies.
     if (parameters.penalty_projected_norm && projector)
       {
-        Vector<double> Pv;
-        feti_norm = 1.05 * QP::estimate_norm<DualVector>(
-                             [&](const Vector<double> &x, Vector<double> &y) {
+        VectorType Pv;
+        feti_norm = 1.05 * QP::estimate_norm<VectorType>(
+                             [&](const VectorType &x, VectorType &y) {
                                Pv = x;
                                apply_P(Pv);
                                dual.apply_F(Pv, y);
                                apply_P(y);
                              },
-                             dual.c,
+                             start,
                              projected_norm_iterations);
       }
     else
-      feti_norm =
-        1.05 * QP::estimate_norm<DualVector>([&](const Vector<double> &x,
-                                                 Vector<double>       &y) { dual.apply_F(x, y); },
-                                             dual.c,
-                                             10);
+      feti_norm = 1.05 * QP::estimate_norm<VectorType>([&](const VectorType &x,
+                                                           VectorType &y) { dual.apply_F(x, y); },
+                                                       start,
+                                                       10);
     rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) : feti_norm;
     // ‖F + ρG̃ᵀG̃‖ ≤ ‖F‖ + ρ. In the projector variant the Hessian PFP + ρQ (Q = G̃ᵀG̃ = I − P) is
     // block diagonal in ker G̃ ⊕ range G̃ᵀ, so its norm is max(‖PFP‖, ρ) ≤ max(‖F‖, ρ).
@@ -161,31 +184,34 @@ namespace FetiContact
     // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number
     // of rigid modes (G̃ has orthonormal rows).
     const unsigned int m = layout.size();
-    Vector<double>     Pv;
-    const auto         PFP = [&](const Vector<double> &v, Vector<double> &y) {
+    VectorType         Pv;
+    const auto         PFP = [&](const VectorType &v, VectorType &y) {
       Pv = v;
       if (projector)
         apply_P(Pv);
       dual.apply_F(Pv, y);
     };
-    arc_scale = QP::estimate_mean_diagonal<DualVector>(PFP, dual.c, arc_scale_probes) +
+    arc_scale = QP::estimate_mean_diagonal<VectorType>(PFP, start, arc_scale_probes) +
                 rho * G_norm * G_norm * dual.coarse.n_modes() / m;
     out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
         << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
         << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::apply_P(Vector<double> &v) const
+  TrescaProblem<VectorType>::apply_P(VectorType &v) const
   {
-    Vector<double> Gv, Qv;
+    Vector<double> Gv;
+    VectorType     Qv;
     dual.coarse.apply_G_orthonormal(v, Gv);
     dual.coarse.apply_Gt_orthonormal(Gv, Qv);
     v -= Qv;
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::set_slip_bounds(const std::vector<double> &g)
+  TrescaProblem<VectorType>::set_slip_bounds(const std::vector<double> &g)
   {
     slip_bound = g;
     // A slip bound below 1e-12 of the largest (compared as forces) comes from a normal force that
@@ -201,93 +227,97 @@ namespace FetiContact
     };
     const unsigned int s      = layout.tangential_per_node;
     const double       shrink = std::sin(numbers::PI / (2.0 * s));
-    for (unsigned int k = 0; k < nodes.size(); ++k)
+    for (unsigned int n = 0; n < local_node.size(); ++n)
       {
-        const unsigned int t = layout.tangential_row[k];
+        const unsigned int t = local_tangential_row[n];
         if (t == numbers::invalid_unsigned_int)
           continue;
-        const double r = radius(k);
+        const double r = radius(local_node[n]);
         if (layout.polygonal)
           for (unsigned int j = 0; j < s; ++j)
             {
               const double c = lambda0[t + j];
               set.set_interval(t + j, -shrink * r - c, shrink * r - c);
-              set_t.set_interval(t + j, -shrink * r - c, shrink * r - c);
+              set_t.set_interval(t + j - block_t.begin, -shrink * r - c, shrink * r - c);
             }
         else
           {
-            set.set_disc_radius(disc_of_node[k], r);
-            set_t.set_disc_radius(disc_of_node[k], r);
+            set.set_disc_radius(disc_of_node[n], r);
+            set_t.set_disc_radius(disc_of_node[n], r);
           }
       }
   }
 
+  template <typename VectorType>
   const std::vector<double> &
-  TrescaProblem::slip_bounds() const
+  TrescaProblem<VectorType>::slip_bounds() const
   {
     return slip_bound;
   }
 
+  template <typename VectorType>
   unsigned int
-  TrescaProblem::n_equality_constraints() const
+  TrescaProblem<VectorType>::n_equality_constraints() const
   {
     return original.e.size();
   }
 
-  const TrescaProblem::Statistics &
-  TrescaProblem::statistics() const
+  template <typename VectorType>
+  const typename TrescaProblem<VectorType>::Statistics &
+  TrescaProblem<VectorType>::statistics() const
   {
     return counts;
   }
 
-  Vector<double>
-  TrescaProblem::total(const Vector<double> &lambda_tilde) const
+  template <typename VectorType>
+  VectorType
+  TrescaProblem<VectorType>::total(const VectorType &lambda_tilde) const
   {
-    Vector<double> lambda(lambda_tilde);
+    VectorType lambda(lambda_tilde);
     lambda += lambda0;
     return lambda;
   }
 
+  template <typename VectorType>
   std::vector<double>
-  TrescaProblem::normal_forces(const Vector<double> &lambda_tilde) const
+  TrescaProblem<VectorType>::normal_forces(const VectorType &lambda_tilde) const
   {
     // A node's multipliers are its forces / scale_of_node.
-    std::vector<double> normal_force(nodes.size());
-    for (unsigned int k = 0; k < nodes.size(); ++k)
+    std::vector<double> normal_force(nodes.size(), 0.0);
+    for (unsigned int n = 0; n < local_node.size(); ++n)
       {
-        const unsigned int r = layout.normal_row[k];
-        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
+        const unsigned int k = local_node[n], r = local_normal_row[n];
+        normal_force[k] = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
       }
+    rows.sum_over_ranks(normal_force);
     return normal_force;
   }
 
-  QP::MPGP<DualVector>::AdditionalData
-  TrescaProblem::mpgp_data() const
+  template <typename VectorType>
+  typename QP::MPGP<VectorType>::AdditionalData
+  TrescaProblem<VectorType>::mpgp_data() const
   {
-    QP::MPGP<DualVector>::AdditionalData data = parameters.mpgp;
-    data.step                                 = 1.9 / hessian_norm;
-    data.arc_scale                            = arc_scale;
+    typename QP::MPGP<VectorType>::AdditionalData data = parameters.mpgp;
+    data.step                                          = 1.9 / hessian_norm;
+    data.arc_scale                                     = arc_scale;
     return data;
   }
 
-  QP::MPGP<DualVector>::Statistics
-  TrescaProblem::solve_block(const QP::Operator<DualVector> &A,
-                             const Vector<double>           &b,
-                             Vector<double>                 &lambda,
-                             const unsigned int              first,
-                             const unsigned int              n,
-                             const QP::SeparableSet         &block_set,
-                             const double                    tolerance,
-                             unsigned int                   &counter)
+  template <typename VectorType>
+  typename QP::MPGP<VectorType>::Statistics
+  TrescaProblem<VectorType>::solve_block(const QP::Operator<VectorType>                  &A,
+                                         const VectorType                                &b,
+                                         VectorType                                      &lambda,
+                                         const typename LocalDualRows<VectorType>::Block &block,
+                                         const QP::SeparableSet                          &block_set,
+                                         const double                                     tolerance,
+                                         unsigned int                                    &counter)
   {
-    const unsigned int m = lambda.size();
-    Vector<double>     full(m), Afull(m), x(n), rhs(n);
-    for (unsigned int i = 0; i < n; ++i)
-      x[i] = lambda[first + i];
+    VectorType full(lambda), Afull(lambda), x = block.vector(), rhs = block.vector();
+    block.extract(lambda, x);
     // b_block − A_{block, other} λ_other.
-    full = lambda;
-    for (unsigned int i = 0; i < n; ++i)
-      full[first + i] = 0;
+    for (unsigned int i = block.begin; i < block.end; ++i)
+      full[i] = 0;
     if (full.l2_norm() > 0)
       {
         A(full, Afull);
@@ -295,36 +325,35 @@ namespace FetiContact
       }
     else
       Afull = 0;
-    for (unsigned int i = 0; i < n; ++i)
-      rhs[i] = b[first + i] - Afull[first + i];
+    block.extract(b, rhs);
+    VectorType A_other = block.vector();
+    block.extract(Afull, A_other);
+    rhs -= A_other;
     // A restricted to the block: pad with zeros, multiply, extract.
-    const QP::Operator<DualVector> A_block = [&](const Vector<double> &v, Vector<double> &y) {
+    const QP::Operator<VectorType> A_block = [&](const VectorType &v, VectorType &y) {
       full = 0;
-      for (unsigned int i = 0; i < n; ++i)
-        full[first + i] = v[i];
+      block.insert(v, full);
       A(full, Afull);
       ++counter;
-      y.reinit(n);
-      for (unsigned int i = 0; i < n; ++i)
-        y[i] = Afull[first + i];
+      block.extract(Afull, y);
     };
-    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
-    data.tolerance                            = tolerance;
-    const auto report = QP::MPGP<DualVector>(data).solve(A_block, rhs, block_set, x);
-    for (unsigned int i = 0; i < n; ++i)
-      lambda[first + i] = x[i];
+    typename QP::MPGP<VectorType>::AdditionalData data = mpgp_data();
+    data.tolerance                                     = tolerance;
+    const auto report = QP::MPGP<VectorType>(data).solve(A_block, rhs, block_set, x);
+    block.insert(x, lambda);
     counts.count_steps(report);
     return report;
   }
 
+  template <typename VectorType>
   QP::SolverReport
-  TrescaProblem::gauss_seidel(const QP::Operator<DualVector> &A,
-                              const Vector<double>           &b,
-                              Vector<double>                 &lambda,
-                              const double                    tolerance,
-                              const MovingSet                *moving_set)
+  TrescaProblem<VectorType>::gauss_seidel(const QP::Operator<VectorType> &A,
+                                          const VectorType               &b,
+                                          VectorType                     &lambda,
+                                          const double                    tolerance,
+                                          const MovingSet                *moving_set)
   {
-    const unsigned int n_T = layout.n_tangential, n_c = lambda.size() - n_T;
+    const unsigned int n_T = layout.n_tangential;
     QP::SolverReport   report;
     report.converged = true;
     // Each block to tolerance/2: when a sweep changes nothing, both block gradients are then
@@ -333,7 +362,7 @@ namespace FetiContact
     for (unsigned int sweep = 0; sweep < parameters.gauss_seidel_sweeps; ++sweep)
       {
         // λ_c = [λ_N; λ_E] by MPRGP with λ_T fixed.
-        const auto rc = solve_block(A, b, lambda, n_T, n_c, set_c, tolerance / 2, counts.n_bound);
+        const auto rc = solve_block(A, b, lambda, block_c, set_c, tolerance / 2, counts.n_bound);
         report.iterations += rc.iterations;
         report.converged &= rc.converged;
         if (n_T == 0)
@@ -341,31 +370,32 @@ namespace FetiContact
         if (moving_set)
           moving_set->update(lambda);
         // λ_T by KPG (MPGP on the discs) with λ_c fixed.
-        const auto rt = solve_block(A, b, lambda, 0, n_T, set_t, tolerance / 2, counts.n_disc);
+        const auto rt = solve_block(A, b, lambda, block_t, set_t, tolerance / 2, counts.n_disc);
         report.iterations += rt.iterations;
         report.converged &= rt.converged;
       }
     return report;
   }
 
-  QP::SMALBE<DualVector>::InnerReport
-  TrescaProblem::mpgp_inner_solve(const QP::Operator<DualVector> &A,
-                                  const Vector<double>           &b,
-                                  Vector<double>                 &x,
-                                  const double                    tolerance,
-                                  const Vector<double>           &gradient)
+  template <typename VectorType>
+  typename QP::SMALBE<VectorType>::InnerReport
+  TrescaProblem<VectorType>::mpgp_inner_solve(const QP::Operator<VectorType> &A,
+                                              const VectorType               &b,
+                                              VectorType                     &x,
+                                              const double                    tolerance,
+                                              const VectorType               &gradient)
   {
     unsigned int                   calls   = 0;
-    const QP::Operator<DualVector> counted = [&](const Vector<double> &v, Vector<double> &y) {
+    const QP::Operator<VectorType> counted = [&](const VectorType &v, VectorType &y) {
       A(v, y);
       ++calls;
     };
-    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
-    data.tolerance                            = tolerance;
+    typename QP::MPGP<VectorType>::AdditionalData data = mpgp_data();
+    data.tolerance                                     = tolerance;
     // MPGP starts from SMALBE's gradient and returns its own (no multiplication for either).
-    Vector<double> g(gradient);
-    const auto     mpgp_report = QP::MPGP<DualVector>(data).solve(counted, b, set, x, &g);
-    QP::SMALBE<DualVector>::InnerReport report(mpgp_report);
+    VectorType g(gradient);
+    const auto mpgp_report = QP::MPGP<VectorType>(data).solve(counted, b, set, x, &g);
+    typename QP::SMALBE<VectorType>::InnerReport report(mpgp_report);
     report.capped = !mpgp_report.converged && mpgp_report.iterations >= data.max_iterations;
     counts.count_steps(mpgp_report);
     report.gradient.swap(g);
@@ -373,33 +403,35 @@ namespace FetiContact
     return report;
   }
 
-  QP::SMALBE<DualVector>::Statistics
-  TrescaProblem::solve(Vector<double>  &lambda,
-                       Vector<double>  &nu,
-                       const double     tolerance,
-                       const Monitor   &monitor,
-                       const MovingSet *moving_set)
+  template <typename VectorType>
+  typename QP::SMALBE<VectorType>::Statistics
+  TrescaProblem<VectorType>::solve(VectorType      &lambda,
+                                   Vector<double>  &nu,
+                                   const double     tolerance,
+                                   const Monitor   &monitor,
+                                   const MovingSet *moving_set)
   {
-    QP::SMALBE<DualVector>::AdditionalData data = parameters.smalbe;
-    data.tolerance                              = tolerance;
-    data.feasibility_tolerance                  = tolerance;
-    data.rho                                    = rho;
-    data.F_norm                                 = feti_norm;
-    data.G_norm                                 = G_norm;
-    data.inner                                  = mpgp_data();
+    typename QP::SMALBE<VectorType>::AdditionalData data = parameters.smalbe;
+    data.tolerance                                       = tolerance;
+    data.feasibility_tolerance                           = tolerance;
+    data.rho                                             = rho;
+    data.F_norm                                          = feti_norm;
+    data.G_norm                                          = G_norm;
+    data.inner                                           = mpgp_data();
     if (moving_set)
       data.max_inner_calls = 1;
     const bool split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
                        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2;
-    Vector<double>         last_lambda;
-    QP::SMALBE<DualVector> smalbe(data);
+    VectorType             last_lambda;
+    QP::SMALBE<VectorType> smalbe(data);
     if (split && layout.n_tangential > 0)
-      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
-                                  const Vector<double>           &b,
-                                  Vector<double>                 &x,
+      smalbe.set_inner_solver([&](const QP::Operator<VectorType> &A,
+                                  const VectorType               &b,
+                                  VectorType                     &x,
                                   const double                    inner_tolerance,
-                                  const Vector<double> & /*gradient*/) {
-        QP::SMALBE<DualVector>::InnerReport r = gauss_seidel(A, b, x, inner_tolerance, moving_set);
+                                  const VectorType & /*gradient*/) {
+        typename QP::SMALBE<VectorType>::InnerReport r =
+          gauss_seidel(A, b, x, inner_tolerance, moving_set);
         if (moving_set)
           {
             r.same_set  = moving_set->unchanged();
@@ -409,26 +441,27 @@ namespace FetiContact
         return r;
       });
     else
-      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
-                                  const Vector<double>           &b,
-                                  Vector<double>                 &x,
+      smalbe.set_inner_solver([&](const QP::Operator<VectorType> &A,
+                                  const VectorType               &b,
+                                  VectorType                     &x,
                                   const double                    inner_tolerance,
-                                  const Vector<double>           &gradient) {
-        QP::SMALBE<DualVector>::InnerReport r =
+                                  const VectorType               &gradient) {
+        typename QP::SMALBE<VectorType>::InnerReport r =
           mpgp_inner_solve(A, b, x, inner_tolerance, gradient);
         last_lambda = x;
         return r;
       });
     if (monitor)
       smalbe.set_monitor(
-        [&](const QP::SMALBE<DualVector>::Step &step) { monitor(step, last_lambda); });
-    const QP::SMALBE<DualVector>::Statistics report = smalbe.solve(problem, lambda, nu);
+        [&](const typename QP::SMALBE<VectorType>::Step &step) { monitor(step, last_lambda); });
+    const typename QP::SMALBE<VectorType>::Statistics report = smalbe.solve(problem, lambda, nu);
     counts.smalbe_iterations += report.iterations;
     return report;
   }
 
+  template <typename VectorType>
   void
-  TrescaProblem::recover(Vector<double> &lambda, Vector<double> &nu) const
+  TrescaProblem<VectorType>::recover(VectorType &lambda, Vector<double> &nu) const
   {
     if (homogenization)
       homogenization->recover(lambda);
@@ -440,33 +473,37 @@ namespace FetiContact
         Vector<double> misfit(dual.e), G_lambda;
         dual.coarse.apply_G(lambda, G_lambda);
         misfit -= G_lambda;
-        lambda += dual.coarse.particular_solution(misfit, row_tier);
+        lambda += rows.restrict(dual.coarse.particular_solution(misfit, row_tier));
       }
     if (projector_enforcement)
       {
         // The multiplier of the original problem from that of the projected one.
-        Vector<double> r(layout.size());
+        VectorType r = rows.vector();
         dual.apply_F(lambda, r);
-        r -= dual.h;
+        r -= h;
         projector_enforcement->recover_multiplier(r, nu);
       }
     nu = orthonormalization->recover_multiplier(nu);
   }
 
+  template <typename VectorType>
   std::array<unsigned int, 3>
-  TrescaProblem::status_counts(const Vector<double> &lambda_tilde) const
+  TrescaProblem<VectorType>::status_counts(const VectorType &lambda_tilde) const
   {
-    const Vector<double>        lambda = total(lambda_tilde);
-    std::array<unsigned int, 3> counts_by_status{{0, 0, 0}};
+    const VectorType          lambda = total(lambda_tilde);
+    std::vector<unsigned int> counts_by_status(3, 0);
     // The normal force σ_k λ_N (σ_k ≠ 1 only with averaged contact rows) against the largest;
     // slip and stick compare multipliers of the same node.
     double lambda_max = 0;
-    for (unsigned int k = 0; k < nodes.size(); ++k)
-      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda[layout.normal_row[k]]);
-    for (unsigned int k = 0; k < nodes.size(); ++k)
+    for (unsigned int n = 0; n < local_node.size(); ++n)
+      lambda_max =
+        std::max(lambda_max, layout.scale_of_node(local_node[n]) * lambda[local_normal_row[n]]);
+    lambda_max = rows.max_over_ranks(lambda_max);
+    for (unsigned int n = 0; n < local_node.size(); ++n)
       {
-        const double       lN = layout.scale_of_node(k) * lambda[layout.normal_row[k]];
-        const unsigned int t  = layout.tangential_row[k];
+        const unsigned int k  = local_node[n];
+        const double       lN = layout.scale_of_node(k) * lambda[local_normal_row[n]];
+        const unsigned int t  = local_tangential_row[n];
         double             lT = 0;
         if (t != numbers::invalid_unsigned_int)
           for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
@@ -477,11 +514,14 @@ namespace FetiContact
                          t == numbers::invalid_unsigned_int ? 0. : slip_bound[k]);
         ++counts_by_status[static_cast<unsigned int>(status)];
       }
-    return counts_by_status;
+    rows.sum_over_ranks(counts_by_status);
+    return {{counts_by_status[0], counts_by_status[1], counts_by_status[2]}};
   }
 
+  template <typename VectorType>
   std::string
-  TrescaProblem::no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const
+  TrescaProblem<VectorType>::no_equilibrium_message(
+    const typename QP::SMALBE<VectorType>::Statistics &report) const
   {
     // The certificate in the original variables: with the projector SMALBE saw λ̃ ∈ Ω − λ₀ and
     // G̃λ̃ = 0, so αᵀẽ = αᵀG̃λ₀ and σ_Ω = σ_{Ω−λ₀} + αᵀG̃λ₀.
@@ -503,4 +543,7 @@ namespace FetiContact
             "the normal force (full sliding), or the loads pull the body off the obstacle";
     return text.str();
   }
+
+  template class TrescaProblem<Vector<double>>;
+  template class TrescaProblem<DistributedVector>;
 } // namespace FetiContact

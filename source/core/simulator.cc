@@ -10,6 +10,7 @@
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/contact/load_balance.h>
 #include <feticontact/core/simulator.h>
+#include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/postprocessing/postprocessors.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/qp/projected_cg.h>
@@ -385,7 +386,11 @@ namespace FetiContact
     build_dual_problem();
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
           << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
-          << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
+          << " rigid body modes, " << dual->size() << " dual unknowns ("
+          << (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed ?
+                "distributed" :
+                "replicated")
+          << ")" << std::endl;
     check_log();
   }
 
@@ -447,14 +452,25 @@ namespace FetiContact
   void
   Simulator::solve_linear()
   {
-    TimerOutput::Scope scope(timer, "solve");
-    lambda = dual->coarse.least_norm_solution(dual->e);
+    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
+      solve_linear<DistributedVector>();
+    else
+      solve_linear<Vector<double>>();
+  }
+
+  template <typename VectorType>
+  void
+  Simulator::solve_linear()
+  {
+    TimerOutput::Scope              scope(timer, "solve");
+    const LocalDualRows<VectorType> rows(*dual);
+    VectorType solution = rows.restrict(dual->coarse.least_norm_solution(dual->e));
     const auto report =
-      QP::ProjectedCG<DualVector>(parameters.feti.projected_cg)
-        .solve([this](const Vector<double> &x, Vector<double> &y) { dual->apply_F(x, y); },
-               [this](Vector<double> &x) { dual->coarse.project(x); },
-               dual->h,
-               lambda,
+      QP::ProjectedCG<VectorType>(parameters.feti.projected_cg)
+        .solve([this](const VectorType &x, VectorType &y) { dual->apply_F(x, y); },
+               [this](VectorType &x) { dual->coarse.project(x); },
+               rows.restrict(dual->h),
+               solution,
                [this](unsigned int it, double residual) {
                  if (it % 50 == 0)
                    pcout << "  PCG iteration " << std::setw(5) << it
@@ -462,11 +478,11 @@ namespace FetiContact
                          << residual << std::defaultfloat << std::endl;
                },
                parameters.feti.lumped_preconditioner ?
-                 QP::Operator<DualVector>([this](const Vector<double> &x, Vector<double> &y) {
-                   dual->apply_lumped(x, y);
-                 }) :
-                 QP::Operator<DualVector>());
-    const double drift = dual->coarse.restore_feasibility(lambda, dual->e);
+                 QP::Operator<VectorType>(
+                   [this](const VectorType &x, VectorType &y) { dual->apply_lumped(x, y); }) :
+                 QP::Operator<VectorType>());
+    const double drift = dual->coarse.restore_feasibility(solution, dual->e);
+    this->lambda       = rows.gather(solution);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;
@@ -479,8 +495,18 @@ namespace FetiContact
   void
   Simulator::solve_contact()
   {
-    TimerOutput::Scope scope(timer, "solve");
-    ContactSolver      solver(
+    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
+      solve_contact<DistributedVector>();
+    else
+      solve_contact<Vector<double>>();
+  }
+
+  template <typename VectorType>
+  void
+  Simulator::solve_contact()
+  {
+    TimerOutput::Scope        scope(timer, "solve");
+    ContactSolver<VectorType> solver(
       *dual, layout, contact_nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
       solver.set_equilibrium_test(
@@ -489,11 +515,12 @@ namespace FetiContact
     // The iteration history, also when the solver proved that no equilibrium exists.
     on_all_ranks([&]() {
       if (rank == 0)
-        ContactSolver::write_history(result.history,
-                                     result_files.open(parameters.output.directory +
-                                                       "/history.csv"));
+        ContactSolver<VectorType>::write_history(result.history,
+                                                 result_files.open(parameters.output.directory +
+                                                                   "/history.csv"));
     });
-    lambda = result.lambda;
+    // The output and its checks read λ of all rows.
+    lambda = LocalDualRows<VectorType>(*dual).gather(result.lambda);
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
@@ -820,6 +847,10 @@ namespace FetiContact
                      "primal" :
                      "total")
       .set_leading("local_solver", parameters.feti.local_solver)
+      .set_leading("dual_vectors",
+                   parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed ?
+                     "distributed" :
+                     "replicated")
       .set_leading("local_work", local_work)
       .set_leading("times", times)
       .set_leading("memory", memory)

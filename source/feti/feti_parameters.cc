@@ -57,6 +57,17 @@ namespace FetiContact::Parameters
       "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
       "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
       "313,632 and at 1,037,232.");
+    prm.declare_entry(
+      "Dual vectors",
+      "replicated",
+      Patterns::Selection("replicated|distributed"),
+      "How the solvers hold the dual vectors λ over the MPI ranks. 'replicated' (the default): "
+      "every rank holds every row, and the row sums of every multiplication by F are gathered "
+      "on all ranks. 'distributed': every rank holds the rows it adds up (those whose first "
+      "subdomain is its own), gets the other rows of its subdomains from the neighbouring ranks, "
+      "and the dot products and norms are the only global reductions. Either way the iterates "
+      "and iteration counts are the same on any number of ranks; between the two they differ "
+      "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
     QP::ProjectedCGParameters::declare_parameters(prm);
     prm.declare_entry("Preconditioner",
                       "lumped",
@@ -79,6 +90,8 @@ namespace FetiContact::Parameters
     local_solver         = prm.get("Local solver");
     shared_local_work    = prm.get_double("Shared local work");
     average_contact_rows = prm.get("Contact rows at interfaces") == "average";
+    dual_vectors =
+      prm.get("Dual vectors") == "distributed" ? DualVectors::distributed : DualVectors::replicated;
     projected_cg.parse_parameters(prm);
     lumped_preconditioner = prm.get("Preconditioner") == "lumped";
     prm.leave_subsection();

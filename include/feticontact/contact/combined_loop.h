@@ -21,7 +21,10 @@ namespace FetiContact
    * tolerance) and tests its certificate of infeasibility only once they have settled after
    * three updates. The SMALBE solve is repeated, warm, with the slip bound set to μ λ_N of its
    * result, until that changes it by at most the MSA tolerance.
+   *
+   * @p VectorType: the dual vectors, as in TrescaProblem.
    */
+  template <typename VectorType>
   class CombinedLoop
   {
   public:
@@ -37,9 +40,9 @@ namespace FetiContact
      * @p slip_bound_of gives the target slip bounds μ λ_N (in the units of each node's
      * multipliers) at λ̃.
      */
-    CombinedLoop(TrescaProblem                                                     &tresca,
-                 const Parameters::ContactSolver                                   &parameters,
-                 std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of);
+    CombinedLoop(TrescaProblem<VectorType>                             &tresca,
+                 const Parameters::ContactSolver                       &parameters,
+                 std::function<std::vector<double>(const VectorType &)> slip_bound_of);
 
     /** The loop's callbacks refer to this object: not copyable. */
     CombinedLoop(const CombinedLoop &) = delete;
@@ -51,10 +54,10 @@ namespace FetiContact
      * @p msa_tolerance; @p monitor after every SMALBE iteration.
      */
     Outcome
-    run(dealii::Vector<double>       &lambda,
-        dealii::Vector<double>       &nu,
-        const double                  msa_tolerance,
-        const TrescaProblem::Monitor &monitor);
+    run(VectorType                                        &lambda,
+        dealii::Vector<double>                            &nu,
+        const double                                       msa_tolerance,
+        const typename TrescaProblem<VectorType>::Monitor &monitor);
 
     /** The relative change of the last radius update. */
     double
@@ -63,13 +66,13 @@ namespace FetiContact
   private:
     /** The radius update between the blocks of a sweep. */
     void
-    update_radii(const dealii::Vector<double> &lambda);
+    update_radii(const VectorType &lambda);
 
-    TrescaProblem                                                     &tresca;
-    const Parameters::ContactSolver                                   &parameters;
-    std::function<std::vector<double>(const dealii::Vector<double> &)> slip_bound_of;
-    TrescaProblem::MovingSet                                           moving_set;
-    double                                                             change = 0;
+    TrescaProblem<VectorType>                             &tresca;
+    const Parameters::ContactSolver                       &parameters;
+    std::function<std::vector<double>(const VectorType &)> slip_bound_of;
+    typename TrescaProblem<VectorType>::MovingSet          moving_set;
+    double                                                 change = 0;
     /** Radius updates so far (the set is final only after three). */
     unsigned int radius_updates = 0;
   };

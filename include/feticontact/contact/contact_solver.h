@@ -45,7 +45,7 @@ namespace FetiContact
    * With `Equality constraint = projector` (the default) the problem is homogenized first:
    * λ = λ₀ + λ̃ with λ₀ = G̃ᵀẽ the least-norm solution of Gλ = e, so that G̃λ̃ = 0; the bounds
    * and disc centres shift by −λ₀ (λ̃_N ≥ −λ₀_N, ‖λ̃_T + λ₀_T‖ ≤ g) and SMALBE works with the
-   * projected Hessian PFP + ρQ (QP::ProjectorEnforcement<DualVector>). Everything reported (λ, the
+   * projected Hessian PFP + ρQ (QP::ProjectorEnforcement). Everything reported (λ, the
    * slip bounds, the statuses) is in terms of λ = λ₀ + λ̃.
    *
    * Counts the multiplications by the Hessian F + ρGᵀG in the bound QP (n_A^QPP) and in the disc
@@ -56,7 +56,11 @@ namespace FetiContact
    * is a TrescaProblem; Algorithm 2 is a CombinedLoop; this class holds the friction law, MSA
    * with its slip-bound update, the continuation in μ, the choice of algorithm and the record of
    * the iterations (Result::history).
+   *
+   * @p VectorType: the dual vectors, dealii::Vector<double> (replicated) or DistributedVector
+   * (`FETI/Dual vectors`); the iterates and counts do not depend on the number of ranks.
    */
+  template <typename VectorType>
   class ContactSolver
   {
   public:
@@ -65,7 +69,7 @@ namespace FetiContact
     {
       /** The MSA step (0 for Algorithm 2 and for one Tresca QP) and the SMALBE iteration. */
       unsigned int msa_iteration = 0, smalbe_iteration = 0;
-      /** ‖Gλ − e‖ and ‖g^P‖, relative (QP::SMALBE<DualVector>::Step). */
+      /** ‖Gλ − e‖ and ‖g^P‖, relative (QP::SMALBE::Step). */
       double feasibility = 0, projected_gradient = 0;
       /** The relative change of the slip bound of the last update. */
       double slip_bound_change = 0;
@@ -77,7 +81,7 @@ namespace FetiContact
 
     struct Result
     {
-      dealii::Vector<double> lambda;
+      VectorType lambda;
       /** The multiplier ν of Gλ = e; α = −ν in the primal recovery. */
       dealii::Vector<double> mu;
       unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
@@ -89,7 +93,7 @@ namespace FetiContact
       bool converged = false;
       /**
        * SMALBE proved that no λ within the current bounds balances the loads on the floating
-       * subdomains (QP::SMALBE<DualVector>::Statistics::infeasible), or the load-balance test that
+       * subdomains (QP::SMALBE::Statistics::infeasible), or the load-balance test that
        * the slip bounds of an MSA step cannot hold the bodies: no equilibrium exists with these
        * slip bounds, e.g. tangential loads above μ × the normal force on a body held only by
        * contact.
@@ -155,14 +159,14 @@ namespace FetiContact
     solve_msa(Result &result, const double msa_tolerance, const bool cold_start);
     /** One MSA step: the equilibrium test, then the Tresca QP; false if it proved no equilibrium.
      */
-    QP::SMALBE<DualVector>::Statistics
+    typename QP::SMALBE<VectorType>::Statistics
     msa_step(Result &result, const double tolerance);
 
     /** The slip bound candidate μ λ_N per node (0 where μ = 0), times the continuation stage. */
     std::vector<double>
-    coulomb_bound(const dealii::Vector<double> &lambda) const;
+    coulomb_bound(const VectorType &lambda) const;
     /** The monitor of the SMALBE iterations: a history row and a log line. */
-    TrescaProblem::Monitor
+    typename TrescaProblem<VectorType>::Monitor
     monitor(Result &result);
 
     const DualLayout                                       &layout;
@@ -171,8 +175,8 @@ namespace FetiContact
     std::ostream                                           &out;
     std::function<LoadBalance(const std::vector<double> &)> equilibrium_test;
     FrictionLaw                                             law;
-    TrescaProblem                                           tresca;
-    CombinedLoop                                            combined;
+    TrescaProblem<VectorType>                               tresca;
+    CombinedLoop<VectorType>                                combined;
     /** The current MSA step (0 outside MSA). */
     unsigned int msa_iteration = 0;
     /** The relative change of the slip bound in the last MSA step. */

@@ -5,6 +5,7 @@
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/contact/contact_solver_parameters.h>
 #include <feticontact/feti/dual_problem.h>
+#include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
@@ -27,15 +28,21 @@ namespace FetiContact
    *
    * with λ = [λ_T; λ_N; λ_E] as in DualLayout and G̃ the orthonormalized G. With `Equality
    * constraint = projector` (the default) the problem is homogenized
-   * (QP::Homogenization<DualVector>): λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse
+   * (QP::Homogenization<VectorType>): λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse
    * problem, so that G̃λ̃ = 0; the bounds and disc centres shift by −λ₀ and SMALBE solves the
-   * projected problem (QP::ProjectorEnforcement<DualVector>). Multipliers passed to solve() are λ̃;
+   * projected problem (QP::ProjectorEnforcement<VectorType>). Multipliers passed to solve() are λ̃;
    * total() and recover() map back. The inner solver is MPGP over the whole set (mpgp, polygonal)
    * or, for the paper's Algorithms 1 and 2, block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] with λ_T
    * fixed, then KPG (MPGP on the discs) on λ_T.
    *
    * Knows nothing of friction laws: the caller sets the slip bounds (set_slip_bounds()).
+   *
+   * @p VectorType is the type of the dual vectors: dealii::Vector<double> (every rank holds all
+   * rows) or DistributedVector (every rank holds the rows it adds up in F x, LocalDualRows). The
+   * slip bounds and the per-node results are given and returned for all contact nodes on every
+   * rank; a rank sets the constraints of the nodes whose rows it holds.
    */
+  template <typename VectorType>
   class TrescaProblem
   {
   public:
@@ -47,7 +54,7 @@ namespace FetiContact
       /** SMALBE's outer iterations. */
       unsigned int smalbe_iterations = 0;
       /**
-       * MPGP's steps (QP::MPGP<DualVector>::Statistics): conjugate gradient, expansion and
+       * MPGP's steps (QP::MPGP<VectorType>::Statistics): conjugate gradient, expansion and
        * proportioning steps, the projected CG expansions that increased the energy and were
        * replaced, and the steps whose gradient was updated recursively.
        */
@@ -56,24 +63,24 @@ namespace FetiContact
 
       /** Adds the steps of one MPGP solve. */
       void
-      count_steps(const QP::MPGP<DualVector>::Statistics &r);
+      count_steps(const typename QP::MPGP<VectorType>::Statistics &r);
     };
 
     /**
      * A set that moves inside the solve: Algorithm 2 updates the radii between the two blocks
      * of every Gauss–Seidel sweep. update() is called with λ̃ after the λ_c block;
      * unchanged() and final() after every inner solve tell SMALBE whether the set is that of the
-     * previous inner solve and whether it is final (QP::SMALBE<DualVector>::InnerReport).
+     * previous inner solve and whether it is final (QP::SMALBE<VectorType>::InnerReport).
      */
     struct MovingSet
     {
-      std::function<void(const dealii::Vector<double> &)> update;
-      std::function<bool()>                               unchanged, final;
+      std::function<void(const VectorType &)> update;
+      std::function<bool()>                   unchanged, final;
     };
 
     /** Called after every SMALBE iteration with its step and λ̃ after the inner solve. */
-    using Monitor = std::function<void(const QP::SMALBE<DualVector>::Step &,
-                                       const dealii::Vector<double> &lambda)>;
+    using Monitor =
+      std::function<void(const typename QP::SMALBE<VectorType>::Step &, const VectorType &lambda)>;
 
     /**
      * Sets up the problem: the transforms, the constraint set (all slip bounds 0), the norm
@@ -103,20 +110,20 @@ namespace FetiContact
      * λ̃ = @p lambda and ν = @p nu (overwritten). @p moving_set: Algorithm 2 (one inner call per
      * SMALBE iteration, radii updated inside).
      */
-    QP::SMALBE<DualVector>::Statistics
-    solve(dealii::Vector<double> &lambda,
+    typename QP::SMALBE<VectorType>::Statistics
+    solve(VectorType             &lambda,
           dealii::Vector<double> &nu,
           const double            tolerance,
           const Monitor          &monitor,
           const MovingSet        *moving_set = nullptr);
 
     /** λ = λ̃ + λ₀. */
-    dealii::Vector<double>
-    total(const dealii::Vector<double> &lambda_tilde) const;
+    VectorType
+    total(const VectorType &lambda_tilde) const;
 
     /** The normal force (N) of every contact node at λ̃. */
     std::vector<double>
-    normal_forces(const dealii::Vector<double> &lambda_tilde) const;
+    normal_forces(const VectorType &lambda_tilde) const;
 
     /**
      * The solution of the original problem from λ̃ and the ν of the problem SMALBE solved: λ₀
@@ -124,23 +131,30 @@ namespace FetiContact
      * from the projected and the orthonormalized problem to the multiplier of Gλ = e.
      */
     void
-    recover(dealii::Vector<double> &lambda, dealii::Vector<double> &nu) const;
+    recover(VectorType &lambda, dealii::Vector<double> &nu) const;
 
     /** Open, stick and slip nodes at λ̃ for the current slip bounds (contact_status()). */
     std::array<unsigned int, 3>
-    status_counts(const dealii::Vector<double> &lambda_tilde) const;
+    status_counts(const VectorType &lambda_tilde) const;
 
     /**
      * The message for SMALBE's proof that no multiplier within the current bounds balances the
-     * loads (QP::SMALBE<DualVector>::Statistics::infeasible), with the certificate in the original
+     * loads (QP::SMALBE<VectorType>::Statistics::infeasible), with the certificate in the original
      * variables.
      */
     std::string
-    no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const;
+    no_equilibrium_message(const typename QP::SMALBE<VectorType>::Statistics &report) const;
 
     /** k, the number of rows of G̃ (the size of ν). */
     unsigned int
     n_equality_constraints() const;
+
+    /** The rows of the dual vectors this rank holds. */
+    const LocalDualRows<VectorType> &
+    local_rows() const
+    {
+      return rows;
+    }
 
     /** The counts so far. */
     const Statistics &
@@ -159,44 +173,55 @@ namespace FetiContact
     estimate_scales(std::ostream &out);
     /** v ← P v = v − G̃ᵀG̃ v. */
     void
-    apply_P(dealii::Vector<double> &v) const;
+    apply_P(VectorType &v) const;
     /** MPGP's data from the parameters with ᾱ = 1.9/‖Hessian‖ and the arc scale. */
-    QP::MPGP<DualVector>::AdditionalData
+    typename QP::MPGP<VectorType>::AdditionalData
     mpgp_data() const;
     /** SMALBE's inner solver: MPGP over the whole set. */
-    QP::SMALBE<DualVector>::InnerReport
-    mpgp_inner_solve(const QP::Operator<DualVector> &A,
-                     const dealii::Vector<double>   &b,
-                     dealii::Vector<double>         &x,
+    typename QP::SMALBE<VectorType>::InnerReport
+    mpgp_inner_solve(const QP::Operator<VectorType> &A,
+                     const VectorType               &b,
+                     VectorType                     &x,
                      const double                    tolerance,
-                     const dealii::Vector<double>   &gradient);
+                     const VectorType               &gradient);
     /** The block Gauss–Seidel inner solver (Algorithms 1 and 2). */
     QP::SolverReport
-    gauss_seidel(const QP::Operator<DualVector> &A,
-                 const dealii::Vector<double>   &b,
-                 dealii::Vector<double>         &lambda,
+    gauss_seidel(const QP::Operator<VectorType> &A,
+                 const VectorType               &b,
+                 VectorType                     &lambda,
                  const double                    tolerance,
                  const MovingSet                *moving_set);
-    /** One block of a sweep: MPGP on rows [first, first + n) with the other rows fixed. */
-    QP::MPGP<DualVector>::Statistics
-    solve_block(const QP::Operator<DualVector> &A,
-                const dealii::Vector<double>   &b,
-                dealii::Vector<double>         &lambda,
-                const unsigned int              first,
-                const unsigned int              n,
-                const QP::SeparableSet         &block_set,
-                const double                    tolerance,
-                unsigned int                   &counter);
+    /** One block of a sweep: MPGP on the rows of @p block with the other rows fixed. */
+    typename QP::MPGP<VectorType>::Statistics
+    solve_block(const QP::Operator<VectorType>                  &A,
+                const VectorType                                &b,
+                VectorType                                      &lambda,
+                const typename LocalDualRows<VectorType>::Block &block,
+                const QP::SeparableSet                          &block_set,
+                const double                                     tolerance,
+                unsigned int                                    &counter);
 
     const DualProblem               &dual;
     const DualLayout                &layout;
     const std::vector<ContactNode>  &nodes;
     const Parameters::ContactSolver &parameters;
-    QP::SeparableSet                 set;   ///< Ω for all of λ̃
-    QP::SeparableSet                 set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
-    QP::SeparableSet                 set_t; ///< tangential part λ_T
-    std::vector<unsigned int>        disc_of_node;
-    std::vector<double>              slip_bound;
+    /** The rows this rank holds. */
+    LocalDualRows<VectorType> rows;
+    /** The rows of λ_T = [0, n_T) and of λ_c = [λ_N; λ_E] = [n_T, m). */
+    typename LocalDualRows<VectorType>::Block block_t, block_c;
+    /**
+     * The contact nodes whose rows this rank holds, with the local indices of their normal row
+     * and of their first tangential row (invalid without one).
+     */
+    std::vector<unsigned int> local_node, local_normal_row, local_tangential_row;
+    /** h on this rank's rows. */
+    VectorType       h;
+    QP::SeparableSet set;   ///< Ω for all of λ̃
+    QP::SeparableSet set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
+    QP::SeparableSet set_t; ///< tangential part λ_T
+    /** The disc of every local node (local_node's order) in set and set_t. */
+    std::vector<unsigned int> disc_of_node;
+    std::vector<double>       slip_bound;
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0 and e = 0). */
     bool projector = false;
     /**
@@ -205,12 +230,12 @@ namespace FetiContact
      * λ̃ = λ − λ₀ and the projected problem (PFP, Ph) that SMALBE solves (`problem`; without the
      * projector `problem` = `original`).
      */
-    QP::Problem<DualVector>                             unscaled, original, homogeneous, problem;
-    std::optional<QP::Orthonormalization<DualVector>>   orthonormalization;
-    std::optional<QP::Homogenization<DualVector>>       homogenization;
-    std::optional<QP::ProjectorEnforcement<DualVector>> projector_enforcement;
+    QP::Problem<VectorType>                             unscaled, original, homogeneous, problem;
+    std::optional<QP::Orthonormalization<VectorType>>   orthonormalization;
+    std::optional<QP::Homogenization<VectorType>>       homogenization;
+    std::optional<QP::ProjectorEnforcement<VectorType>> projector_enforcement;
     /** λ₀ (zero without the projector). */
-    dealii::Vector<double> lambda0;
+    VectorType lambda0;
     /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
     std::vector<unsigned int> row_tier;
     /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */

@@ -155,8 +155,16 @@ namespace FetiContact
     build_dual_problem();
     void
     solve();
+    /** Projected CG on dual vectors of the kind `FETI/Dual vectors` names. */
     void
     solve_linear();
+    template <typename VectorType>
+    void
+    solve_linear();
+    /** ContactSolver on dual vectors of the kind `FETI/Dual vectors` names. */
+    void
+    solve_contact();
+    template <typename VectorType>
     void
     solve_contact();
     /** The primal recovery, the evaluation of the solution and the postprocessors. */

@@ -44,6 +44,20 @@ namespace FetiContact::Parameters
      */
     bool average_contact_rows = false;
 
+    /**
+     * How the solvers hold the dual vectors λ (DualProblem): `replicated`, every rank holds all
+     * rows; `distributed`, every rank holds the rows it adds up in F x (DistributedVector),
+     * neighbouring ranks exchange the rows their subdomains share, and the dot products and
+     * norms are the only global reductions. Either way the iterates and counts do not depend on
+     * the number of ranks.
+     */
+    enum class DualVectors
+    {
+      replicated,
+      distributed
+    };
+    DualVectors dual_vectors = DualVectors::replicated;
+
     /** Projected CG of problems without contact (its tolerance and iteration limit). */
     QP::ProjectedCGParameters projected_cg;
     /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).

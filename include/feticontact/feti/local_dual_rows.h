@@ -1,0 +1,98 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/distributed_vector.h>
+#include <feticontact/feti/dual_problem.h>
+
+#include <memory>
+#include <type_traits>
+#include <vector>
+
+namespace FetiContact
+{
+  /**
+   * The rows of the dual problem that this rank holds in dual vectors of type @p VectorType, and
+   * the conversions to and from vectors of all rows:
+   *
+   * - dealii::Vector<double> (replicated): every rank holds every row, and the local index of a
+   *   row is the row;
+   * - DistributedVector: a rank holds the rows it adds up in F x (DualProblem::distribution()),
+   *   in increasing order, so the rows of a range of rows are a range of local entries.
+   *
+   * For the solvers that act on rows by their meaning (the contact rows of a node, the blocks
+   * λ_T and λ_c of the Gauss–Seidel split): they loop over the local entries and combine per-node
+   * results over the ranks here. Knows nothing of contact.
+   */
+  template <typename VectorType>
+  class LocalDualRows
+  {
+  public:
+    static constexpr bool distributed = std::is_same_v<VectorType, DistributedVector>;
+
+    explicit LocalDualRows(const DualProblem &dual);
+
+    /** A zero dual vector. */
+    VectorType
+    vector() const;
+
+    /** The entries this rank holds of a vector of all rows. */
+    VectorType restrict(const dealii::Vector<double> &all) const;
+
+    /** All rows of @p x on every rank (collective with distributed vectors). */
+    dealii::Vector<double>
+    gather(const VectorType &x) const;
+
+    /** The local index of @p row, or numbers::invalid_unsigned_int if this rank does not hold it.
+     */
+    unsigned int
+    local_index(const unsigned int row) const;
+
+    /** The number of entries this rank holds. */
+    unsigned int
+    n_local() const;
+
+    /**
+     * The rows [first, first + n) as a dual vector of their own (the blocks of a Gauss–Seidel
+     * split): the local entries [begin, end) of a vector of all rows, and the layout of the
+     * block's vectors (distributed only; their sums are taken in the same chunks).
+     */
+    struct Block
+    {
+      unsigned int                                     first = 0, n = 0;
+      unsigned int                                     begin = 0, end = 0;
+      std::shared_ptr<const DistributedVector::Layout> layout;
+
+      /** A zero vector of the block. */
+      VectorType
+      vector() const;
+      /** @p part ← the block's entries of @p full. */
+      void
+      extract(const VectorType &full, VectorType &part) const;
+      /** The block's entries of @p full ← @p part. */
+      void
+      insert(const VectorType &part, VectorType &full) const;
+    };
+
+    /** The block of rows [first, first + n). */
+    Block
+    block(const unsigned int first, const unsigned int n) const;
+
+    /** Every entry of @p values summed over the ranks (each entry nonzero on at most one rank). */
+    void
+    sum_over_ranks(std::vector<double> &values) const;
+
+    /** Every entry of @p counts summed over the ranks. */
+    void
+    sum_over_ranks(std::vector<unsigned int> &counts) const;
+
+    /** The maximum of @p local over the ranks. */
+    double
+    max_over_ranks(const double local) const;
+
+  private:
+    const DualProblem &dual;
+    /** The layout of the distributed dual vectors (empty for replicated ones). */
+    std::shared_ptr<const DistributedVector::Layout> layout;
+  };
+} // namespace FetiContact

@@ -79,6 +79,8 @@ def steps(exe):
            "--markdown", "doc/data/communication_k32.md"]]),
         ("weak_scaling", "3 min", "doc/data/weak_scaling.{csv,md}",
          [[PY, b + "weak_scaling.py", "--exe", exe]]),
+        ("dual_vectors", "6 min", "doc/data/dual_vectors.{csv,md}",
+         [[PY, b + "dual_vectors.py", "--exe", exe]]),
         ("parallel_model", "1 min", "doc/data/parallel_model.{csv,md}",
          [[PY, b + "parallel_model.py", "--exe", exe,
            "--mpi-costs", "build/benchmarks/mpi_costs"]]),

@@ -482,7 +482,10 @@ namespace FetiContact
                    [this](const VectorType &x, VectorType &y) { dual->apply_lumped(x, y); }) :
                  QP::Operator<VectorType>());
     const double drift = dual->coarse.restore_feasibility(solution, dual->e);
-    this->lambda       = rows.gather(solution);
+    if constexpr (std::is_same_v<VectorType, DistributedVector>)
+      lambda_distributed = std::move(solution);
+    else
+      lambda = std::move(solution);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;
@@ -519,8 +522,10 @@ namespace FetiContact
                                                  result_files.open(parameters.output.directory +
                                                                    "/history.csv"));
     });
-    // The output and its checks read λ of all rows.
-    lambda = LocalDualRows<VectorType>(*dual).gather(result.lambda);
+    if constexpr (std::is_same_v<VectorType, DistributedVector>)
+      lambda_distributed = result.lambda;
+    else
+      lambda = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
@@ -565,7 +570,8 @@ namespace FetiContact
                                       owned,
                                       u,
                                       evaluation.vertex_u,
-                                      lambda,
+                                      evaluation.contact_lambda,
+                                      evaluation.lambda_not_finite,
                                       evaluation.u_max,
                                       evaluation.interface_jump,
                                       contact_nodes,
@@ -599,7 +605,65 @@ namespace FetiContact
   Simulator::recover_primal()
   {
     TimerOutput::Scope scope(timer, "primal recovery");
-    u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
+    if (lambda_distributed)
+      u = alpha_given ? dual->recover_primal(*lambda_distributed, alpha) :
+                        dual->recover_primal(*lambda_distributed);
+    else
+      u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
+  }
+
+  Vector<double>
+  Simulator::contact_multipliers() const
+  {
+    const unsigned int n = layout.first_equality();
+    Vector<double>     contact(n);
+    if (!lambda_distributed)
+      {
+        for (unsigned int r = 0; r < n; ++r)
+          contact[r] = lambda[r];
+        return contact;
+      }
+    // Every row is held by one rank: the sum adds each value to zeros only.
+    for (unsigned int i = 0; i < lambda_distributed->locally_owned_size(); ++i)
+      if (lambda_distributed->global_index(i) < n)
+        contact[lambda_distributed->global_index(i)] = (*lambda_distributed)[i];
+    Utilities::MPI::sum(ArrayView<const double>(contact.begin(), n),
+                        comm,
+                        ArrayView<double>(contact.begin(), n));
+    return contact;
+  }
+
+  unsigned int
+  Simulator::multipliers_not_finite() const
+  {
+    unsigned int n = 0;
+    if (lambda_distributed)
+      {
+        for (const double l : *lambda_distributed)
+          n += !std::isfinite(l);
+        return Utilities::MPI::sum(n, comm);
+      }
+    for (const double l : lambda)
+      n += !std::isfinite(l);
+    return n;
+  }
+
+  double
+  Simulator::largest_equality_residual() const
+  {
+    double jump = 0;
+    if (lambda_distributed)
+      {
+        const DistributedVector residual = dual->distributed_constraint_residual(u);
+        for (unsigned int i = 0; i < residual.locally_owned_size(); ++i)
+          if (residual.global_index(i) >= layout.first_equality())
+            jump = std::max(jump, std::abs(residual[i]));
+        return Utilities::MPI::max(jump, comm);
+      }
+    const auto residual = dual->constraint_residual(u);
+    for (unsigned int r = layout.first_equality(); r < residual.size(); ++r)
+      jump = std::max(jump, std::abs(residual[r]));
+    return jump;
   }
 
   Simulator::Evaluation
@@ -613,11 +677,10 @@ namespace FetiContact
     // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
     // Dirichlet misfit in TFETI), relative to the largest displacement. Only the equality rows:
     // the contact rows of B u − c are the gaps and the slips.
-    const auto residual = dual->constraint_residual(u);
-    double     jump     = 0;
-    for (unsigned int r = layout.first_equality(); r < residual.size(); ++r)
-      jump = std::max(jump, std::abs(residual[r]));
-    evaluation.interface_jump = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
+    const double jump            = largest_equality_residual();
+    evaluation.contact_lambda    = contact_multipliers();
+    evaluation.lambda_not_finite = multipliers_not_finite();
+    evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
     evaluation.contact_forces.resize(bodies.size());
     if (!contact_nodes.empty())
       evaluate_contact(evaluation);
@@ -632,7 +695,7 @@ namespace FetiContact
     evaluation.contact_results =
       FetiContact::evaluate_contact(contact_nodes,
                                     layout,
-                                    lambda,
+                                    evaluation.contact_lambda,
                                     evaluation.vertex_u,
                                     evaluation.contact_check,
                                     tresca ?

@@ -80,8 +80,7 @@ namespace FetiContact::Postprocessing
       for (const auto &v : body)
         for (unsigned int d = 0; d < 3; ++d)
           n_not_finite += !std::isfinite(v[d]);
-    for (const double l : input.lambda)
-      n_not_finite += !std::isfinite(l);
+    n_not_finite += input.lambda_not_finite;
     input.summary.set("values_not_finite", n_not_finite);
     input.check("values_not_finite",
                 "displacements or multipliers that are not finite numbers (overflow?), count",

@@ -173,6 +173,18 @@ namespace FetiContact
     void
     recover_primal();
     /**
+     * λ on the contact rows [λ_T; λ_N] (the first DualLayout::first_equality() rows), on every
+     * rank: what the contact results read.
+     */
+    dealii::Vector<double>
+    contact_multipliers() const;
+    /** The number of entries of λ that are not finite numbers, over all rows and ranks. */
+    unsigned int
+    multipliers_not_finite() const;
+    /** max |B_E u − c| over the equality rows, over all ranks. */
+    double
+    largest_equality_residual() const;
+    /**
      * The quantities of the solution every postprocessor reads: the displacements per body
      * vertex, the interface jump, the contact nodes' results, checks and forces.
      */
@@ -180,9 +192,12 @@ namespace FetiContact
     {
       std::vector<std::vector<dealii::Tensor<1, 3>>> vertex_u;
       double                                         u_max = 0, interface_jump = 0;
-      std::vector<ContactNodeResult>                 contact_results;
-      ContactCheck                                   contact_check;
-      std::vector<dealii::Tensor<1, 3>>              contact_forces;
+      /** λ on the contact rows (contact_multipliers()), and the entries of λ not finite. */
+      dealii::Vector<double>            contact_lambda;
+      unsigned int                      lambda_not_finite = 0;
+      std::vector<ContactNodeResult>    contact_results;
+      ContactCheck                      contact_check;
+      std::vector<dealii::Tensor<1, 3>> contact_forces;
     };
     Evaluation
     evaluate_solution() const;
@@ -264,7 +279,12 @@ namespace FetiContact
     DualLayout                       layout;
     std::unique_ptr<DualProblem>     dual;
 
-    dealii::Vector<double> lambda;
+    /**
+     * The solution λ: all rows on every rank (`FETI/Dual vectors = replicated`), or this rank's
+     * rows (distributed).
+     */
+    dealii::Vector<double>           lambda;
+    std::optional<DistributedVector> lambda_distributed;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */
     dealii::Vector<double>              alpha;
     bool                                alpha_given = false;

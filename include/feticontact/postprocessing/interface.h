@@ -41,8 +41,13 @@ namespace FetiContact::Postprocessing
     const std::vector<dealii::Vector<double>> &u;
     /** The displacement of every vertex of every body (replicated). */
     const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u;
-    /** The multipliers λ (layout: DualLayout) and max |u| over all vertices. */
+    /**
+     * The multipliers λ on the contact rows [λ_T; λ_N] (DualLayout: the first first_equality()
+     * rows), on every rank; the number of entries of all of λ that are not finite numbers; and
+     * max |u| over all vertices.
+     */
     const dealii::Vector<double> &lambda;
+    unsigned int                  lambda_not_finite;
     double                        u_max;
     /**
      * max |B_E u − c| over the equality rows (the jump across the subdomain interfaces and, with

@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 
 #include <feticontact/feti/local_dual_rows.h>
 
@@ -129,41 +130,44 @@ namespace FetiContact
   }
 
   template <typename VectorType>
+  template <typename Number>
   void
-  LocalDualRows<VectorType>::sum_over_ranks(std::vector<double> &values) const
+  LocalDualRows<VectorType>::reduce_sum(std::vector<Number> &values) const
   {
     // A value held on one rank is added to zeros only: the same bits as on one rank.
     if constexpr (distributed)
       {
-        MPI_Allreduce(
-          MPI_IN_PLACE, values.data(), values.size(), MPI_DOUBLE, MPI_SUM, layout->comm);
+        Utilities::MPI::sum(ArrayView<const Number>(values.data(), values.size()),
+                            layout->comm,
+                            ArrayView<Number>(values.data(), values.size()));
         ++layout->n_reductions;
       }
+  }
+
+  template <typename VectorType>
+  void
+  LocalDualRows<VectorType>::sum_over_ranks(std::vector<double> &values) const
+  {
+    reduce_sum(values);
   }
 
   template <typename VectorType>
   void
   LocalDualRows<VectorType>::sum_over_ranks(std::vector<unsigned int> &counts) const
   {
-    if constexpr (distributed)
-      {
-        MPI_Allreduce(
-          MPI_IN_PLACE, counts.data(), counts.size(), MPI_UNSIGNED, MPI_SUM, layout->comm);
-        ++layout->n_reductions;
-      }
+    reduce_sum(counts);
   }
 
   template <typename VectorType>
   double
   LocalDualRows<VectorType>::max_over_ranks(const double local) const
   {
-    double global = local;
     if constexpr (distributed)
       {
-        MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, layout->comm);
         ++layout->n_reductions;
+        return Utilities::MPI::max(local, layout->comm);
       }
-    return global;
+    return local;
   }
 
   template class LocalDualRows<Vector<double>>;

@@ -91,6 +91,11 @@ namespace FetiContact
     max_over_ranks(const double local) const;
 
   private:
+    /** @p values ← their sums over the ranks (one reduction; nothing on replicated vectors). */
+    template <typename Number>
+    void
+    reduce_sum(std::vector<Number> &values) const;
+
     const DualProblem &dual;
     /** The layout of the distributed dual vectors (empty for replicated ones). */
     std::shared_ptr<const DistributedVector::Layout> layout;

@@ -78,9 +78,6 @@ namespace FetiContact
     // from those and the normal rows, and only else from all rows (CoarseProblem::
     // particular_solution): the bounds are then λ̃_N ≥ 0 and the discs centred at the origin,
     // where radii far below ‖λ₀‖ (μ = 1e-8, nodes without contact) are resolved.
-    row_tier.assign(layout.size(), 0);
-    for (unsigned int r = 0; r < layout.first_equality(); ++r)
-      row_tier[r] = r < layout.first_normal() ? 2 : 1;
     unscaled.hessian     = [this](const VectorType &x, VectorType &y) { this->dual.apply_F(x, y); };
     unscaled.linear_term = h;
     unscaled.set         = &set;
@@ -107,13 +104,34 @@ namespace FetiContact
                 dual.coarse.n_modes() > 0;
     if (projector)
       {
-        homogenization.emplace(original,
-                               rows.restrict(dual.coarse.particular_solution(dual.e, row_tier)));
+        homogenization.emplace(original, particular_solution(dual.e));
         lambda0     = homogenization->particular_solution();
         homogeneous = homogenization->transformed(set);
         projector_enforcement.emplace(homogeneous);
         problem = projector_enforcement->transformed();
       }
+  }
+
+  template <typename VectorType>
+  unsigned int
+  TrescaProblem<VectorType>::tier(const unsigned int row) const
+  {
+    return row < layout.first_normal() ? 2 : row < layout.first_equality() ? 1 : 0;
+  }
+
+  template <typename VectorType>
+  VectorType
+  TrescaProblem<VectorType>::particular_solution(const Vector<double> &e) const
+  {
+    const auto tier_of_row = [this](const unsigned int row) { return tier(row); };
+    if constexpr (LocalDualRows<VectorType>::distributed)
+      {
+        VectorType lambda;
+        dual.coarse.particular_solution(e, tier_of_row, lambda);
+        return lambda;
+      }
+    else
+      return dual.coarse.particular_solution(e, tier_of_row);
   }
 
   template <typename VectorType>
@@ -473,7 +491,7 @@ namespace FetiContact
         Vector<double> misfit(dual.e), G_lambda;
         dual.coarse.apply_G(lambda, G_lambda);
         misfit -= G_lambda;
-        lambda += rows.restrict(dual.coarse.particular_solution(misfit, row_tier));
+        lambda += particular_solution(misfit);
       }
     if (projector_enforcement)
       {

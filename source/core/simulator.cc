@@ -431,7 +431,13 @@ namespace FetiContact
   Simulator::build_dual_problem()
   {
     TimerOutput::Scope scope(timer, "coarse problem");
-    dual = std::make_unique<DualProblem>(comm, owned, mode_offset, rows, shared_work.get());
+    dual = std::make_unique<DualProblem>(comm,
+                                         owned,
+                                         mode_offset,
+                                         rows,
+                                         shared_work.get(),
+                                         parameters.feti.dual_vectors ==
+                                           Parameters::Feti::DualVectors::distributed);
   }
 
   void
@@ -464,7 +470,11 @@ namespace FetiContact
   {
     TimerOutput::Scope              scope(timer, "solve");
     const LocalDualRows<VectorType> rows(*dual);
-    VectorType solution = rows.restrict(dual->coarse.least_norm_solution(dual->e));
+    VectorType                      solution = rows.vector();
+    if constexpr (LocalDualRows<VectorType>::distributed)
+      dual->coarse.least_norm_solution(dual->e, solution);
+    else
+      solution = dual->coarse.least_norm_solution(dual->e);
     const auto report =
       QP::ProjectedCG<VectorType>(parameters.feti.projected_cg)
         .solve([this](const VectorType &x, VectorType &y) { dual->apply_F(x, y); },

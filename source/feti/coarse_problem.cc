@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
+#include <type_traits>
 
 namespace FetiContact
 {
@@ -84,7 +86,12 @@ namespace FetiContact
     SparsityPattern      sp;
     SparseMatrix<double> M;
     assemble_GGt([](const unsigned int) { return true; }, sp, M);
+    factorize_GGt(M);
+  }
 
+  void
+  CoarseProblem::factorize_GGt(const SparseMatrix<double> &M)
+  {
     for (unsigned int r = 0; r < n_rows; ++r)
       require(M.diag_element(r) > 0,
               "The coarse problem is singular: rigid body mode " + std::to_string(r) +
@@ -102,6 +109,115 @@ namespace FetiContact
     require(rcond > 1e-13,
             "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
               InputParsing::number_text(rcond) + "): a body is not held.");
+  }
+
+  void
+  CoarseProblem::initialize_distributed(const DualDistribution &d,
+                                        std::vector<Entry>      relevant_entries,
+                                        const unsigned int      n_modes,
+                                        const unsigned int      n_columns,
+                                        const unsigned int      first_mode,
+                                        const unsigned int      end_mode)
+  {
+    n_rows           = n_modes;
+    n_cols           = n_columns;
+    distributed_only = true;
+    work.reinit(n_rows);
+    // The relevant columns by increasing column, each by increasing mode (the order in which
+    // initialize() adds the terms of GGᵀ and add_Gt those of Gᵀy). Two entries of one mode in
+    // one column (a row of B with two terms in one subdomain: mortar rows) keep the order in
+    // which the subdomain's rank made them, the same on any number of ranks; initialize() leaves
+    // them as std::sort does, so there the two forms of G round differently.
+    std::stable_sort(relevant_entries.begin(),
+                     relevant_entries.end(),
+                     [](const Entry &a, const Entry &b) {
+                       return a.column < b.column || (a.column == b.column && a.mode < b.mode);
+                     });
+    relevant_column.clear();
+    relevant_start.assign(1, 0);
+    relevant_mode.clear();
+    relevant_value.clear();
+    for (const Entry &e : relevant_entries)
+      {
+        if (relevant_column.empty() || relevant_column.back() != e.column)
+          {
+            relevant_column.push_back(e.column);
+            relevant_start.push_back(relevant_start.back());
+          }
+        ++relevant_start.back();
+        relevant_mode.push_back(e.mode);
+        relevant_value.push_back(e.value);
+      }
+    // G by the rows of this rank's modes, columns increasing (CSR over all modes: the other
+    // modes' rows are empty), for distribute().
+    row_start.assign(n_rows + 1, 0);
+    for (const Entry &e : relevant_entries)
+      if (e.mode >= first_mode && e.mode < end_mode)
+        ++row_start[e.mode + 1];
+    for (unsigned int r = 0; r < n_rows; ++r)
+      row_start[r + 1] += row_start[r];
+    column.resize(row_start.back());
+    value.resize(row_start.back());
+    std::vector<unsigned int> next(row_start.begin(), row_start.end() - 1);
+    for (const Entry &e : relevant_entries)
+      if (e.mode >= first_mode && e.mode < end_mode)
+        {
+          column[next[e.mode]]  = e.column;
+          value[next[e.mode]++] = e.value;
+        }
+    distribute(d, first_mode, end_mode);
+    if (n_rows == 0)
+      return;
+    SparsityPattern      sp;
+    SparseMatrix<double> M;
+    assemble_GGt_distributed([](const unsigned int) { return true; }, sp, M);
+    factorize_GGt(M);
+  }
+
+  void
+  CoarseProblem::assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
+                                          SparsityPattern                         &sparsity,
+                                          SparseMatrix<double>                    &M) const
+  {
+    // (G_S G_Sᵀ)_ab for this rank's modes a, the terms by increasing column d ∈ S as in
+    // assemble_GGt(): the same numbers. Then every rank's rows to every rank.
+    std::map<std::pair<unsigned int, unsigned int>, double> own;
+    for (unsigned int j = 0; j + 1 < relevant_start.size(); ++j)
+      if (use_column(relevant_column[j]))
+        for (unsigned int k = relevant_start[j]; k < relevant_start[j + 1]; ++k)
+          if (own_modes.begin() <= relevant_mode[k] && relevant_mode[k] < own_modes.end())
+            for (unsigned int l = relevant_start[j]; l < relevant_start[j + 1]; ++l)
+              own[{relevant_mode[k], relevant_mode[l]}] += relevant_value[k] * relevant_value[l];
+    std::vector<Entry> local;
+    local.reserve(own.size());
+    for (const auto &[ab, v] : own)
+      local.push_back({ab.first, ab.second, v});
+    const std::vector<Entry> all = MPITools::all_gather(distribution->layout()->comm, local);
+    DynamicSparsityPattern   dsp(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      dsp.add(r, r);
+    for (const Entry &e : all)
+      dsp.add(e.mode, e.column);
+    sparsity.copy_from(dsp);
+    M.reinit(sparsity);
+    for (const Entry &e : all)
+      M.set(e.mode, e.column, e.value);
+  }
+
+  unsigned int
+  CoarseProblem::tiers_present(const std::function<unsigned int(unsigned int)> &tier) const
+  {
+    unsigned int mask = 0;
+    if (!distributed_only)
+      {
+        for (unsigned int c = 0; c < n_cols; ++c)
+          mask |= 1u << tier(c);
+        return mask;
+      }
+    for (const unsigned int c : distribution->layout()->global_index)
+      mask |= 1u << tier(c);
+    MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, distribution->layout()->comm);
+    return mask;
   }
 
   void
@@ -133,6 +249,8 @@ namespace FetiContact
   void
   CoarseProblem::apply_G(const Vector<double> &x, Vector<double> &y) const
   {
+    AssertThrow(!distributed_only,
+                ExcMessage("CoarseProblem: G is distributed; use distributed dual vectors."));
     if (y.size() != n_rows)
       y.reinit(n_rows, true);
     for (unsigned int r = mode_blocks.begin(); r < mode_blocks.end(); ++r)
@@ -163,7 +281,30 @@ namespace FetiContact
     for (unsigned int k = row_start[first_mode]; k < row_start[end_mode]; ++k)
       own_mode_column.push_back(d.relevant_index(column[k]));
     // G by the owned columns, modes increasing within each (as in add_Gt).
-    const auto               &own = d.layout()->global_index;
+    const auto &own = d.layout()->global_index;
+    if (distributed_only)
+      {
+        // From the relevant columns, which include the owned ones.
+        own_column_start.assign(1, 0);
+        own_column_mode.clear();
+        own_column_value.clear();
+        for (const unsigned int c : own)
+          {
+            const auto it = std::lower_bound(relevant_column.begin(), relevant_column.end(), c);
+            if (it != relevant_column.end() && *it == c)
+              {
+                const unsigned int j = it - relevant_column.begin();
+                own_column_mode.insert(own_column_mode.end(),
+                                       relevant_mode.begin() + relevant_start[j],
+                                       relevant_mode.begin() + relevant_start[j + 1]);
+                own_column_value.insert(own_column_value.end(),
+                                        relevant_value.begin() + relevant_start[j],
+                                        relevant_value.begin() + relevant_start[j + 1]);
+              }
+            own_column_start.push_back(own_column_mode.size());
+          }
+        return;
+      }
     std::vector<unsigned int> local_of_column(n_cols, numbers::invalid_unsigned_int);
     for (unsigned int i = 0; i < own.size(); ++i)
       local_of_column[own[i]] = i;
@@ -234,6 +375,8 @@ namespace FetiContact
   void
   CoarseProblem::add_Gt(const Vector<double> &x, const bool add, Vector<double> &y) const
   {
+    AssertThrow(!distributed_only,
+                ExcMessage("CoarseProblem: G is distributed; use distributed dual vectors."));
     Assert(!add || y.size() == n_cols, ExcDimensionMismatch(y.size(), n_cols));
     if (y.size() != n_cols)
       y.reinit(n_cols, true);
@@ -331,23 +474,47 @@ namespace FetiContact
   }
 
   Vector<double>
-  CoarseProblem::particular_solution(const Vector<double>            &e,
-                                     const std::vector<unsigned int> &tier) const
+  CoarseProblem::particular_solution(const Vector<double>                            &e,
+                                     const std::function<unsigned int(unsigned int)> &tier) const
   {
-    AssertThrow(tier.size() == n_cols, ExcDimensionMismatch(tier.size(), n_cols));
+    Vector<double> lambda(n_cols);
+    particular_solution_into(e, tier, lambda);
+    return lambda;
+  }
+
+  void
+  CoarseProblem::particular_solution(const Vector<double>                            &e,
+                                     const std::function<unsigned int(unsigned int)> &tier,
+                                     DistributedVector                               &lambda) const
+  {
+    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
+    lambda.reinit(distribution->layout());
+    particular_solution_into(e, tier, lambda);
+  }
+
+  template <typename VectorType>
+  void
+  CoarseProblem::particular_solution_into(const Vector<double>                            &e,
+                                          const std::function<unsigned int(unsigned int)> &tier,
+                                          VectorType &lambda) const
+  {
     const double e_norm = e.l2_norm();
     if (n_rows == 0 || e_norm == 0)
-      return Vector<double>(n_cols);
-    std::vector<unsigned int> tiers(tier);
-    std::sort(tiers.begin(), tiers.end());
-    tiers.erase(std::unique(tiers.begin(), tiers.end()), tiers.end());
+      return;
+    constexpr bool     distributed_vector = std::is_same_v<VectorType, DistributedVector>;
+    const unsigned int tiers              = tiers_present(tier);
     // The last tier takes every column: the factorization of GGᵀ that exists already.
-    for (unsigned int i = 0; i + 1 < tiers.size(); ++i)
+    for (unsigned int t = 0; (tiers >> (t + 1)) != 0; ++t)
       {
-        const unsigned int   t = tiers[i];
+        if (!(tiers & (1u << t)))
+          continue;
+        const auto           use_column = [&](const unsigned int c) { return tier(c) <= t; };
         SparsityPattern      sp;
         SparseMatrix<double> M;
-        assemble_GGt([&](const unsigned int c) { return tier[c] <= t; }, sp, M);
+        if (distributed_only)
+          assemble_GGt_distributed(use_column, sp, M);
+        else
+          assemble_GGt(use_column, sp, M);
         bool restrained = true;
         for (unsigned int r = 0; r < n_rows && restrained; ++r)
           restrained = M.diag_element(r) > 0;
@@ -366,15 +533,25 @@ namespace FetiContact
         // nearly would give a λ₀ far larger than the least-norm one.
         if (!(factor.reciprocal_condition_estimate() > 1e-13))
           continue;
-        // λ = G_tᵀ(G_t G_tᵀ)⁻¹ r, accumulated over one step of iterative refinement.
-        Vector<double> lambda(n_cols), r(e), G_lambda;
+        // λ = G_tᵀ(G_t G_tᵀ)⁻¹ r, accumulated over one step of iterative refinement; every
+        // column's terms by increasing mode.
+        lambda = 0;
+        Vector<double> r(e), G_lambda;
         for (unsigned int step = 0; step < 2; ++step)
           {
             factor.solve(r);
-            for (unsigned int m = 0; m < n_rows; ++m)
-              for (unsigned int k = row_start[m]; k < row_start[m + 1]; ++k)
-                if (tier[column[k]] <= t)
-                  lambda[column[k]] += value[k] * r[m];
+            if constexpr (distributed_vector)
+              {
+                for (unsigned int i = 0; i < lambda.locally_owned_size(); ++i)
+                  if (use_column(lambda.global_index(i)))
+                    for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
+                      lambda[i] += own_column_value[k] * r[own_column_mode[k]];
+              }
+            else
+              for (unsigned int m = 0; m < n_rows; ++m)
+                for (unsigned int k = row_start[m]; k < row_start[m + 1]; ++k)
+                  if (use_column(column[k]))
+                    lambda[column[k]] += value[k] * r[m];
             apply_G(lambda, G_lambda);
             r = e;
             r -= G_lambda;
@@ -385,9 +562,12 @@ namespace FetiContact
         // can pass it on rounding, and its "solution" then misses Gλ = e by far. The residual
         // decides.
         if (r.l2_norm() <= particular_solution_tolerance * e_norm)
-          return lambda;
+          return;
       }
-    return least_norm_solution(e);
+    if constexpr (distributed_vector)
+      least_norm_solution(e, lambda);
+    else
+      lambda = least_norm_solution(e);
   }
 
   template <typename VectorType>

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -16,7 +17,8 @@ namespace FetiContact
                            const std::vector<Subdomain *>  &owned,
                            const std::vector<unsigned int> &mode_offset,
                            const DualRows                  &rows,
-                           SharedLocalWork                 *shared)
+                           SharedLocalWork                 *shared,
+                           const bool                       distributed_coarse)
     : comm(comm)
     , owned(owned)
     , B(owned.size())
@@ -42,7 +44,7 @@ namespace FetiContact
           return rows.entries[a].subdomain < rows.entries[b].subdomain;
         });
       }
-    setup_row_sums(rows, mode_offset.size() - 1);
+    const Owners owners = setup_row_sums(rows, mode_offset.size() - 1);
     if (shared)
       {
         shared->share(owned, B, rows.entries.size());
@@ -106,8 +108,47 @@ namespace FetiContact
                         ArrayView<double>(e.begin(), e.size()));
     sum_slots(h);
     h -= c;
-    coarse.initialize(comm, G_entries, mode_offset.back(), m);
-    distribute_coarse_problem(mode_offset);
+    const auto [first_own_mode, end_own_mode] = own_modes(mode_offset);
+    if (distributed_coarse)
+      coarse.initialize_distributed(*row_distribution,
+                                    relevant_G_entries(G_entries, rows, owners),
+                                    mode_offset.back(),
+                                    m,
+                                    first_own_mode,
+                                    end_own_mode);
+    else
+      {
+        coarse.initialize(comm, G_entries, mode_offset.back(), m);
+        coarse.distribute(*row_distribution, first_own_mode, end_own_mode);
+      }
+  }
+
+  std::vector<CoarseProblem::Entry>
+  DualProblem::relevant_G_entries(const std::vector<CoarseProblem::Entry> &own_entries,
+                                  const DualRows                          &rows,
+                                  const Owners                            &owners) const
+  {
+    // An entry of column c goes to the ranks of the subdomains in row c and to the rank that
+    // owns row c: every rank then holds every entry of its relevant columns.
+    const int                         this_rank = Utilities::MPI::this_mpi_process(comm);
+    std::vector<CoarseProblem::Entry> relevant;
+    std::map<unsigned int, std::vector<CoarseProblem::Entry>> send;
+    std::vector<int>                                          ranks;
+    for (const CoarseProblem::Entry &e : own_entries)
+      {
+        relevant.push_back(e);
+        ranks.assign(1, owners.row_rank[e.column]);
+        for (unsigned int k = rows.row_start[e.column]; k < rows.row_start[e.column + 1]; ++k)
+          ranks.push_back(owners.subdomain_rank[rows.entries[k].subdomain]);
+        std::sort(ranks.begin(), ranks.end());
+        ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+        for (const int p : ranks)
+          if (p != this_rank)
+            send[p].push_back(e);
+      }
+    for (const auto &[rank, entries] : Utilities::MPI::some_to_some(comm, send))
+      relevant.insert(relevant.end(), entries.begin(), entries.end());
+    return relevant;
   }
 
   void
@@ -140,8 +181,8 @@ namespace FetiContact
         }
   }
 
-  void
-  DualProblem::distribute_coarse_problem(const std::vector<unsigned int> &mode_offset)
+  std::pair<unsigned int, unsigned int>
+  DualProblem::own_modes(const std::vector<unsigned int> &mode_offset) const
   {
     // G x on distributed vectors: every rank the modes of its subdomains, which follow each other
     // in rank order (contiguous ranges of subdomains, Simulator::distribute_subdomains).
@@ -156,7 +197,7 @@ namespace FetiContact
                     (i == 0 ? first_own_mode : mode_offset[owned[i - 1]->global_index + 1]),
                   ExcMessage("DualProblem: the subdomains of the ranks must be contiguous ranges "
                              "in rank order."));
-    coarse.distribute(*row_distribution, first_own_mode, first_own_mode + n_own_modes);
+    return {first_own_mode, first_own_mode + n_own_modes};
   }
 
   void
@@ -167,7 +208,7 @@ namespace FetiContact
       slot_values[b.slot[k]] = b.value[k] * u[b.dof[k]];
   }
 
-  void
+  DualProblem::Owners
   DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
   {
     int n_ranks = 1, this_rank = 0;
@@ -286,6 +327,7 @@ namespace FetiContact
         for (unsigned int k = 0; k < B[i].row.size(); ++k)
           relevant_row[i][k] = row_distribution->relevant_index(B[i].row[k]);
       }
+    return {std::move(subdomain_rank), std::move(row_rank)};
   }
 
   DualProblem::CommunicationVolume

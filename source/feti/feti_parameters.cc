@@ -65,7 +65,9 @@ namespace FetiContact::Parameters
       "every rank holds every row, and the row sums of every multiplication by F are gathered "
       "on all ranks. 'distributed': every rank holds the rows it adds up (those whose first "
       "subdomain is its own), gets the other rows of its subdomains from the neighbouring ranks, "
-      "and the dot products and norms are the only global reductions. Either way the iterates "
+      "and the dot products and norms are the only global reductions; G is held by the columns "
+      "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor stays on every "
+      "rank). Either way the iterates "
       "and iteration counts are the same on any number of ranks; between the two they differ "
       "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
     QP::ProjectedCGParameters::declare_parameters(prm);

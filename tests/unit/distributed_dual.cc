@@ -2,7 +2,10 @@
 // contiguous range of the 12 subdomains of the brick (TFETI, 3 × 2 × 2 blocks), F x, the lumped
 // preconditioner, G x, Gᵀy, the projector P, the least-norm solution of Gλ = e, the primal
 // recovery and B u − c must be the same bits as on one rank holding everything (a DualProblem on
-// MPI_COMM_SELF), and so must the dot products of the distributed vectors.
+// MPI_COMM_SELF), and so must the dot products of the distributed vectors. With G held by the
+// ranks' relevant columns (DualProblem with distributed_coarse: GGᵀ assembled by rows of the ranks'
+// modes), G x, Gᵀy, P x, the least-norm and the tiered particular solution of Gλ = e too, while
+// a rank holds fewer entries of G than one rank holding everything.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -127,6 +130,28 @@ main(int argc, char **argv)
   const DistributedVector Fx_one = reference.distribution().restrict(Fx);
   check(same_bits(x_d * Fx_d, x_one * Fx_one) && same_bits(Fx_d.l2_norm(), Fx_one.l2_norm()),
         "xᵀF x and ‖F x‖" + on + ": the same bits as on one rank (" + sci(x_d * Fx_d) + ")");
+
+  const DualProblem split(world, own, mode_offset, rows, nullptr, true);
+  const auto       &d_s = split.distribution();
+  Vector<double>    Gx_s;
+  DistributedVector Gty_s, Px_s(d_s.restrict(x)), lambda0_s, tiered_s;
+  split.coarse.apply_G(Px_s, Gx_s);
+  split.coarse.apply_Gt(y, Gty_s);
+  split.coarse.project(Px_s);
+  split.coarse.least_norm_solution(split.e, lambda0_s);
+  const auto tier = [](const unsigned int c) { return c % 10 == 0 ? 1u : 0u; };
+  split.coarse.particular_solution(split.e, tier, tiered_s);
+  const Vector<double> tiered = reference.coarse.particular_solution(reference.e, tier);
+  check(same_bits(Gx_s, Gx) && same_bits(d_s.gather(Gty_s), Gty) &&
+          same_bits(d_s.gather(Px_s), Px) && same_bits(d_s.gather(lambda0_s), lambda0) &&
+          same_bits(d_s.gather(tiered_s), tiered),
+        "G by columns" + on +
+          ": G x, Gᵀy, P x, the least-norm and the tiered solution the same bits as on one rank");
+  check(n_ranks == 1 ||
+          Utilities::MPI::max(split.coarse.n_entries(), world) < reference.coarse.n_entries(),
+        "G by columns" + on + ": at most " +
+          std::to_string(Utilities::MPI::max(split.coarse.n_entries(), world)) + " of the " +
+          std::to_string(reference.coarse.n_entries()) + " entries of G on a rank");
 
   const int failures = Utilities::MPI::max(n_failures, world);
   if (rank == 0)

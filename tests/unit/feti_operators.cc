@@ -214,8 +214,10 @@ main(int argc, char **argv)
             std::vector<unsigned int> tier(m);
             for (unsigned int i = 0; i < m; ++i)
               tier[i] = i % 10 == 0 ? 1 : 0;
-            const auto lambda_tiered = dual.coarse.particular_solution(dual.e, tier);
-            double     on_tier_1     = 0;
+            const auto lambda_tiered =
+              dual.coarse.particular_solution(dual.e,
+                                              [&](const unsigned int c) { return tier[c]; });
+            double on_tier_1 = 0;
             for (unsigned int i = 0; i < m; i += 10)
               on_tier_1 = std::max(on_tier_1, std::abs(lambda_tiered[i]));
             dual.coarse.apply_G(lambda_tiered, Gl);
@@ -226,8 +228,9 @@ main(int argc, char **argv)
             // Columns that cannot restrain the modes alone (a single one) are passed over: then
             // λ₀ is the least-norm solution.
             std::vector<unsigned int> one(m, 1);
-            one[0]                    = 0;
-            const auto     lambda_all = dual.coarse.particular_solution(dual.e, one);
+            one[0] = 0;
+            const auto lambda_all =
+              dual.coarse.particular_solution(dual.e, [&](const unsigned int c) { return one[c]; });
             Vector<double> difference(lambda_all);
             difference -= lambda0;
             check(difference.l2_norm() <= 1e-14 * lambda0.l2_norm(),

@@ -165,6 +165,15 @@ namespace FetiContact
      *  projector). */
     void
     build_problems();
+    /** The kind of a row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential. */
+    unsigned int
+    tier(const unsigned int row) const;
+    /**
+     * A solution of Gλ = @p e from the rows of the lowest tiers that restrain the floating
+     * subdomains (CoarseProblem::particular_solution; for λ₀, see there).
+     */
+    VectorType
+    particular_solution(const dealii::Vector<double> &e) const;
     /** The bounds λ̃_N ≥ −λ₀_N and the discs centred at −λ₀_T (radii 0). */
     void
     build_constraint_sets();
@@ -236,8 +245,6 @@ namespace FetiContact
     std::optional<QP::ProjectorEnforcement<VectorType>> projector_enforcement;
     /** λ₀ (zero without the projector). */
     VectorType lambda0;
-    /** Per row of λ: 0 gluing and Dirichlet, 1 normal, 2 tangential (for λ₀, see there). */
-    std::vector<unsigned int> row_tier;
     /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */
     double G_norm = 0, rho = 0;
     /**

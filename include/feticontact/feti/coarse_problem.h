@@ -29,6 +29,13 @@ namespace FetiContact
    * owners), the coarse vector is gathered, and (Gᵀy)_c is computed for the rows c the rank owns:
    * every number is summed in the same order as with replicated vectors, so the results are the
    * same bits.
+   *
+   * Set up by initialize_distributed() instead, a rank holds only the entries of G in the columns
+   * relevant to it (the rows of B that touch its subdomains, and the rows it owns): GGᵀ is
+   * assembled by rows, each rank the rows of its own modes from those columns, in the order of
+   * increasing column as by initialize(), and the rows gathered to the replicated factorization
+   * (the same bits, unless G has two entries of one mode in one column: see
+   * initialize_distributed()). Then only the products with distributed dual vectors exist.
    */
   class CoarseProblem
   {
@@ -39,6 +46,14 @@ namespace FetiContact
       unsigned int mode;
       unsigned int column;
       double       value;
+
+      /** For Utilities::MPI::some_to_some. */
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &mode &column &value;
+      }
     };
 
     /**
@@ -51,17 +66,35 @@ namespace FetiContact
                const unsigned int        n_modes,
                const unsigned int        n_columns);
 
+    /**
+     * The distributed form (see the class): @p relevant_entries are all entries of G in the
+     * columns relevant to this rank of @p distribution (from every rank that computes them),
+     * @p first_mode … @p end_mode this rank's modes (the ranks' ranges follow each other in rank
+     * order). Collective. Throws InputError as initialize(); @p distribution must outlive this
+     * object.
+     */
+    void
+    initialize_distributed(const DualDistribution &distribution,
+                           std::vector<Entry>      relevant_entries,
+                           const unsigned int      n_modes,
+                           const unsigned int      n_columns,
+                           const unsigned int      first_mode,
+                           const unsigned int      end_mode);
+
     unsigned int
     n_modes() const
     {
       return n_rows;
     }
 
-    /** The number of stored entries of G (every rank holds all of them). */
+    /**
+     * The number of entries of G this rank holds: all of them, or (initialize_distributed()) those
+     * of its relevant columns.
+     */
     std::size_t
     n_entries() const
     {
-      return value.size();
+      return distributed_only ? relevant_value.size() : value.size();
     }
 
     /**
@@ -129,6 +162,8 @@ namespace FetiContact
      * of tier ≤ t for the smallest t whose columns alone restrain every rigid mode (G_t G_tᵀ
      * nonsingular), and the least-norm solution of all of G if none does.
      *
+     * @p tier is called for every column (a replicated call) or for the relevant ones.
+     *
      * Why it matters: the contact QP works with λ̃ = λ − λ₀, so λ₀ on a contact row moves the
      * bound λ̃_N ≥ −λ₀_N and the centre of the friction disc to −λ₀_T. A disc of radius r
      * centred at c is resolved in floating point only to ε‖c‖ (seen: r = 1.7e-9 at ‖c‖ = 3e6
@@ -136,8 +171,13 @@ namespace FetiContact
      * on the contact rows the bounds are λ̃_N ≥ 0 and the discs are centred at the origin.
      */
     dealii::Vector<double>
-    particular_solution(const dealii::Vector<double>    &e,
-                        const std::vector<unsigned int> &tier) const;
+    particular_solution(const dealii::Vector<double>                    &e,
+                        const std::function<unsigned int(unsigned int)> &tier) const;
+    /** The same as a distributed dual vector (with distributed dual vectors and G). */
+    void
+    particular_solution(const dealii::Vector<double>                    &e,
+                        const std::function<unsigned int(unsigned int)> &tier,
+                        DistributedVector                               &lambda) const;
     /**
      * λ ← λ + Gᵀ(GGᵀ)⁻¹(e − Gλ): removes the drift from Gλ = e that rounding accumulates over
      * many projected iterations (without it the force balance of floating subdomains is off by
@@ -160,6 +200,25 @@ namespace FetiContact
     void
     add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
     /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
+    /** The same from the relevant columns (initialize_distributed()): each rank its modes' rows,
+     *  gathered. Collective. */
+    void
+    assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
+                             dealii::SparsityPattern                 &sparsity,
+                             dealii::SparseMatrix<double>            &M) const;
+    /** Checks GGᵀ = @p M (every mode restrained, nonsingular, well conditioned) and factorizes it.
+     */
+    void
+    factorize_GGt(const dealii::SparseMatrix<double> &M);
+    /** particular_solution() into @p lambda (zero, of the right size). */
+    template <typename VectorType>
+    void
+    particular_solution_into(const dealii::Vector<double>                    &e,
+                             const std::function<unsigned int(unsigned int)> &tier,
+                             VectorType                                      &lambda) const;
+    /** The tiers of the columns (a bit per tier, over all ranks). */
+    unsigned int
+    tiers_present(const std::function<unsigned int(unsigned int)> &tier) const;
     void
     assemble_GGt(const std::function<bool(unsigned int)> &use_column,
                  dealii::SparsityPattern                 &sparsity,
@@ -187,5 +246,12 @@ namespace FetiContact
     std::vector<unsigned int>      own_column_start, own_column_mode;
     std::vector<double>            own_column_value;
     mutable dealii::Vector<double> relevant_work;
+    /**
+     * With initialize_distributed(): the relevant columns (increasing) with their entries by
+     * increasing mode (CSC: start, mode, value); otherwise empty.
+     */
+    std::vector<unsigned int> relevant_column, relevant_start, relevant_mode;
+    std::vector<double>       relevant_value;
+    bool                      distributed_only = false;
   };
 } // namespace FetiContact

@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <mpi.h>
+#include <utility>
 #include <vector>
 
 namespace FetiContact
@@ -50,13 +51,16 @@ namespace FetiContact
      * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c. With
      * @p shared (which holds the factors of this rank's reserve, SharedLocalWork::take_factor(),
      * and must outlive this object) the ranks of the node share the reserves' part of the local
-     * work of every multiplication by F; F x is the same either way.
+     * work of every multiplication by F; F x is the same either way. With @p distributed_coarse
+     * a rank holds G only in the columns relevant to it (CoarseProblem::initialize_distributed())
+     * and only the products with distributed dual vectors exist.
      */
     DualProblem(const MPI_Comm                   comm,
                 const std::vector<Subdomain *>  &owned,
                 const std::vector<unsigned int> &mode_offset,
                 const DualRows                  &rows,
-                SharedLocalWork                 *shared = nullptr);
+                SharedLocalWork                 *shared             = nullptr,
+                const bool                       distributed_coarse = false);
 
     /** The number of dual unknowns m. */
     unsigned int
@@ -163,9 +167,22 @@ namespace FetiContact
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
+    /** The rank of every subdomain and of every row (the rank that adds it up). */
+    struct Owners
+    {
+      std::vector<int> subdomain_rank, row_rank;
+    };
     /** The rows of each rank and the slots that cross ranks (from the rows and the owners). */
-    void
+    Owners
     setup_row_sums(const DualRows &rows, const unsigned int n_subdomains);
+    /**
+     * The entries of G in the columns relevant to this rank, from @p own_entries (those of its
+     * modes) of every rank (point to point).
+     */
+    std::vector<CoarseProblem::Entry>
+    relevant_G_entries(const std::vector<CoarseProblem::Entry> &own_entries,
+                       const DualRows                          &rows,
+                       const Owners                            &owners) const;
     /**
      * y = the sum over the ranks of the slots, row by row in the order of increasing subdomain
      * (each rank its rows, then gathered).
@@ -194,11 +211,11 @@ namespace FetiContact
     void
     build_blocks(const DualRows &rows);
     /**
-     * The rigid modes of this rank's subdomains for G x on distributed vectors
+     * The range of the rigid modes of this rank's subdomains, for G x on distributed vectors
      * (CoarseProblem::distribute): they follow each other in rank order.
      */
-    void
-    distribute_coarse_problem(const std::vector<unsigned int> &mode_offset);
+    std::pair<unsigned int, unsigned int>
+    own_modes(const std::vector<unsigned int> &mode_offset) const;
     /** y = @p product (x) on distributed vectors through replicated ones (shared local work). */
     void
     apply_replicated(void (DualProblem::*product)(const dealii::Vector<double> &,

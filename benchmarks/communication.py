@@ -22,13 +22,12 @@ rank (`communication.*_per_rank`, `memory.peak_rss_mib_per_rank`):
 The table gives the largest value over the ranks (and the smallest for the memory). The CSV is
 rewritten after every case; --report-only writes the table from it. Standard library only.
 """
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
-from runs import summary_of_run  # noqa: E402
+from runs import read_csv, summary_of_run, write_csv, write_table  # noqa: E402
 
 arguments(__doc__, ["--exe", "--prm", "--k", "--blocks", "--np", "--csv", "--markdown"],
           ["--report-only"])
@@ -71,13 +70,6 @@ def run(np_):
             "meshes_mib": round(s["memory"]["meshes_mib"], 1)}
 
 
-def write_csv(rows):
-    with open(CSV, "w", newline="") as f:
-        w = csv.DictWriter(f, FIELDS)
-        w.writeheader()
-        w.writerows(rows)
-
-
 def write_markdown(rows):
     lines = ["Brick `%s`, Subdivisions %d, %d, %d, blocks %s (%s subdomains, m = %s dual "
              "unknowns); values per application of F, the largest over the ranks "
@@ -94,17 +86,15 @@ def write_markdown(rows):
             r["gathered_values_max"], r["ghost_neighbours_max"], r["ghosts_received_max"],
             r["replicated_received_max"], r["distributed_received_max"],
             r["peak_rss_mib_min"], r["peak_rss_mib_max"], r["meshes_mib"]))
-    with open(MD, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_table(MD, lines)
 
 
 if "--report-only" in sys.argv:
-    with open(CSV) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_csv(CSV)
 else:
     rows = []
     for n in NP:
         rows.append(run(n))
-        write_csv(rows)
+        write_csv(CSV, FIELDS, rows)
         print(rows[-1], flush=True)
 write_markdown(rows)

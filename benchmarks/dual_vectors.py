@@ -15,14 +15,13 @@ settings round the sums differently, so their counts may differ; the time per mu
 compares the work. The CSV is rewritten after every case; --report-only writes the table from
 it. Standard library only.
 """
-import csv
 import os
 import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
-from runs import summary_of_run  # noqa: E402
+from runs import read_csv, summary_of_run, write_csv, write_table  # noqa: E402
 
 arguments(__doc__, ["--exe", "--np", "--repeats", "--csv", "--markdown"], ["--report-only"])
 
@@ -73,12 +72,6 @@ def measure(name, prm, settings, np_):
     return rows
 
 
-def write_csv(rows):
-    with open(CSV, "w", newline="") as f:
-        writer = csv.DictWriter(f, FIELDS)
-        writer.writeheader()
-        writer.writerows(rows)
-
 
 def write_markdown(rows):
     lines = [f"Medians of {REPEATS} runs in alternation, OPENBLAS_NUM_THREADS=1 "
@@ -95,18 +88,15 @@ def write_markdown(rows):
         lines.append(f"| {r['case']} | {r['np']} | {int(r['m_total']):,} | {r['vectors']} | "
                      f"{r['count']} | {float(r['solve_s']):.2f} | {r['per_count_ms']} | "
                      f"{ratio} | {r['peak_rss_mib_max']} | {int(r['received_per_F_max']):,} |")
-    with open(MD, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_table(MD, lines)
 
 
 if "--report-only" in sys.argv:
-    with open(CSV) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_csv(CSV)
 else:
     rows = []
     for name, prm, settings in CASES:
         for np_ in NP:
             rows += measure(name, prm, settings, np_)
-            write_csv(rows)
+            write_csv(CSV, FIELDS, rows)
 write_markdown(rows)

@@ -1,4 +1,6 @@
-"""Running the program for a benchmark and reading its summary.json (standard library only)."""
+"""Running the program for a benchmark, reading its summary.json, and writing the tables
+(standard library only)."""
+import csv
 import json
 import os
 import subprocess
@@ -24,3 +26,24 @@ def summary_of_run(exe, prm, settings, np=None, env=None):
                              % (" ".join(command + [prm]), done.returncode, done.stderr[-2000:]))
         with open(path) as f:
             return json.load(f)
+
+
+def write_csv(path, fields, rows):
+    """Writes `rows` (dicts) with the columns `fields` to the CSV file `path`."""
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def read_csv(path):
+    """The rows of the CSV file `path` as dicts (values as text)."""
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def write_table(path, lines):
+    """Writes the Markdown `lines` to `path` and prints them."""
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))

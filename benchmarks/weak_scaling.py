@@ -17,13 +17,12 @@ sets `FETI/Dual vectors`.
 The table gives the largest peak against that of np = 1. The CSV is rewritten after every case;
 --report-only writes the table from it. Standard library only.
 """
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
-from runs import summary_of_run  # noqa: E402
+from runs import read_csv, summary_of_run, write_csv, write_table  # noqa: E402
 
 arguments(__doc__, ["--exe", "--prm", "--cubes", "--np", "--dual-vectors", "--csv", "--markdown"],
           ["--report-only"])
@@ -54,12 +53,6 @@ def run(np_):
             "meshes_mib": round(s["memory"]["meshes_mib"], 1)}
 
 
-def write_csv(rows):
-    with open(CSV, "w", newline="") as f:
-        writer = csv.DictWriter(f, FIELDS)
-        writer.writeheader()
-        writer.writerows(rows)
-
 
 def write_markdown(rows):
     base = float(rows[0]["peak_rss_mib_max"])
@@ -74,18 +67,15 @@ def write_markdown(rows):
                      f"{r['peak_rss_mib_min']}–{r['peak_rss_mib_max']} | "
                      f"{float(r['peak_rss_mib_max']) / base:.2f} | {r['estimated_mib']} | "
                      f"{r['meshes_mib']} |")
-    with open(MD, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    write_table(MD, lines)
 
 
 if "--report-only" in sys.argv:
-    with open(CSV) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_csv(CSV)
 else:
     rows = []
     for n in NP:
         rows.append(run(n))
-        write_csv(rows)
+        write_csv(CSV, FIELDS, rows)
         print(rows[-1], flush=True)
 write_markdown(rows)

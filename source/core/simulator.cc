@@ -633,10 +633,11 @@ namespace FetiContact
           contact[r] = lambda[r];
         return contact;
       }
-    // Every row is held by one rank: the sum adds each value to zeros only.
+    // Every row is held by one rank: the sum adds each value to zeros only (a −0 would become +0
+    // on several ranks only, so it becomes +0 here on any number).
     for (unsigned int i = 0; i < lambda_distributed->locally_owned_size(); ++i)
       if (lambda_distributed->global_index(i) < n)
-        contact[lambda_distributed->global_index(i)] = (*lambda_distributed)[i];
+        contact[lambda_distributed->global_index(i)] = (*lambda_distributed)[i] + 0.;
     Utilities::MPI::sum(ArrayView<const double>(contact.begin(), n),
                         comm,
                         ArrayView<double>(contact.begin(), n));

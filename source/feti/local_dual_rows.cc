@@ -134,9 +134,12 @@ namespace FetiContact
   void
   LocalDualRows<VectorType>::reduce_sum(std::vector<Number> &values) const
   {
-    // A value held on one rank is added to zeros only: the same bits as on one rank.
+    // A value held on one rank is added to zeros only: the same bits as on one rank, except that
+    // −0 + 0 = +0, so −0 becomes +0 first on any number of ranks.
     if constexpr (distributed)
       {
+        for (Number &v : values)
+          v += Number(0);
         Utilities::MPI::sum(ArrayView<const Number>(values.data(), values.size()),
                             layout->comm,
                             ArrayView<Number>(values.data(), values.size()));

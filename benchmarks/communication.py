@@ -27,7 +27,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
-from runs import read_csv, summary_of_run, write_csv, write_table  # noqa: E402
+from runs import collect_rows, summary_of_run, write_table  # noqa: E402
 
 arguments(__doc__, ["--exe", "--prm", "--k", "--blocks", "--np", "--csv", "--markdown"],
           ["--report-only"])
@@ -89,12 +89,4 @@ def write_markdown(rows):
     write_table(MD, lines)
 
 
-if "--report-only" in sys.argv:
-    rows = read_csv(CSV)
-else:
-    rows = []
-    for n in NP:
-        rows.append(run(n))
-        write_csv(CSV, FIELDS, rows)
-        print(rows[-1], flush=True)
-write_markdown(rows)
+write_markdown(collect_rows(CSV, FIELDS, [lambda n=n: [run(n)] for n in NP]))

@@ -21,7 +21,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
-from runs import read_csv, summary_of_run, write_csv, write_table  # noqa: E402
+from runs import collect_rows, summary_of_run, write_table  # noqa: E402
 
 arguments(__doc__, ["--exe", "--np", "--repeats", "--csv", "--markdown"], ["--report-only"])
 
@@ -91,12 +91,5 @@ def write_markdown(rows):
     write_table(MD, lines)
 
 
-if "--report-only" in sys.argv:
-    rows = read_csv(CSV)
-else:
-    rows = []
-    for name, prm, settings in CASES:
-        for np_ in NP:
-            rows += measure(name, prm, settings, np_)
-            write_csv(CSV, FIELDS, rows)
-write_markdown(rows)
+write_markdown(collect_rows(CSV, FIELDS, [
+    lambda case=case, n=n: measure(*case, n) for case in CASES for n in NP]))

@@ -4,6 +4,7 @@ import csv
 import json
 import os
 import subprocess
+import sys
 import tempfile
 
 
@@ -34,6 +35,22 @@ def write_csv(path, fields, rows):
         writer = csv.DictWriter(f, fields)
         writer.writeheader()
         writer.writerows(rows)
+
+
+def collect_rows(csv_path, fields, measurements):
+    """The rows of a benchmark: with --report-only on the command line those of `csv_path`;
+    else every row (dict) of every call of `measurements` (callables returning a list of rows),
+    the CSV rewritten after each call and its rows printed."""
+    if "--report-only" in sys.argv:
+        return read_csv(csv_path)
+    rows = []
+    for measure in measurements:
+        new = measure()
+        rows += new
+        write_csv(csv_path, fields, rows)
+        for row in new:
+            print(row, flush=True)
+    return rows
 
 
 def read_csv(path):

@@ -633,14 +633,13 @@ namespace FetiContact
           contact[r] = lambda[r];
         return contact;
       }
-    // Every row is held by one rank: the sum adds each value to zeros only (a −0 would become +0
-    // on several ranks only, so it becomes +0 here on any number).
+    // Every row is held by one rank: a sum over the ranks per row (LocalDualRows).
+    std::vector<double> rows(n, 0.);
     for (unsigned int i = 0; i < lambda_distributed->locally_owned_size(); ++i)
       if (lambda_distributed->global_index(i) < n)
-        contact[lambda_distributed->global_index(i)] = (*lambda_distributed)[i] + 0.;
-    Utilities::MPI::sum(ArrayView<const double>(contact.begin(), n),
-                        comm,
-                        ArrayView<double>(contact.begin(), n));
+        rows[lambda_distributed->global_index(i)] = (*lambda_distributed)[i];
+    LocalDualRows<DistributedVector>(*dual).sum_over_ranks(rows);
+    std::copy(rows.begin(), rows.end(), contact.begin());
     return contact;
   }
 

@@ -115,7 +115,7 @@ main(int argc, char **argv)
       body.setup();
       const FESystem<3>  fe(FE_SimplexP<3>(1), 3);
       const MappingFE<3> mapping(FE_SimplexP<3>(1));
-      Subdomain          subdomain(body, 0, 0, /*eliminate_prescribed=*/true, fe);
+      Subdomain          subdomain(body, body.part_cells(0), 0, /*eliminate_prescribed=*/true, fe);
       subdomain.assemble(mapping);
       const SparseMatrix<double> &K = subdomain.K;
       const Vector<double>       &f = subdomain.f;

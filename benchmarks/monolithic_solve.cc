@@ -89,7 +89,7 @@ main(int argc, char **argv)
       body.check_held();
       const FESystem<3>  fe(FE_SimplexP<3>(1), 3);
       const MappingFE<3> mapping(FE_SimplexP<3>(1));
-      Subdomain          subdomain(body, 0, 0, /*eliminate_prescribed=*/true, fe);
+      Subdomain          subdomain(body, body.part_cells(0), 0, /*eliminate_prescribed=*/true, fe);
       const auto         t1 = clock::now();
       subdomain.assemble(mapping);
       const auto t2 = clock::now();

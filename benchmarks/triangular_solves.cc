@@ -111,7 +111,7 @@ main(int argc, char **argv)
       const MappingFE<3> mapping(FE_SimplexP<3>(1));
       // The middle block floats: TFETI's regularized matrix, K with the rows and columns of the
       // kernel-fixing unknowns replaced by their diagonal.
-      Subdomain subdomain(body, 1, 1, /*eliminate_prescribed=*/false, fe);
+      Subdomain subdomain(body, body.part_cells(1), 1, /*eliminate_prescribed=*/false, fe);
       subdomain.assemble(mapping);
       subdomain.factorize("cholmod");
       const SparseMatrix<double> A = subdomain.regularized_stiffness();

@@ -314,11 +314,18 @@ namespace FetiContact
       for (unsigned int p = 0; p < body->partition.n_parts; ++p)
         if (owner[first_subdomain[body->index] + p] == rank)
           parts.emplace_back(body.get(), p);
+    std::vector<std::vector<std::vector<unsigned int>>> parts_of_vertex(bodies.size());
+    for (const auto &[body, p] : parts)
+      if (parts_of_vertex[body->index].empty())
+        parts_of_vertex[body->index] = parts_of_vertices(body->mesh, body->partition);
     subdomains.resize(parts.size());
     SubdomainThreads::for_each(parts.size(), [&](const unsigned int i) {
       const auto &[body, p] = parts[i];
-      subdomains[i] =
-        std::make_unique<Subdomain>(*body, p, first_subdomain[body->index] + p, primal, fe);
+      subdomains[i]         = std::make_unique<Subdomain>(*body,
+                                                  body->part_cells(p, parts_of_vertex[body->index]),
+                                                  first_subdomain[body->index] + p,
+                                                  primal,
+                                                  fe);
     });
     for (const auto &s : subdomains)
       owned.push_back(s.get());
@@ -363,7 +370,7 @@ namespace FetiContact
                               polygonal ? parameters.contact_solver.polygon_directions : 0,
                               parameters.feti.average_contact_rows);
     contact_rows_time += rows_timer.wall_time();
-    const DualRows equality = build_equality_rows(bodies, first_subdomain, !primal);
+    const DualRows equality = build_equality_rows(comm, owned, !primal);
     layout.n_equality       = equality.n_rows();
     rows.append(equality);
     if (!contact_nodes.empty())
@@ -680,7 +687,7 @@ namespace FetiContact
   Simulator::evaluate_solution() const
   {
     Evaluation evaluation;
-    evaluation.vertex_u = gather_vertex_displacements(comm, bodies, first_subdomain, owned, u);
+    evaluation.vertex_u = gather_vertex_displacements(comm, bodies, owned, u);
     for (const auto &b : evaluation.vertex_u)
       for (const auto &v : b)
         evaluation.u_max = std::max(evaluation.u_max, v.norm());

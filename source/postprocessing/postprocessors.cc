@@ -355,27 +355,17 @@ namespace FetiContact::Postprocessing
     std::sort(order.begin(), order.end(), [&](const unsigned int a, const unsigned int b) {
       return input.owned[a]->global_index < input.owned[b]->global_index;
     });
-    std::vector<std::vector<std::vector<unsigned int>>> parts(input.bodies.size());
-    std::ostringstream                                  rows;
+    std::ostringstream rows;
     if (input.root())
       rows << "body,x,y,z,ux,uy,uz\n";
     rows << std::setprecision(17);
     for (const unsigned int i : order)
       {
-        const Subdomain &s    = *input.owned[i];
-        const Body      &body = s.body;
-        if (parts[body.index].empty())
-          parts[body.index] = parts_of_vertices(body.mesh, body.partition);
-        std::vector<std::pair<unsigned int, unsigned int>> vertices; // (body vertex, own vertex)
-        for (unsigned int v = 0; v < s.body_vertex.size(); ++v)
-          if (input.first_subdomain[body.index] + parts[body.index][s.body_vertex[v]].front() ==
-              s.global_index)
-            vertices.emplace_back(s.body_vertex[v], v);
-        std::sort(vertices.begin(), vertices.end());
-        for (const auto &[w, v] : vertices)
+        const Subdomain &s = *input.owned[i];
+        for (const auto &[w, v] : s.reported_vertices())
           {
-            const auto &x = body.mesh.get_vertices()[w];
-            rows << body.index << ',' << x[0] << ',' << x[1] << ',' << x[2];
+            const auto &x = s.mesh.get_vertices()[v];
+            rows << s.body.index << ',' << x[0] << ',' << x[1] << ',' << x[2];
             for (unsigned int c = 0; c < 3; ++c)
               rows << ',' << input.u[i][s.vertex_dofs[v][c]];
             rows << '\n';

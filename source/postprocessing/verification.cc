@@ -22,30 +22,16 @@ namespace FetiContact
   std::vector<std::vector<Tensor<1, 3>>>
   gather_vertex_displacements(const MPI_Comm                            comm,
                               const std::vector<std::unique_ptr<Body>> &bodies,
-                              const std::vector<unsigned int>          &first_subdomain,
                               const std::vector<Subdomain *>           &owned,
                               const std::vector<Vector<double>>        &u)
   {
     std::vector<std::vector<Tensor<1, 3>>> result(bodies.size());
-    std::vector<std::vector<unsigned int>> lowest(bodies.size());
     for (const auto &body : bodies)
-      {
-        result[body->index].resize(body->mesh.n_vertices());
-        auto &low = lowest[body->index];
-        low.assign(body->mesh.n_vertices(), numbers::invalid_unsigned_int);
-        const auto parts = parts_of_vertices(body->mesh, body->partition);
-        for (unsigned int v = 0; v < parts.size(); ++v)
-          if (!parts[v].empty())
-            low[v] = first_subdomain[body->index] + parts[v].front();
-      }
+      result[body->index].resize(body->mesh.n_vertices());
     for (unsigned int i = 0; i < owned.size(); ++i)
-      {
-        const Subdomain &s = *owned[i];
-        for (unsigned int v = 0; v < s.body_vertex.size(); ++v)
-          if (lowest[s.body.index][s.body_vertex[v]] == s.global_index)
-            for (unsigned int c = 0; c < 3; ++c)
-              result[s.body.index][s.body_vertex[v]][c] = u[i][s.vertex_dofs[v][c]];
-      }
+      for (const auto &[w, v] : owned[i]->reported_vertices())
+        for (unsigned int c = 0; c < 3; ++c)
+          result[owned[i]->body.index][w][c] = u[i][owned[i]->vertex_dofs[v][c]];
     for (auto &r : result)
       {
         double *const values = reinterpret_cast<double *>(r.data());

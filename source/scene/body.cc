@@ -3,10 +3,12 @@
 #include <feticontact/scene/mesh_generation.h>
 #include <feticontact/subdomain/rigid_body_modes.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
 
 namespace FetiContact
 {
@@ -65,6 +67,55 @@ namespace FetiContact
     cells_of_part.assign(partition.n_parts, {});
     for (const auto &cell : mesh.active_cell_iterators())
       cells_of_part[partition.part_of_cell[cell->active_cell_index()]].push_back(cell);
+  }
+
+  PartCells
+  Body::part_cells(const unsigned int                            part,
+                   const std::vector<std::vector<unsigned int>> &parts_of_vertex) const
+  {
+    // (A map, not a vector over all vertices of the body: that would be quadratic in the number
+    // of parts.)
+    PartCells                                      result;
+    std::unordered_map<unsigned int, unsigned int> local_vertex;
+    result.part = part;
+    for (const auto &cell : cells_of_part[part])
+      {
+        std::array<unsigned int, 4> local;
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const unsigned int body_vertex = cell->vertex_index(v);
+            const auto [entry, first_seen] =
+              local_vertex.emplace(body_vertex, result.points.size());
+            if (first_seen)
+              {
+                result.points.push_back(cell->vertex(v));
+                result.body_vertex.push_back(body_vertex);
+                const auto &holders = parts_of_vertex[body_vertex];
+                result.holder_parts.insert(result.holder_parts.end(),
+                                           holders.begin(),
+                                           holders.end());
+                result.holder_start.push_back(result.holder_parts.size());
+              }
+            local[v] = entry->second;
+          }
+        result.cells.push_back(local);
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              std::array<unsigned int, 3> key;
+              for (unsigned int v = 0; v < 3; ++v)
+                key[v] = local_vertex.at(face->vertex_index(v));
+              std::sort(key.begin(), key.end());
+              result.boundary_faces.emplace_back(key, face->boundary_id());
+            }
+      }
+    return result;
+  }
+
+  PartCells
+  Body::part_cells(const unsigned int part) const
+  {
+    return part_cells(part, parts_of_vertices(mesh, partition));
   }
 
   Tensor<1, 3>

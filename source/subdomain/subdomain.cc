@@ -6,64 +6,42 @@
 
 #include <algorithm>
 #include <map>
-#include <unordered_map>
 
 namespace FetiContact
 {
   using namespace dealii;
 
   Subdomain::Subdomain(const Body             &body,
-                       const unsigned int      part,
+                       PartCells             &&cells,
                        const unsigned int      global_index,
                        const bool              eliminate_prescribed,
                        const FiniteElement<3> &fe)
     : body(body)
-    , part(part)
+    , part(cells.part)
     , global_index(global_index)
     , prescribed_eliminated(eliminate_prescribed)
+    , body_vertex(std::move(cells.body_vertex))
+    , holder_start(std::move(cells.holder_start))
+    , holder_parts(std::move(cells.holder_parts))
   {
-    // The sub-mesh: cells of this part, vertices renumbered, boundary ids carried over; faces
-    // shared with other parts become interface faces.
-    // (A map, not a vector over all vertices of the body: that would be quadratic in the number
-    // of subdomains.)
-    std::unordered_map<unsigned int, unsigned int>            local_vertex;
-    std::vector<CellData<3>>                                  cells;
-    std::vector<Point<3>>                                     vertices;
-    std::map<std::array<unsigned int, 3>, types::boundary_id> boundary_faces;
-    for (const auto &cell : body.cells_of_part[part])
+    // The sub-mesh: boundary ids carried over; faces shared with other parts become interface
+    // faces.
+    std::vector<CellData<3>> cell_data(cells.cells.size(), CellData<3>(4));
+    for (unsigned int c = 0; c < cells.cells.size(); ++c)
       {
-        CellData<3> data(4);
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            const unsigned int gv          = cell->vertex_index(v);
-            const auto [entry, first_seen] = local_vertex.emplace(gv, vertices.size());
-            if (first_seen)
-              {
-                vertices.push_back(cell->vertex(v));
-                body_vertex.push_back(gv);
-              }
-            data.vertices[v] = entry->second;
-          }
-        data.material_id = body.index;
-        cells.push_back(data);
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary())
-            {
-              std::array<unsigned int, 3> key;
-              for (unsigned int v = 0; v < 3; ++v)
-                key[v] = face->vertex_index(v);
-              std::sort(key.begin(), key.end());
-              boundary_faces[key] = face->boundary_id();
-            }
+        std::copy(cells.cells[c].begin(), cells.cells[c].end(), cell_data[c].vertices.begin());
+        cell_data[c].material_id = body.index;
       }
-    mesh.create_triangulation(vertices, cells, SubCellData());
+    mesh.create_triangulation(cells.points, cell_data, SubCellData());
+    const std::map<std::array<unsigned int, 3>, types::boundary_id> boundary_faces(
+      cells.boundary_faces.begin(), cells.boundary_faces.end());
     for (const auto &cell : mesh.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary())
           {
             std::array<unsigned int, 3> key;
             for (unsigned int v = 0; v < 3; ++v)
-              key[v] = body_vertex[face->vertex_index(v)];
+              key[v] = face->vertex_index(v);
             std::sort(key.begin(), key.end());
             const auto it = boundary_faces.find(key);
             face->set_boundary_id(it == boundary_faces.end() ? interface_boundary_id : it->second);
@@ -87,6 +65,27 @@ namespace FetiContact
               prescribed[dof] = it->second[c];
           }
       }
+  }
+
+  std::vector<unsigned int>
+  Subdomain::holders(const unsigned int v) const
+  {
+    std::vector<unsigned int> result(holder_parts.begin() + holder_start[v],
+                                     holder_parts.begin() + holder_start[v + 1]);
+    for (unsigned int &h : result)
+      h += global_index - part;
+    return result;
+  }
+
+  std::vector<std::pair<unsigned int, unsigned int>>
+  Subdomain::reported_vertices() const
+  {
+    std::vector<std::pair<unsigned int, unsigned int>> vertices;
+    for (unsigned int v = 0; v < body_vertex.size(); ++v)
+      if (lowest_holder(v) == global_index)
+        vertices.emplace_back(body_vertex[v], v);
+    std::sort(vertices.begin(), vertices.end());
+    return vertices;
   }
 
   void

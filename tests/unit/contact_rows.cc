@@ -10,6 +10,8 @@
 //    the right-hand sides are c_avg = σ_k c_low (the same constraint, scaled).
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
 
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
@@ -72,8 +74,17 @@ main(int argc, char **argv)
         std::to_string(nodes.size()) + " contact nodes on " + std::to_string(n_sub) +
           " subdomains");
 
-  DualLayout         low_layout, avg_layout;
-  const DualRows     equality = build_equality_rows(bodies, first_subdomain, true);
+  DualLayout                              low_layout, avg_layout;
+  const FESystem<3>                       fe(FE_SimplexP<3>(1), 3);
+  std::vector<std::unique_ptr<Subdomain>> subdomains;
+  std::vector<Subdomain *>                owned;
+  for (unsigned int p = 0; p < n_sub; ++p)
+    {
+      subdomains.push_back(
+        std::make_unique<Subdomain>(*bodies[0], bodies[0]->part_cells(p), p, false, fe));
+      owned.push_back(subdomains.back().get());
+    }
+  const DualRows     equality = build_equality_rows(MPI_COMM_SELF, owned, true);
   DualRows           low = build_contact_rows(nodes, bodies, first_subdomain, low_layout, 0, false);
   DualRows           avg = build_contact_rows(nodes, bodies, first_subdomain, avg_layout, 0, true);
   const unsigned int n_contact = avg.n_rows();

@@ -55,7 +55,6 @@ main(int argc, char **argv)
   bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
   bodies[0]->setup();
   const unsigned int n_sub = bodies[0]->partition.n_parts;
-  const DualRows     rows  = build_equality_rows(bodies, {0, n_sub}, true);
 
   // Every subdomain on every rank (for the reference); this rank's contiguous range.
   std::vector<std::unique_ptr<Subdomain>> subdomains;
@@ -64,7 +63,8 @@ main(int argc, char **argv)
   const unsigned int first = n_sub * rank / n_ranks, last = n_sub * (rank + 1) / n_ranks;
   for (unsigned int p = 0; p < n_sub; ++p)
     {
-      subdomains.push_back(std::make_unique<Subdomain>(*bodies[0], p, p, false, fe));
+      subdomains.push_back(
+        std::make_unique<Subdomain>(*bodies[0], bodies[0]->part_cells(p), p, false, fe));
       subdomains.back()->assemble(mapping);
       subdomains.back()->factorize("cholmod");
       all.push_back(subdomains.back().get());
@@ -72,6 +72,18 @@ main(int argc, char **argv)
         own.push_back(subdomains.back().get());
       mode_offset.push_back(mode_offset.back() + subdomains.back()->R.n());
     }
+  // The rows that the ranks make for their own subdomains and gather are those of one rank
+  // holding every subdomain, in the same order.
+  const DualRows rows      = build_equality_rows(MPI_COMM_SELF, all, true);
+  const DualRows gathered  = build_equality_rows(world, own, true);
+  bool           same_rows = rows.row_start == gathered.row_start && rows.c == gathered.c;
+  for (unsigned int k = 0; same_rows && k < rows.entries.size(); ++k)
+    same_rows = rows.entries[k].subdomain == gathered.entries[k].subdomain &&
+                rows.entries[k].body_vertex == gathered.entries[k].body_vertex &&
+                rows.entries[k].component == gathered.entries[k].component &&
+                rows.entries[k].value == gathered.entries[k].value;
+  check(same_rows,
+        "the rows of B_E gathered from the ranks' subdomains are those of one rank holding all");
   const DualProblem reference(MPI_COMM_SELF, all, mode_offset, rows);
   const DualProblem dual(world, own, mode_offset, rows);
   const auto       &d  = dual.distribution();

@@ -46,8 +46,17 @@ main(int argc, char **argv)
         std::vector<std::unique_ptr<Body>> bodies;
         bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
         bodies[0]->setup();
-        const unsigned int n_sub = bodies[0]->partition.n_parts;
-        const DualRows     rows  = build_equality_rows(bodies, {0, n_sub}, !primal);
+        const unsigned int                      n_sub = bodies[0]->partition.n_parts;
+        std::vector<std::unique_ptr<Subdomain>> subdomains;
+        std::vector<Subdomain *>                owned;
+        std::vector<unsigned int>               mode_offset{0};
+        for (unsigned int p = 0; p < n_sub; ++p)
+          {
+            subdomains.push_back(
+              std::make_unique<Subdomain>(*bodies[0], bodies[0]->part_cells(p), p, primal, fe));
+            owned.push_back(subdomains.back().get());
+          }
+        const DualRows rows = build_equality_rows(MPI_COMM_SELF, owned, !primal);
 
         // Row count: gluing rows Σ_v (p_v − 1) per free component, plus (TFETI) one row per
         // copy of a clamped component.
@@ -95,16 +104,11 @@ main(int argc, char **argv)
               label + ": gluing rows on a continuous field: " + sci(on_continuous));
 
         // The dual problem.
-        std::vector<std::unique_ptr<Subdomain>> subdomains;
-        std::vector<Subdomain *>                owned;
-        std::vector<unsigned int>               mode_offset{0};
-        for (unsigned int p = 0; p < n_sub; ++p)
+        for (const auto &s : subdomains)
           {
-            subdomains.push_back(std::make_unique<Subdomain>(*bodies[0], p, p, primal, fe));
-            subdomains.back()->assemble(mapping);
-            subdomains.back()->factorize("cholmod");
-            owned.push_back(subdomains.back().get());
-            mode_offset.push_back(mode_offset.back() + subdomains.back()->R.n());
+            s->assemble(mapping);
+            s->factorize("cholmod");
+            mode_offset.push_back(mode_offset.back() + s->R.n());
           }
         DualProblem        dual(MPI_COMM_WORLD, owned, mode_offset, rows);
         const unsigned int m = dual.size();

@@ -59,7 +59,7 @@ main(int argc, char **argv)
             {
               if (backend != "cholmod" && p > 1)
                 continue; // other backends: two subdomains suffice
-              Subdomain s(body, p, p, primal, fe);
+              Subdomain s(body, body.part_cells(p), p, primal, fe);
               check(s.mesh.n_active_cells() == body.cells_of_part[p].size(),
                     name + ", subdomain " + std::to_string(p) + ": " +
                       std::to_string(s.mesh.n_active_cells()) + " cells, its part has " +

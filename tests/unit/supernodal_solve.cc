@@ -62,7 +62,7 @@ main(int argc, char **argv)
   for (const bool primal : {true, false})
     for (unsigned int p = 0; p < body.partition.n_parts; ++p)
       {
-        Subdomain s(body, p, p, primal, fe);
+        Subdomain s(body, body.part_cells(p), p, primal, fe);
         s.assemble(mapping);
         // K itself (primal elimination, SPD at the clamp), or, for floating subdomains, K with the
         // rows and columns of the kernel-fixing unknowns replaced by their diagonal: the matrix

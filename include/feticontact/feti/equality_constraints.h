@@ -1,8 +1,9 @@
 #pragma once
 
-#include <feticontact/scene/body.h>
+#include <feticontact/subdomain/subdomain.h>
 
 #include <memory>
+#include <mpi.h>
 #include <vector>
 
 namespace FetiContact
@@ -14,6 +15,13 @@ namespace FetiContact
     unsigned int body_vertex;
     unsigned int component;
     double       value;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &subdomain &body_vertex &component &value;
+    }
   };
 
   /**
@@ -43,6 +51,16 @@ namespace FetiContact
     /** Appends all rows of @p other after these. */
     void
     append(const DualRows &other);
+    /** Appends rows @p first to @p last (exclusive) of @p other after these. */
+    void
+    append(const DualRows &other, const unsigned int first, const unsigned int last);
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &row_start &entries &c &held_together;
+    }
   };
 
   /**
@@ -54,10 +72,12 @@ namespace FetiContact
    * - TFETI (@p dirichlet_rows true): every copy of a prescribed component gets the row
    *   u = ū (a unit row), and that component gets no gluing row.
    *
-   * Subdomains are numbered globally: body b's part p is subdomain first_subdomain[b] + p.
+   * The rows of a vertex are made by the lowest-numbered subdomain that holds it, on the rank
+   * that owns it (@p owned: this rank's subdomains), and gathered on every rank of @p comm in
+   * the order of bodies, vertices and components, whatever the number of ranks.
    */
   DualRows
-  build_equality_rows(const std::vector<std::unique_ptr<Body>> &bodies,
-                      const std::vector<unsigned int>          &first_subdomain,
-                      const bool                                dirichlet_rows);
+  build_equality_rows(const MPI_Comm                  comm,
+                      const std::vector<Subdomain *> &owned,
+                      const bool                      dirichlet_rows);
 } // namespace FetiContact

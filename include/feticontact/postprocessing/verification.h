@@ -21,7 +21,6 @@ namespace FetiContact
   std::vector<std::vector<dealii::Tensor<1, 3>>>
   gather_vertex_displacements(const MPI_Comm                             comm,
                               const std::vector<std::unique_ptr<Body>>  &bodies,
-                              const std::vector<unsigned int>           &first_subdomain,
                               const std::vector<Subdomain *>            &owned,
                               const std::vector<dealii::Vector<double>> &u);
 

@@ -6,6 +6,7 @@
 
 #include <feticontact/scene/body_parameters.h>
 #include <feticontact/scene/decomposition.h>
+#include <feticontact/scene/part_cells.h>
 
 #include <array>
 #include <map>
@@ -75,6 +76,18 @@ namespace FetiContact
      */
     dealii::Vector<double>
     load_work(const FreeRigidMotions &motions) const;
+
+    /**
+     * The cells of part @p part, for the subdomain built on them; @p parts_of_vertex is
+     * parts_of_vertices() of this body.
+     */
+    PartCells
+    part_cells(const unsigned int                            part,
+               const std::vector<std::vector<unsigned int>> &parts_of_vertex) const;
+
+    /** The same, with parts_of_vertices() computed for this one part (a pass over the mesh). */
+    PartCells
+    part_cells(const unsigned int part) const;
 
     /** The number of unknowns of the undecomposed body without prescribed DoFs. */
     unsigned int

@@ -35,11 +35,11 @@ namespace FetiContact
   {
   public:
     /**
-     * Builds the mesh of part @p part of @p body and its DoFs; @p eliminate_prescribed selects
-     * the primal Dirichlet treatment.
+     * Builds the mesh of the part of @p body whose cells @p cells describes and its DoFs;
+     * @p eliminate_prescribed selects the primal Dirichlet treatment.
      */
     Subdomain(const Body                     &body,
-              const unsigned int              part,
+              PartCells                     &&cells,
               const unsigned int              global_index,
               const bool                      eliminate_prescribed,
               const dealii::FiniteElement<3> &fe);
@@ -83,6 +83,24 @@ namespace FetiContact
     dealii::Triangulation<3> mesh;
     dealii::DoFHandler<3>    dof_handler;
 
+    /** The subdomains that hold vertex @p v (this one among them), in increasing order. */
+    std::vector<unsigned int>
+    holders(const unsigned int v) const;
+
+    /** The lowest-numbered subdomain that holds vertex @p v: the one that reports it. */
+    unsigned int
+    lowest_holder(const unsigned int v) const
+    {
+      return global_index - part + holder_parts[holder_start[v]];
+    }
+
+    /**
+     * The vertices that this subdomain reports (those whose lowest holder it is) as pairs
+     * (body vertex, own vertex), by body vertex: each vertex of the body is reported once.
+     */
+    std::vector<std::pair<unsigned int, unsigned int>>
+    reported_vertices() const;
+
     /** Body-mesh vertex of each vertex of this subdomain's mesh. */
     std::vector<unsigned int> body_vertex;
     /** DoFs of each vertex of this subdomain's mesh, by component. */
@@ -101,6 +119,9 @@ namespace FetiContact
     std::vector<unsigned int> kernel_fixing_dofs;
 
   private:
+    /** Per vertex: the parts of the body that hold it, increasing (CSR, as in PartCells). */
+    std::vector<unsigned int> holder_start, holder_parts;
+
     std::unique_ptr<LocalSolver> solver;
   };
 } // namespace FetiContact

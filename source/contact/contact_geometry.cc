@@ -6,6 +6,7 @@
 #include <feticontact/contact/mortar.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -43,13 +44,21 @@ namespace FetiContact
 
   namespace
   {
+    /** A vertex of a surface: its position and its copies. */
+    struct SurfaceVertex
+    {
+      Point<3>     x;
+      VertexCopies copies;
+    };
+
     /**
-     * The vertices of the boundary faces of @p mesh in @p surface, with the area-weighted sum of
-     * the outward normals of those faces, the area lumped at each vertex, and the mean edge
-     * length of the faces.
+     * The vertices of the boundary faces of a body in a surface, with their positions and copies,
+     * the area-weighted sum of the outward normals of those faces, the area lumped at each vertex,
+     * and the mean edge length of the faces.
      */
     struct Surface
     {
+      std::map<unsigned int, SurfaceVertex>    vertex;
       std::map<unsigned int, Tensor<1, 3>>     normal_sum;
       std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
       double                                   mean_edge = 0;
@@ -58,12 +67,15 @@ namespace FetiContact
       std::vector<unsigned int>                cell;    ///< per triangle, its active cell
     };
 
+    /** The surface @p surface of @p body; @p parts_of_vertex is parts_of_vertices() of it. */
     Surface
-    collect_surface(const Triangulation<3> &mesh, const BoundarySelector &surface)
+    collect_surface(const Body                                   &body,
+                    const BoundarySelector                       &surface,
+                    const std::vector<std::vector<unsigned int>> &parts_of_vertex)
     {
       Surface      s;
       unsigned int n_edges = 0;
-      for (const auto &cell : mesh.active_cell_iterators())
+      for (const auto &cell : body.mesh.active_cell_iterators())
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary() && surface.contains(*face))
             {
@@ -73,6 +85,16 @@ namespace FetiContact
                 area_normal = -area_normal;
               for (const unsigned int v : face->vertex_indices())
                 {
+                  const auto [entry, first_seen] =
+                    s.vertex.emplace(face->vertex_index(v), SurfaceVertex());
+                  if (first_seen)
+                    {
+                      entry->second.x            = face->vertex(v);
+                      entry->second.copies.parts = parts_of_vertex[face->vertex_index(v)];
+                      const auto prescribed      = body.prescribed.find(face->vertex_index(v));
+                      if (prescribed != body.prescribed.end())
+                        entry->second.copies.prescribed = prescribed->second;
+                    }
                   s.normal_sum[face->vertex_index(v)] += area_normal;
                   s.area[face->vertex_index(v)] += area_normal.norm() / 3;
                 }
@@ -141,7 +163,7 @@ namespace FetiContact
                 zone.surface.name() + "> is " +
                 point_text(slave.normal_sum.at(worst_vertex) /
                            slave.normal_sum.at(worst_vertex).norm()) +
-                " at the node at " + point_text(body.mesh.get_vertices()[worst_vertex]) +
+                " at the node at " + point_text(slave.vertex.at(worst_vertex).x) +
                 ". The plane normal must point out of the obstacle, towards the body (here " +
                 point_text(-zone.plane_normal) + "?).");
     }
@@ -299,7 +321,7 @@ namespace FetiContact
       double       best_offset = std::numeric_limits<double>::max();
       unsigned int best        = numbers::invalid_unsigned_int;
       const auto   offset_of   = [&](const unsigned int mv) {
-        const Tensor<1, 3> d = master_body->mesh.get_vertices()[mv] - node.x;
+        const Tensor<1, 3> d = master.vertex.at(mv).x - node.x;
         return (d - (d * outer) * outer).norm();
       };
       if (partner)
@@ -319,8 +341,9 @@ namespace FetiContact
                 "' has no node of the master surface of body '" + master_body->parameters.name +
                 "' opposite it: the meshes of the two surfaces do not match (they must "
                 "be conforming node to node).");
-      node.master          = {{zone.master_body, best, 1.0}};
-      const Tensor<1, 3> d = master_body->mesh.get_vertices()[best] - node.x;
+      const SurfaceVertex &y = master.vertex.at(best);
+      node.master            = {{zone.master_body, best, 1.0, y.x, y.copies}};
+      const Tensor<1, 3> d   = y.x - node.x;
       const Tensor<1, 3> master_outer =
         master.normal_sum.at(best) / master.normal_sum.at(best).norm();
       require(master_outer * outer < 0,
@@ -397,6 +420,9 @@ namespace FetiContact
       const Body                    &body;
       const Surface                 &slave;
       std::string                    where;
+      /** parts_of_vertices() of a body, computed once per body. */
+      const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
+        &parts_of_vertex;
 
       /**
        * The node at @p vertex with the fields common to every discretization, or nothing if the
@@ -405,15 +431,15 @@ namespace FetiContact
       std::optional<ContactNode>
       start_node(const unsigned int vertex) const
       {
-        const auto prescribed = body.prescribed.find(vertex);
-        if (prescribed != body.prescribed.end() && prescribed->second[0] && prescribed->second[1] &&
-            prescribed->second[2])
+        const SurfaceVertex &x = slave.vertex.at(vertex);
+        if (x.copies.prescribed[0] && x.copies.prescribed[1] && x.copies.prescribed[2])
           return {};
         ContactNode node;
         node.zone          = z;
         node.body          = zone.body;
         node.vertex        = vertex;
-        node.x             = body.mesh.get_vertices()[vertex];
+        node.x             = x.x;
+        node.copies        = x.copies;
         node.friction      = zone.friction_coefficient;
         node.area          = slave.area.at(vertex);
         node.pressure_area = node.area;
@@ -427,21 +453,21 @@ namespace FetiContact
       void
       finish_node(ContactNode &node, std::vector<ContactNode> &nodes) const
       {
-        const auto prescribed = body.prescribed.find(node.vertex);
+        const Body::Prescribed &prescribed = node.copies.prescribed;
         // A node of a body pair on a symmetry plane (a roller condition): the mean normal of its
         // triangles, of which the model has only those on one side of the plane, is turned into
         // the plane, as the mirrored triangles would turn it.
-        if (node.on_body() && prescribed != body.prescribed.end())
+        if (node.on_body())
           {
             Tensor<1, 3> n = node.n;
             for (unsigned int d = 0; d < 3; ++d)
-              if (prescribed->second[d])
+              if (prescribed[d])
                 n[d] = 0;
             if (n != node.n && n.norm() > 1e-3)
               node.n = n / n.norm();
           }
         std::tie(node.t1, node.t2) = tangent_basis(node.n);
-        if (prescribed != body.prescribed.end() && !orient_for_roller(node, prescribed->second))
+        if (!orient_for_roller(node, prescribed))
           return;
         nodes.push_back(node);
       }
@@ -450,20 +476,22 @@ namespace FetiContact
     /** The surface of a zone as the mortar coupling needs it, and the vertex numbers. */
     struct MortarSurface
     {
-      Mortar::Surface           surface;
-      std::vector<unsigned int> vertex; ///< local → mesh vertex
+      Mortar::Surface                    surface;
+      std::vector<unsigned int>          vertex; ///< local → mesh vertex
+      std::vector<const SurfaceVertex *> data;   ///< local → its position and copies
     };
 
     MortarSurface
-    mortar_surface(const Surface &s, const Triangulation<3> &mesh)
+    mortar_surface(const Surface &s)
     {
       MortarSurface                        m;
       std::map<unsigned int, unsigned int> local;
-      for (const auto &[v, unused] : s.normal_sum)
+      for (const auto &[v, data] : s.vertex)
         {
           local[v] = m.vertex.size();
           m.vertex.push_back(v);
-          m.surface.points.push_back(mesh.get_vertices()[v]);
+          m.data.push_back(&data);
+          m.surface.points.push_back(data.x);
         }
       for (const auto &t : s.triangles)
         m.surface.triangles.push_back({{local[t[0]], local[t[1]], local[t[2]]}});
@@ -585,7 +613,11 @@ namespace FetiContact
           node->pressure_area = c.D;
           node->mortar        = true;
           for (const auto &[j, m] : c.M)
-            node->master.push_back({side.zone.master_body, master.vertex[j], m / c.D});
+            node->master.push_back({side.zone.master_body,
+                                    master.vertex[j],
+                                    m / c.D,
+                                    master.data[j]->x,
+                                    master.data[j]->copies});
           report.n_partly_covered += c.dual ? 0 : 1;
           report.n_overlapping += node->gap < 0 ? 1 : 0;
           side.finish_node(*node, nodes);
@@ -611,13 +643,14 @@ namespace FetiContact
         {
           throw InputError(side.where + "Master surface: " + e.what());
         }
-      const Surface master = collect_surface(master_body.mesh, master_selector);
+      const Surface master =
+        collect_surface(master_body, master_selector, side.parts_of_vertex(master_body));
 
       std::map<unsigned int, unsigned int> partner;
       if (zone.discretization != Discretization::node_to_node)
         {
-          const MortarSurface slave_m  = mortar_surface(side.slave, side.body.mesh);
-          const MortarSurface master_m = mortar_surface(master, master_body.mesh);
+          const MortarSurface slave_m  = mortar_surface(side.slave);
+          const MortarSurface master_m = mortar_surface(master);
           report.search_distance       = zone.search_distance.value_or(side.slave.mean_edge);
           Mortar::Statistics statistics;
           const auto         couplings =
@@ -660,6 +693,13 @@ namespace FetiContact
                      std::vector<ContactTriangle>             *triangles,
                      std::vector<ZoneReport>                  *reports)
   {
+    std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
+    const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
+      parts_of_vertex = [&](const Body &body) -> const std::vector<std::vector<unsigned int>> & {
+      if (parts[body.index].empty())
+        parts[body.index] = parts_of_vertices(body.mesh, body.partition);
+      return parts[body.index];
+    };
     std::vector<ContactNode> nodes;
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       {
@@ -675,12 +715,12 @@ namespace FetiContact
           {
             throw InputError(where + "Surface: " + e.what());
           }
-        const Surface slave = collect_surface(body.mesh, surface);
+        const Surface slave = collect_surface(body, surface, parts_of_vertex(body));
         if (triangles != nullptr)
           for (unsigned int t = 0; t < slave.triangles.size(); ++t)
             triangles->push_back({z, zone.body, slave.triangles[t], slave.cell[t]});
 
-        const ZoneSide     side{z, zone, body, slave, where};
+        const ZoneSide     side{z, zone, body, slave, where, parts_of_vertex};
         ZoneReport         report;
         const unsigned int first = nodes.size();
         if (zone.type == Parameters::ContactZone::Type::rigid_plane)
@@ -731,7 +771,8 @@ namespace FetiContact
   {
     BoundarySelector selector(zone.master_surface);
     selector.resolve(bodies[zone.master_body]->mesh, bodies[zone.master_body]->parameters.name);
-    Surface s = collect_surface(bodies[zone.master_body]->mesh, selector);
+    const Body &body = *bodies[zone.master_body];
+    Surface     s = collect_surface(body, selector, parts_of_vertices(body.mesh, body.partition));
     return {std::move(s.triangles), std::move(s.outward)};
   }
 
@@ -746,11 +787,11 @@ namespace FetiContact
   }
 
   Point<3>
-  master_point(const ContactNode &node, const std::vector<std::unique_ptr<Body>> &bodies)
+  master_point(const ContactNode &node)
   {
     Point<3> y;
     for (const auto &m : node.master)
-      y += m.weight * bodies[m.body]->mesh.get_vertices()[m.vertex];
+      y += m.weight * m.y;
     return y;
   }
 

@@ -10,19 +10,15 @@ namespace FetiContact
   using namespace dealii;
 
   DualRows
-  build_contact_rows(const std::vector<ContactNode>           &nodes,
-                     const std::vector<std::unique_ptr<Body>> &bodies,
-                     const std::vector<unsigned int>          &first_subdomain,
-                     DualLayout                               &layout,
-                     const unsigned int                        polygon_directions,
-                     const bool                                average)
+  build_contact_rows(const std::vector<ContactNode>  &nodes,
+                     const std::vector<unsigned int> &first_subdomain,
+                     DualLayout                      &layout,
+                     const unsigned int               polygon_directions,
+                     const bool                       average)
   {
-    std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
-    for (const auto &body : bodies)
-      parts[body->index] = parts_of_vertices(body->mesh, body->partition);
     // The copies a row acts on: the lowest-numbered one, or all of them (averaged).
-    const auto n_copies = [&](unsigned int body, unsigned int vertex) -> unsigned int {
-      return average ? parts[body][vertex].size() : 1;
+    const auto n_copies = [&](const VertexCopies &copies) -> unsigned int {
+      return average ? copies.parts.size() : 1;
     };
 
     // A row (B u)_k = v·u_slave − v·u_master ≤ c_k has no entries on prescribed components:
@@ -31,58 +27,56 @@ namespace FetiContact
     // orthogonal to n, so on the slave side only a tangential row along a symmetry plane's roller
     // condition loses entries (and becomes empty); on the master side a clamped vertex keeps the
     // row consistent with the primal treatment, which eliminates those DoFs.
-    const auto prescribed = [&](unsigned int body, unsigned int vertex, unsigned int c) {
-      const auto it = bodies[body]->prescribed.find(vertex);
-      return it != bodies[body]->prescribed.end() ? it->second[c] : std::optional<double>();
-    };
     // σ_k: the averaged row v·(Σu_slave/p − Σ_j w_j Σu_j/q_j) has the length
     // |v|√(1/p + Σ_j w_j²/q_j) against |v|√(1 + Σ_j w_j²) of the row on single copies (node to
     // node: √(1/p + 1/q) against √2; √(1/p) against 1 without a master).
     const auto scale_of = [&](const ContactNode &node) {
       if (!node.on_body())
-        return std::sqrt(static_cast<double>(n_copies(node.body, node.vertex)));
-      double averaged = 1.0 / n_copies(node.body, node.vertex), single = 1;
+        return std::sqrt(static_cast<double>(n_copies(node.copies)));
+      double averaged = 1.0 / n_copies(node.copies), single = 1;
       for (const auto &m : node.master)
         {
-          averaged += m.weight * m.weight / n_copies(m.body, m.vertex);
+          averaged += m.weight * m.weight / n_copies(m.copies);
           single += m.weight * m.weight;
         }
       return std::sqrt(single / averaged);
     };
-    const auto add_row =
-      [&](DualRows &rows, const ContactNode &node, const Tensor<1, 3> &v, double c_k) {
-        std::vector<DualRowEntry> row;
-        const double              sigma    = scale_of(node);
-        const auto                add_side = [&](const unsigned int  body,
-                                  const unsigned int  vertex,
-                                  const double        sign,
-                                  const Tensor<1, 3> &w) {
-          const auto        &copies = parts[body][vertex];
-          const unsigned int p      = n_copies(body, vertex);
-          for (unsigned int c = 0; c < 3; ++c)
-            if (w[c] != 0)
-              {
-                if (const auto prescribed_value = prescribed(body, vertex, c))
-                  c_k -= sign * w[c] * *prescribed_value;
-                else
-                  for (unsigned int j = 0; j < p; ++j)
-                    row.push_back(
-                      {first_subdomain[body] + copies[j], vertex, c, sigma * sign * w[c] / p});
-              }
-        };
-        add_side(node.body, node.vertex, 1.0, v);
-        // Along a prescribed axis of the slave vertex (a roller condition) the support takes the
-        // slave's force: the master side acts along the other components of v only, so that no
-        // force reaches the master without its reaction on the slave (the row along that axis,
-        // t2 of a roller node, is then empty and its multiplier stays 0).
-        Tensor<1, 3> w = v;
+    const auto add_row = [&](DualRows           &rows,
+                             const ContactNode  &node,
+                             const Tensor<1, 3> &v,
+                             double              c_k) {
+      std::vector<DualRowEntry> row;
+      const double              sigma    = scale_of(node);
+      const auto                add_side = [&](const unsigned int  body,
+                                const unsigned int  vertex,
+                                const VertexCopies &copies,
+                                const double        sign,
+                                const Tensor<1, 3> &w) {
+        const unsigned int p = n_copies(copies);
         for (unsigned int c = 0; c < 3; ++c)
-          if (prescribed(node.body, node.vertex, c))
-            w[c] = 0;
-        for (const auto &m : node.master)
-          add_side(m.body, m.vertex, -m.weight, w);
-        rows.add_row(row, sigma * c_k);
+          if (w[c] != 0)
+            {
+              if (const auto prescribed_value = copies.prescribed[c])
+                c_k -= sign * w[c] * *prescribed_value;
+              else
+                for (unsigned int j = 0; j < p; ++j)
+                  row.push_back(
+                    {first_subdomain[body] + copies.parts[j], vertex, c, sigma * sign * w[c] / p});
+            }
       };
+      add_side(node.body, node.vertex, node.copies, 1.0, v);
+      // Along a prescribed axis of the slave vertex (a roller condition) the support takes the
+      // slave's force: the master side acts along the other components of v only, so that no
+      // force reaches the master without its reaction on the slave (the row along that axis,
+      // t2 of a roller node, is then empty and its multiplier stays 0).
+      Tensor<1, 3> w = v;
+      for (unsigned int c = 0; c < 3; ++c)
+        if (node.copies.prescribed[c])
+          w[c] = 0;
+      for (const auto &m : node.master)
+        add_side(m.body, m.vertex, m.copies, -m.weight, w);
+      rows.add_row(row, sigma * c_k);
+    };
 
     DualRows rows;
     layout.normal_row.assign(nodes.size(), 0);

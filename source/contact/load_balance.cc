@@ -197,7 +197,7 @@ namespace FetiContact
           // The weights sum to 1 and a rigid motion is affine: its value at the weighted mean
           // of the master vertices is the weighted mean of its values there.
           if (node.on_body())
-            add_side(columns.sides[1], node.master.front().body, master_point(node, bodies), 1.0);
+            add_side(columns.sides[1], node.master.front().body, master_point(node), 1.0);
           if (columns.sides[0].count + columns.sides[1].count > 0)
             {
               problem.columns.push_back(columns);

@@ -49,13 +49,10 @@ namespace FetiContact
             -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
               results[k].lambda_T[1] * node.t2);
           forces[node.body] += force;
-          for (const auto &[master, vertex, weight] : node.master)
-            {
-              const auto prescribed = bodies[master]->prescribed.find(vertex);
-              for (unsigned int c = 0; c < 3; ++c)
-                if (prescribed == bodies[master]->prescribed.end() || !prescribed->second[c])
-                  forces[master][c] -= weight * force[c];
-            }
+          for (const auto &m : node.master)
+            for (unsigned int c = 0; c < 3; ++c)
+              if (!m.copies.prescribed[c])
+                forces[m.body][c] -= m.weight * force[c];
         }
       return forces;
     }
@@ -364,7 +361,6 @@ namespace FetiContact
       parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
     Timer rows_timer;
     rows = build_contact_rows(contact_nodes,
-                              bodies,
                               first_subdomain,
                               layout,
                               polygonal ? parameters.contact_solver.polygon_directions : 0,

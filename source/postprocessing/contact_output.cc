@@ -197,16 +197,11 @@ namespace FetiContact
       return std::binary_search(mine.begin(), mine.end(), s);
     };
 
-    // The lowest subdomain of every vertex of the bodies with contact nodes.
-    std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
-    for (const auto &node : contact_nodes)
-      if (parts[node.body].empty())
-        parts[node.body] = parts_of_vertices(bodies[node.body]->mesh, bodies[node.body]->partition);
     std::vector<std::pair<unsigned int, unsigned int>> node_subdomain; // (subdomain, node)
     for (unsigned int k = 0; k < contact_nodes.size(); ++k)
       {
         const auto        &node = contact_nodes[k];
-        const unsigned int s = first_subdomain[node.body] + parts[node.body][node.vertex].front();
+        const unsigned int s    = first_subdomain[node.body] + node.copies.parts.front();
         if (is_mine(s))
           node_subdomain.emplace_back(s, k);
       }

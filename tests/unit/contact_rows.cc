@@ -84,9 +84,9 @@ main(int argc, char **argv)
         std::make_unique<Subdomain>(*bodies[0], bodies[0]->part_cells(p), p, false, fe));
       owned.push_back(subdomains.back().get());
     }
-  const DualRows     equality = build_equality_rows(MPI_COMM_SELF, owned, true);
-  DualRows           low = build_contact_rows(nodes, bodies, first_subdomain, low_layout, 0, false);
-  DualRows           avg = build_contact_rows(nodes, bodies, first_subdomain, avg_layout, 0, true);
+  const DualRows     equality  = build_equality_rows(MPI_COMM_SELF, owned, true);
+  DualRows           low       = build_contact_rows(nodes, first_subdomain, low_layout, 0, false);
+  DualRows           avg       = build_contact_rows(nodes, first_subdomain, avg_layout, 0, true);
   const unsigned int n_contact = avg.n_rows();
   check(low.n_rows() == n_contact && n_contact == 3 * nodes.size(),
         "N, T1, T2: " + std::to_string(n_contact) + " rows either way");

@@ -14,12 +14,25 @@
 
 namespace FetiContact
 {
+  /**
+   * What the rows of B need of a body vertex besides its number: the parts of its body that hold
+   * a copy of it (increasing) and its prescribed displacement components (Γ_u).
+   */
+  struct VertexCopies
+  {
+    std::vector<unsigned int> parts;
+    Body::Prescribed          prescribed;
+  };
+
   /** A master vertex of a contact node's row and its weight M_kj / D_kk. */
   struct MasterPoint
   {
     unsigned int body;
     unsigned int vertex;
     double       weight;
+    /** Its position and copies. */
+    dealii::Point<3> y;
+    VertexCopies     copies;
 
     bool
     operator==(const MasterPoint &other) const
@@ -46,7 +59,9 @@ namespace FetiContact
     /** The master vertices and their weights; empty for a rigid obstacle. */
     std::vector<MasterPoint> master;
     dealii::Point<3>         x;
-    dealii::Tensor<1, 3>     n, t1, t2;
+    /** The copies of the slave vertex. */
+    VertexCopies         copies;
+    dealii::Tensor<1, 3> n, t1, t2;
     /**
      * The initial gap: (χ(x_k) − x_k)·n_k node to node and on an obstacle; the weighted gap
      * g̃_k / D_kk for a mortar node (negative: an initial overlap, which the solve removes).
@@ -99,7 +114,7 @@ namespace FetiContact
 
   /** Σ_j w_j y_j: the point of the master surface that node @p node is held against. */
   dealii::Point<3>
-  master_point(const ContactNode &node, const std::vector<std::unique_ptr<Body>> &bodies);
+  master_point(const ContactNode &node);
 
   /** How a zone's rows were built: for the log and summary.json. */
   struct ZoneReport

@@ -72,10 +72,9 @@ namespace FetiContact
    * instead of the two rows along t1 and t2.
    */
   DualRows
-  build_contact_rows(const std::vector<ContactNode>           &nodes,
-                     const std::vector<std::unique_ptr<Body>> &bodies,
-                     const std::vector<unsigned int>          &first_subdomain,
-                     DualLayout                               &layout,
-                     const unsigned int                        polygon_directions = 0,
-                     const bool                                average            = false);
+  build_contact_rows(const std::vector<ContactNode>  &nodes,
+                     const std::vector<unsigned int> &first_subdomain,
+                     DualLayout                      &layout,
+                     const unsigned int               polygon_directions = 0,
+                     const bool                       average            = false);
 } // namespace FetiContact

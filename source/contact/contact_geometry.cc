@@ -64,7 +64,22 @@ namespace FetiContact
       double                                   mean_edge = 0;
       std::vector<std::array<unsigned int, 3>> triangles;
       std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
-      std::vector<unsigned int>                cell;    ///< per triangle, its active cell
+      std::vector<unsigned int>                part;    ///< per triangle, the part of its cell
+
+      /** Appends the triangles to @p list as triangles of zone @p zone on body @p body. */
+      void
+      append_to(std::vector<ContactTriangle> &list,
+                const unsigned int            zone,
+                const unsigned int            body) const
+      {
+        for (unsigned int t = 0; t < triangles.size(); ++t)
+          {
+            ContactTriangle triangle{zone, body, triangles[t], {}, outward[t], part[t]};
+            for (unsigned int v = 0; v < 3; ++v)
+              triangle.points[v] = vertex.at(triangles[t][v]).x;
+            list.push_back(triangle);
+          }
+      }
     };
 
     /** The surface @p surface of @p body; @p parts_of_vertex is parts_of_vertices() of it. */
@@ -101,7 +116,7 @@ namespace FetiContact
               s.triangles.push_back(
                 {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
               s.outward.push_back(area_normal);
-              s.cell.push_back(cell->active_cell_index());
+              s.part.push_back(body.partition.part_of_cell[cell->active_cell_index()]);
               s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
               n_edges += 3;
             }
@@ -420,6 +435,8 @@ namespace FetiContact
       const Body                    &body;
       const Surface                 &slave;
       std::string                    where;
+      /** Where the zone's triangles go (or nullptr). */
+      ContactSurfaces *surfaces;
       /** parts_of_vertices() of a body, computed once per body. */
       const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
         &parts_of_vertex;
@@ -645,6 +662,8 @@ namespace FetiContact
         }
       const Surface master =
         collect_surface(master_body, master_selector, side.parts_of_vertex(master_body));
+      if (side.surfaces != nullptr)
+        master.append_to(side.surfaces->master, side.z, zone.master_body);
 
       std::map<unsigned int, unsigned int> partner;
       if (zone.discretization != Discretization::node_to_node)
@@ -690,7 +709,7 @@ namespace FetiContact
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
-                     std::vector<ContactTriangle>             *triangles,
+                     ContactSurfaces                          *surfaces,
                      std::vector<ZoneReport>                  *reports)
   {
     std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
@@ -716,11 +735,10 @@ namespace FetiContact
             throw InputError(where + "Surface: " + e.what());
           }
         const Surface slave = collect_surface(body, surface, parts_of_vertex(body));
-        if (triangles != nullptr)
-          for (unsigned int t = 0; t < slave.triangles.size(); ++t)
-            triangles->push_back({z, zone.body, slave.triangles[t], slave.cell[t]});
+        if (surfaces != nullptr)
+          slave.append_to(surfaces->slave, z, zone.body);
 
-        const ZoneSide     side{z, zone, body, slave, where, parts_of_vertex};
+        const ZoneSide     side{z, zone, body, slave, where, surfaces, parts_of_vertex};
         ZoneReport         report;
         const unsigned int first = nodes.size();
         if (zone.type == Parameters::ContactZone::Type::rigid_plane)
@@ -765,24 +783,12 @@ namespace FetiContact
     return nodes;
   }
 
-  std::pair<std::vector<std::array<unsigned int, 3>>, std::vector<Tensor<1, 3>>>
-  master_triangles(const std::vector<std::unique_ptr<Body>> &bodies,
-                   const Parameters::ContactZone            &zone)
-  {
-    BoundarySelector selector(zone.master_surface);
-    selector.resolve(bodies[zone.master_body]->mesh, bodies[zone.master_body]->parameters.name);
-    const Body &body = *bodies[zone.master_body];
-    Surface     s = collect_surface(body, selector, parts_of_vertices(body.mesh, body.partition));
-    return {std::move(s.triangles), std::move(s.outward)};
-  }
-
   Tensor<1, 3>
-  relative_displacement(const ContactNode                            &node,
-                        const std::vector<std::vector<Tensor<1, 3>>> &vertex_u)
+  relative_displacement(const ContactNode &node, const VertexDisplacements &u)
   {
-    Tensor<1, 3> relative = vertex_u[node.body][node.vertex];
+    Tensor<1, 3> relative = u(node.body, node.vertex);
     for (const auto &m : node.master)
-      relative -= m.weight * vertex_u[m.body][m.vertex];
+      relative -= m.weight * u(m.body, m.vertex);
     return relative;
   }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <set>
 
 namespace FetiContact
@@ -108,52 +109,53 @@ namespace FetiContact
      * in, up to @p reach behind it.
      */
     double
-    uncoupled_penetration(const unsigned int                            z,
-                          const Parameters::ContactZone                &zone,
-                          const std::vector<ContactTriangle>           &triangles,
-                          const std::vector<ContactNode>               &nodes,
-                          const std::vector<std::unique_ptr<Body>>     &bodies,
-                          const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
-                          const double                                  reach)
+    uncoupled_penetration(const unsigned int              z,
+                          const ContactSurfaces          &surfaces,
+                          const std::vector<ContactNode> &nodes,
+                          const VertexDisplacements      &u,
+                          const double                    reach)
     {
-      std::set<unsigned int> coupled, uncoupled;
+      std::set<unsigned int>           coupled;
+      std::map<unsigned int, Point<3>> uncoupled; // vertex → deformed position
       for (const auto &node : nodes)
         if (node.zone == z)
           coupled.insert(node.vertex);
-      for (const auto &t : triangles)
+      for (const auto &t : surfaces.slave)
         if (t.zone == z)
-          for (const unsigned int v : t.vertices)
-            if (coupled.count(v) == 0)
-              uncoupled.insert(v);
+          for (unsigned int i = 0; i < 3; ++i)
+            if (coupled.count(t.vertices[i]) == 0)
+              uncoupled.emplace(t.vertices[i], t.points[i] + u(t.body, t.vertices[i]));
       if (uncoupled.empty())
         return 0;
-      const auto [master, outward] = master_triangles(bodies, zone);
-      const auto &y                = bodies[zone.master_body]->mesh.get_vertices();
-      const auto &u                = vertex_u[zone.master_body];
+      // The deformed master triangles of the zone.
+      std::vector<std::array<Point<3>, 3>>                 master;
+      std::vector<Tensor<1, 3>>                            outward;
       std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
-      for (unsigned int m = 0; m < master.size(); ++m)
-        {
-          std::vector<Point<3>> corners;
-          for (const unsigned int i : master[m])
-            corners.push_back(y[i] + u[i]);
-          boxes.emplace_back(BoundingBox<3>(corners), m);
-        }
+      for (const auto &t : surfaces.master)
+        if (t.zone == z)
+          {
+            std::array<Point<3>, 3> corners;
+            for (unsigned int i = 0; i < 3; ++i)
+              corners[i] = t.points[i] + u(t.body, t.vertices[i]);
+            boxes.emplace_back(
+              BoundingBox<3>(std::vector<Point<3>>(corners.begin(), corners.end())), master.size());
+            master.push_back(corners);
+            outward.push_back(t.outward);
+          }
       const auto                                           tree  = pack_rtree(boxes);
       double                                               worst = 0;
       std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
-      for (const unsigned int v : uncoupled)
+      for (const auto &[v, p] : uncoupled)
         {
-          const Point<3> p = bodies[zone.body]->mesh.get_vertices()[v] + vertex_u[zone.body][v];
           BoundingBox<3> box(std::vector<Point<3>>{p});
           box.extend(reach);
           candidates.clear();
           tree.query(boost::geometry::index::intersects(box), std::back_inserter(candidates));
           for (const auto &candidate : candidates)
             {
-              const auto    &t = master[candidate.second];
-              const Point<3> a = y[t[0]] + u[t[0]], b = y[t[1]] + u[t[1]], c = y[t[2]] + u[t[2]];
-              Tensor<1, 3>   n_order    = cross_product_3d(b - a, c - a);
-              const double   twice_area = n_order.norm();
+              const auto &[a, b, c]   = master[candidate.second];
+              Tensor<1, 3> n_order    = cross_product_3d(b - a, c - a);
+              const double twice_area = n_order.norm();
               if (twice_area == 0)
                 continue;
               n_order /= twice_area;
@@ -176,95 +178,82 @@ namespace FetiContact
   } // namespace
 
   double
-  surface_penetration(const Parameters::Contact                    &contact,
-                      const std::vector<ContactTriangle>           &triangles,
-                      const std::vector<ContactNode>               &nodes,
-                      const std::vector<std::unique_ptr<Body>>     &bodies,
-                      const std::vector<std::vector<Tensor<1, 3>>> &vertex_u)
+  surface_penetration(const Parameters::Contact      &contact,
+                      const ContactSurfaces          &surfaces,
+                      const std::vector<ContactNode> &nodes,
+                      const VertexDisplacements      &u,
+                      const double                    u_max,
+                      const double                    largest_cell)
   {
-    double u_max = 0;
-    for (const auto &body : vertex_u)
-      for (const auto &u : body)
-        u_max = std::max(u_max, u.norm());
-    double     worst      = 0;
-    const auto penetrates = [&](const Parameters::ContactZone &zone, const unsigned int v) {
-      const Point<3> &x = bodies[zone.body]->mesh.get_vertices()[v];
-      return -obstacle_distance(zone, x + vertex_u[zone.body][v]).first;
-    };
+    double worst = 0;
     // Every vertex of the zone's surface, also those that start a rounding error behind it (or,
     // on a curved obstacle, inside it by up to the search distance).
-    for (const auto &t : triangles)
+    for (const auto &t : surfaces.slave)
       if (contact.zones[t.zone].rigid())
-        for (const unsigned int v : t.vertices)
-          worst = std::max(worst, penetrates(contact.zones[t.zone], v));
-    // Every other vertex of a body that starts outside a sphere or cylinder: it must end outside.
-    for (const auto &zone : contact.zones)
-      if (zone.rigid() && zone.type != Parameters::ContactZone::Type::rigid_plane)
-        {
-          const auto &vertices = bodies[zone.body]->mesh.get_vertices();
-          for (unsigned int v = 0; v < vertices.size(); ++v)
-            if (obstacle_distance(zone, vertices[v]).first >= 0)
-              worst = std::max(worst, penetrates(zone, v));
-        }
-    // Every other vertex of a body that starts in front of its rigid planes: a surface chosen
-    // too small lets the body through a plane elsewhere. Such a vertex counts by the least of
-    // its depths behind the body's planes, so that it must end behind all of them: several
-    // planes may form one convex obstacle (a ridge), whose planes extend beyond it, and a vertex
-    // behind one plane's extension but in front of another is outside the obstacle. (A vertex
-    // behind a plane before the load, where the body reaches past the zone's surface, is not
-    // counted.)
-    for (unsigned int b = 0; b < bodies.size(); ++b)
-      {
-        std::vector<const Parameters::ContactZone *> planes;
-        for (const auto &zone : contact.zones)
-          if (zone.type == Parameters::ContactZone::Type::rigid_plane && zone.body == b)
-            planes.push_back(&zone);
-        if (planes.empty())
-          continue;
-        const auto &vertices = bodies[b]->mesh.get_vertices();
-        for (unsigned int v = 0; v < vertices.size(); ++v)
-          {
-            double depth = std::numeric_limits<double>::infinity();
-            for (const auto *zone : planes)
-              {
-                if ((vertices[v] - zone->plane_point) * zone->plane_normal < 0)
-                  {
-                    depth = 0;
-                    break;
-                  }
-                depth = std::min(depth, penetrates(*zone, v));
-              }
-            worst = std::max(worst, depth);
-          }
-      }
+        for (unsigned int i = 0; i < 3; ++i)
+          worst = std::max(worst,
+                           -obstacle_distance(contact.zones[t.zone],
+                                              t.points[i] + u(t.body, t.vertices[i]))
+                              .first);
     // Body pairs: the slave vertices that are no contact nodes (beyond the search distance) must
     // not have passed into the master body. Contact nodes are held by their rows (the KKT check);
     // the depth searched is what the bodies can have moved against each other.
-    double largest_cell = 0;
-    for (const auto &body : bodies)
-      largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(body->mesh));
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       if (!contact.zones[z].rigid())
-        worst = std::max(
-          worst,
-          uncoupled_penetration(
-            z, contact.zones[z], triangles, nodes, bodies, vertex_u, 2 * u_max + largest_cell));
+        worst =
+          std::max(worst, uncoupled_penetration(z, surfaces, nodes, u, 2 * u_max + largest_cell));
     return u_max > 0 ? worst / u_max : worst;
   }
 
+  double
+  vertex_penetration(const Parameters::Contact &contact,
+                     const unsigned int         body,
+                     const Point<3>            &x,
+                     const Tensor<1, 3>        &u)
+  {
+    double worst = 0;
+    // A vertex of a body that starts outside a sphere or cylinder must end outside.
+    // A vertex that starts in front of the body's rigid planes (a surface chosen too small lets
+    // the body through a plane elsewhere) counts by the least of its depths behind them, so that
+    // it must end behind all of them: several planes may form one convex obstacle (a ridge),
+    // whose planes extend beyond it, and a vertex behind one plane's extension but in front of
+    // another is outside the obstacle. (A vertex behind a plane before the load, where the body
+    // reaches past the zone's surface, is not counted.)
+    bool   has_planes = false, behind = false;
+    double depth = std::numeric_limits<double>::infinity();
+    for (const auto &zone : contact.zones)
+      if (zone.rigid() && zone.body == body)
+        {
+          if (zone.type != Parameters::ContactZone::Type::rigid_plane)
+            {
+              if (obstacle_distance(zone, x).first >= 0)
+                worst = std::max(worst, -obstacle_distance(zone, x + u).first);
+              continue;
+            }
+          has_planes = true;
+          if (behind)
+            continue;
+          if ((x - zone.plane_point) * zone.plane_normal < 0)
+            behind = true;
+          else
+            depth = std::min(depth, -obstacle_distance(zone, x + u).first);
+        }
+    if (has_planes)
+      worst = std::max(worst, behind ? 0. : depth);
+    return worst;
+  }
+
   std::vector<ContactNodeResult>
-  evaluate_contact(const std::vector<ContactNode>               &nodes,
-                   const DualLayout                             &layout,
-                   const Vector<double>                         &lambda,
-                   const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
-                   ContactCheck                                 &check,
-                   const std::optional<double>                   tresca_slip_bound)
+  evaluate_contact(const std::vector<ContactNode> &nodes,
+                   const DualLayout               &layout,
+                   const Vector<double>           &lambda,
+                   const VertexDisplacements      &u,
+                   const double                    u_max,
+                   ContactCheck                   &check,
+                   const std::optional<double>     tresca_slip_bound)
   {
     std::vector<ContactNodeResult> results(nodes.size());
-    double                         u_max = 0, lambda_max = 0, bound_max = 0;
-    for (const auto &body : vertex_u)
-      for (const auto &u : body)
-        u_max = std::max(u_max, u.norm());
+    double                         lambda_max = 0, bound_max = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const auto &node = nodes[k];
@@ -288,7 +277,7 @@ namespace FetiContact
                   r.lambda_T[1] += sigma * std::sin(angle) * lambda[first + j];
                 }
           }
-        const Tensor<1, 3> relative = relative_displacement(node, vertex_u);
+        const Tensor<1, 3> relative = relative_displacement(node, u);
         r.gap                       = node.gap - relative * node.n;
         // A node whose friction acts through the rows of its vertex's keeper slips along the
         // keeper's tangents.

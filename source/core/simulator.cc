@@ -196,7 +196,7 @@ namespace FetiContact
   {
     std::vector<ZoneReport> reports;
     Timer                   search_timer;
-    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_triangles, &reports);
+    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports);
     contact_rows_time += search_timer.wall_time();
     for (unsigned int z = 0; z < reports.size(); ++z)
       {
@@ -582,13 +582,13 @@ namespace FetiContact
                                       first_subdomain,
                                       owned,
                                       u,
-                                      evaluation.vertex_u,
                                       evaluation.contact_lambda,
                                       evaluation.lambda_not_finite,
+                                      evaluation.u_not_finite,
                                       evaluation.u_max,
                                       evaluation.interface_jump,
                                       contact_nodes,
-                                      contact_triangles,
+                                      contact_surfaces,
                                       evaluation.contact_results,
                                       evaluation.contact_check,
                                       evaluation.contact_forces,
@@ -683,10 +683,28 @@ namespace FetiContact
   Simulator::evaluate_solution() const
   {
     Evaluation evaluation;
-    evaluation.vertex_u = gather_vertex_displacements(comm, bodies, owned, u);
-    for (const auto &b : evaluation.vertex_u)
-      for (const auto &v : b)
-        evaluation.u_max = std::max(evaluation.u_max, v.norm());
+    // Every vertex once, in the subdomain that reports it.
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      for (const auto &[w, v] : owned[i]->reported_vertices())
+        {
+          Tensor<1, 3> u_v;
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              u_v[c] = u[i][owned[i]->vertex_dofs[v][c]];
+              evaluation.u_not_finite += !std::isfinite(u_v[c]);
+            }
+          evaluation.u_max = std::max(evaluation.u_max, u_v.norm());
+          if (!contact_nodes.empty())
+            evaluation.vertex_penetration =
+              std::max(evaluation.vertex_penetration,
+                       vertex_penetration(parameters.contact,
+                                          owned[i]->body.index,
+                                          owned[i]->mesh.get_vertices()[v],
+                                          u_v));
+        }
+    evaluation.u_max              = Utilities::MPI::max(evaluation.u_max, comm);
+    evaluation.u_not_finite       = Utilities::MPI::sum(evaluation.u_not_finite, comm);
+    evaluation.vertex_penetration = Utilities::MPI::max(evaluation.vertex_penetration, comm);
     // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
     // Dirichlet misfit in TFETI), relative to the largest displacement. Only the equality rows:
     // the contact rows of B u − c are the gaps and the slips.
@@ -705,22 +723,34 @@ namespace FetiContact
   {
     const bool tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
+    evaluation.surface_u =
+      gather_surface_displacements(comm, bodies.size(), owned, u, contact_surfaces);
     evaluation.contact_results =
       FetiContact::evaluate_contact(contact_nodes,
                                     layout,
                                     evaluation.contact_lambda,
-                                    evaluation.vertex_u,
+                                    evaluation.surface_u,
+                                    evaluation.u_max,
                                     evaluation.contact_check,
                                     tresca ?
                                       std::optional<double>(parameters.contact_solver.slip_bound) :
                                       std::nullopt);
     // The independent check counts every vertex of the bodies in front of a rigid plane too.
-    evaluation.contact_check.penetration = std::max(evaluation.contact_check.penetration,
-                                                    surface_penetration(parameters.contact,
-                                                                        contact_triangles,
-                                                                        contact_nodes,
-                                                                        bodies,
-                                                                        evaluation.vertex_u));
+    double largest_cell = 0;
+    for (const Subdomain *s : owned)
+      largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(s->mesh));
+    largest_cell            = Utilities::MPI::max(largest_cell, comm);
+    const double u_max      = evaluation.u_max;
+    const double on_surface = surface_penetration(parameters.contact,
+                                                  contact_surfaces,
+                                                  contact_nodes,
+                                                  evaluation.surface_u,
+                                                  u_max,
+                                                  largest_cell);
+    evaluation.contact_check.penetration =
+      std::max({evaluation.contact_check.penetration,
+                on_surface,
+                u_max > 0 ? evaluation.vertex_penetration / u_max : evaluation.vertex_penetration});
     evaluation.contact_forces =
       contact_forces_on_bodies(contact_nodes, evaluation.contact_results, bodies);
   }

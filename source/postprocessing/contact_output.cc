@@ -85,25 +85,30 @@ namespace FetiContact
     // plain text, which tests/run_case.py --check-contact-vtu compares node by node with
     // contact.csv; a node on the faces of two subdomains is a point of both pieces.
     std::string
-    piece_vtu(const std::vector<std::unique_ptr<Body>> &bodies,
-              const std::map<PointKey, unsigned int>   &node_at,
-              const std::vector<ContactNode>           &nodes,
-              const std::vector<ContactNodeResult>     &results,
-              const std::vector<ContactTriangle>       &triangles,
-              const std::vector<unsigned int>          &which,
-              const unsigned int                        subdomain,
-              const std::map<PointKey, unsigned int>   &point_owner)
+    piece_vtu(const std::map<PointKey, unsigned int> &node_at,
+              const std::vector<ContactNode>         &nodes,
+              const std::vector<ContactNodeResult>   &results,
+              const std::vector<ContactTriangle>     &triangles,
+              const std::vector<unsigned int>        &which,
+              const unsigned int                      subdomain,
+              const std::map<PointKey, unsigned int> &point_owner)
     {
       // Points: the distinct (zone, body, vertex) of the triangles; a vertex on the surfaces of
       // two zones (an edge where two obstacles meet) is a point of each zone's patch, with that
       // zone's contact data.
       std::map<PointKey, unsigned int> point_of;
       std::vector<PointKey>            points;
+      std::vector<Point<3>>            positions;
       for (const unsigned int t : which)
-        for (const unsigned int v : triangles[t].vertices)
-          if (point_of.emplace(PointKey{{triangles[t].zone, triangles[t].body, v}}, points.size())
-                .second)
-            points.push_back({{triangles[t].zone, triangles[t].body, v}});
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const PointKey key{{triangles[t].zone, triangles[t].body, triangles[t].vertices[i]}};
+            if (point_of.emplace(key, points.size()).second)
+              {
+                points.push_back(key);
+                positions.push_back(triangles[t].points[i]);
+              }
+          }
 
       std::ostringstream out;
       out << std::setprecision(10);
@@ -111,11 +116,8 @@ namespace FetiContact
              "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
           << points.size() << "\" NumberOfCells=\"" << which.size() << "\">\n";
       out << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-      for (const auto &[z, b, v] : points)
-        {
-          const auto &x = bodies[b]->mesh.get_vertices()[v];
-          out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
-        }
+      for (const auto &x : positions)
+        out << x[0] << ' ' << x[1] << ' ' << x[2] << '\n';
       out << "</DataArray></Points>\n<Cells>\n"
              "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
       for (const unsigned int t : which)
@@ -183,10 +185,9 @@ namespace FetiContact
     }
   } // namespace
 
-  ContactOutputShare::ContactOutputShare(const std::vector<std::unique_ptr<Body>> &bodies,
-                                         const std::vector<unsigned int>          &first_subdomain,
-                                         const std::vector<Subdomain *>           &owned,
-                                         const std::vector<ContactNode>           &contact_nodes,
+  ContactOutputShare::ContactOutputShare(const std::vector<unsigned int>    &first_subdomain,
+                                         const std::vector<Subdomain *>     &owned,
+                                         const std::vector<ContactNode>     &contact_nodes,
                                          const std::vector<ContactTriangle> &contact_triangles)
   {
     std::vector<unsigned int> mine;
@@ -214,8 +215,7 @@ namespace FetiContact
     for (unsigned int t = 0; t < contact_triangles.size(); ++t)
       {
         const auto &triangle = contact_triangles[t];
-        subdomain_of[t]      = first_subdomain[triangle.body] +
-                          bodies[triangle.body]->partition.part_of_cell[triangle.cell];
+        subdomain_of[t]      = first_subdomain[triangle.body] + triangle.part;
         if (is_mine(subdomain_of[t]))
           {
             of_subdomain[subdomain_of[t]].push_back(t);
@@ -253,14 +253,13 @@ namespace FetiContact
   }
 
   void
-  write_contact_surface_vtu(ResultFiles                              &files,
-                            const MPI_Comm                            comm,
-                            const std::string                        &directory,
-                            const std::vector<std::unique_ptr<Body>> &bodies,
-                            const ContactOutputShare                 &share,
-                            const std::vector<ContactNode>           &nodes,
-                            const std::vector<ContactNodeResult>     &results,
-                            const std::vector<ContactTriangle>       &triangles)
+  write_contact_surface_vtu(ResultFiles                          &files,
+                            const MPI_Comm                        comm,
+                            const std::string                    &directory,
+                            const ContactOutputShare             &share,
+                            const std::vector<ContactNode>       &nodes,
+                            const std::vector<ContactNodeResult> &results,
+                            const std::vector<ContactTriangle>   &triangles)
   {
     std::map<PointKey, unsigned int> node_at;
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -274,8 +273,7 @@ namespace FetiContact
     OutputFiles::on_all_ranks(comm, [&]() {
       for (unsigned int i = 0; i < share.subdomains.size(); ++i)
         {
-          const std::string text = piece_vtu(bodies,
-                                             node_at,
+          const std::string text = piece_vtu(node_at,
                                              nodes,
                                              results,
                                              triangles,

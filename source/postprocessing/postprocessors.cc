@@ -75,12 +75,7 @@ namespace FetiContact::Postprocessing
   ConstraintCheck::execute(const Input &input)
   {
     input.summary.set("interface_jump", input.interface_jump);
-    unsigned int n_not_finite = 0;
-    for (const auto &body : input.vertex_u)
-      for (const auto &v : body)
-        for (unsigned int d = 0; d < 3; ++d)
-          n_not_finite += !std::isfinite(v[d]);
-    n_not_finite += input.lambda_not_finite;
+    const unsigned int n_not_finite = input.u_not_finite + input.lambda_not_finite;
     input.summary.set("values_not_finite", n_not_finite);
     input.check("values_not_finite",
                 "displacements or multipliers that are not finite numbers (overflow?), count",
@@ -206,6 +201,9 @@ namespace FetiContact::Postprocessing
                     << std::endl;
         return;
       }
+    // The undecomposed bodies are solved on rank 0, which gathers every vertex's displacement.
+    const auto vertex_u =
+      gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
     double difference = 0;
     if (input.root())
       {
@@ -215,7 +213,7 @@ namespace FetiContact::Postprocessing
             const auto mono = solve_monolithic(*body, input.mapping, input.fe);
             for (unsigned int v = 0; v < mono.size(); ++v)
               {
-                diff2 += (mono[v] - input.vertex_u[body->index][v]).norm_square();
+                diff2 += (mono[v] - vertex_u[body->index][v]).norm_square();
                 norm2 += mono[v].norm_square();
               }
           }
@@ -236,7 +234,7 @@ namespace FetiContact::Postprocessing
   ReferenceComparison::execute(const Input &input)
   {
     const auto difference = compare_with_reference(
-      input.comm, input.owned, input.mapping, input.vertex_u, input.reference_displacements);
+      input.comm, input.owned, input.mapping, input.u, input.reference_displacements);
     input.summary.set("reference_difference",
                       JsonObject()
                         .set("max_relative", difference.max_relative)
@@ -256,11 +254,10 @@ namespace FetiContact::Postprocessing
   void
   ContactOutput::execute(const Input &input)
   {
-    const ContactOutputShare share(input.bodies,
-                                   input.first_subdomain,
+    const ContactOutputShare share(input.first_subdomain,
                                    input.owned,
                                    input.contact_nodes,
-                                   input.contact_triangles);
+                                   input.contact_surfaces.slave);
     write_contact_csv(input.result_files,
                       input.comm,
                       input.output_directory,
@@ -271,11 +268,10 @@ namespace FetiContact::Postprocessing
       write_contact_surface_vtu(input.result_files,
                                 input.comm,
                                 input.output_directory,
-                                input.bodies,
                                 share,
                                 input.contact_nodes,
                                 input.contact_results,
-                                input.contact_triangles);
+                                input.contact_surfaces.slave);
   }
 
   std::string
@@ -287,6 +283,9 @@ namespace FetiContact::Postprocessing
   void
   FclibExport::execute(const Input &input)
   {
+    // The undecomposed bodies are assembled on rank 0, which gathers every vertex's displacement.
+    const auto vertex_u =
+      gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
     input.on_all_ranks([&]() {
       if (!input.root())
         return;
@@ -298,7 +297,7 @@ namespace FetiContact::Postprocessing
       const FclibProblem problem = assemble_fclib_problem(input.bodies,
                                                           input.contact_nodes,
                                                           input.contact_results,
-                                                          input.vertex_u,
+                                                          vertex_u,
                                                           input.mapping,
                                                           input.fe,
                                                           input.parameters.output.fclib_units);

@@ -8,11 +8,14 @@
 #include <feticontact/subdomain/elasticity_assembly.h>
 
 #include <algorithm>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_set>
 #include <utility>
 
 namespace FetiContact
@@ -231,24 +234,32 @@ namespace FetiContact
   compare_with_reference(const MPI_Comm                                comm,
                          const std::vector<Subdomain *>               &owned,
                          const Mapping<3>                             &mapping,
-                         const std::vector<std::vector<Tensor<1, 3>>> &vertex_u,
+                         const std::vector<Vector<double>>            &u,
                          const std::vector<std::vector<Tensor<1, 3>>> &reference)
   {
     ReferenceDifference result;
     double              max_difference = 0, max_reference = 0;
-    for (unsigned int b = 0; b < reference.size(); ++b)
-      for (unsigned int v = 0; v < reference[b].size(); ++v)
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      for (const auto &[w, v] : owned[i]->reported_vertices())
         {
-          max_difference = std::max(max_difference, (vertex_u[b][v] - reference[b][v]).norm());
-          max_reference  = std::max(max_reference, reference[b][v].norm());
+          const Tensor<1, 3> &r = reference[owned[i]->body.index][w];
+          Tensor<1, 3>        e;
+          for (unsigned int c = 0; c < 3; ++c)
+            e[c] = u[i][owned[i]->vertex_dofs[v][c]] - r[c];
+          max_difference = std::max(max_difference, e.norm());
+          max_reference  = std::max(max_reference, r.norm());
           ++result.n_vertices;
         }
+    max_difference      = Utilities::MPI::max(max_difference, comm);
+    max_reference       = Utilities::MPI::max(max_reference, comm);
+    result.n_vertices   = Utilities::MPI::sum(result.n_vertices, comm);
     result.max_relative = max_reference > 0 ? max_difference / max_reference : max_difference;
 
     // Energies Σ_s eᵀK_s e of the difference and of the reference, e interpolated at the DoFs.
     double energies[2] = {0, 0};
-    for (const Subdomain *s : owned)
+    for (unsigned int i = 0; i < owned.size(); ++i)
       {
+        const Subdomain     *s = owned[i];
         SparsityPattern      sparsity;
         SparseMatrix<double> K;
         Vector<double>       f;
@@ -260,7 +271,7 @@ namespace FetiContact
             const unsigned int v = s->body_vertex[s->dof_vertex[d]];
             const unsigned int c = s->dof_component[d];
             r[d]                 = reference[s->body.index][v][c];
-            e[d]                 = vertex_u[s->body.index][v][c] - r[d];
+            e[d]                 = u[i][d] - r[d];
           }
         energies[0] += K.matrix_norm_square(e);
         energies[1] += K.matrix_norm_square(r);
@@ -268,6 +279,36 @@ namespace FetiContact
     Utilities::MPI::sum(ArrayView<const double>(energies, 2), comm, ArrayView<double>(energies, 2));
     result.energy_relative = energies[1] > 0 ? std::sqrt(std::max(energies[0], 0.) / energies[1]) :
                                                std::sqrt(std::max(energies[0], 0.));
+    return result;
+  }
+
+  VertexDisplacements
+  gather_surface_displacements(const MPI_Comm                     comm,
+                               const unsigned int                 n_bodies,
+                               const std::vector<Subdomain *>    &owned,
+                               const std::vector<Vector<double>> &u,
+                               const ContactSurfaces             &surfaces)
+  {
+    std::vector<std::unordered_set<unsigned int>> wanted(n_bodies);
+    for (const auto *list : {&surfaces.slave, &surfaces.master})
+      for (const auto &t : *list)
+        wanted[t.body].insert(t.vertices.begin(), t.vertices.end());
+    // (body, vertex) and (u_x, u_y, u_z) of the vertices this rank reports.
+    std::pair<std::vector<unsigned int>, std::vector<double>> mine;
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      for (const auto &[w, v] : owned[i]->reported_vertices())
+        if (wanted[owned[i]->body.index].count(w) > 0)
+          {
+            mine.first.insert(mine.first.end(), {owned[i]->body.index, w});
+            for (unsigned int c = 0; c < 3; ++c)
+              mine.second.push_back(u[i][owned[i]->vertex_dofs[v][c]]);
+          }
+    VertexDisplacements result(n_bodies);
+    for (const auto &[vertices, values] : Utilities::MPI::all_gather(comm, mine))
+      for (unsigned int k = 0; 2 * k < vertices.size(); ++k)
+        result.set(vertices[2 * k],
+                   vertices[2 * k + 1],
+                   Tensor<1, 3>({values[3 * k], values[3 * k + 1], values[3 * k + 2]}));
     return result;
   }
 } // namespace FetiContact

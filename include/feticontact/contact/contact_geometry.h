@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace FetiContact
@@ -97,20 +98,40 @@ namespace FetiContact
   };
 
   /**
-   * The displacement of node @p node relative to what it is held against,
-   * u(x_k) − Σ_j w_j u(y_j), from the vertex displacements of every body.
+   * Displacements of some vertices of the bodies (those of the contact surfaces), by body and
+   * body vertex.
    */
-  dealii::Tensor<1, 3>
-  relative_displacement(const ContactNode                                    &node,
-                        const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
+  class VertexDisplacements
+  {
+  public:
+    explicit VertexDisplacements(const unsigned int n_bodies = 0)
+      : of_body(n_bodies)
+    {}
+
+    /** Sets the displacement of vertex @p vertex of body @p body. */
+    void
+    set(const unsigned int body, const unsigned int vertex, const dealii::Tensor<1, 3> &u)
+    {
+      of_body[body][vertex] = u;
+    }
+
+    /** The displacement of vertex @p vertex of body @p body; throws if it is not held. */
+    const dealii::Tensor<1, 3> &
+    operator()(const unsigned int body, const unsigned int vertex) const
+    {
+      return of_body[body].at(vertex);
+    }
+
+  private:
+    std::vector<std::unordered_map<unsigned int, dealii::Tensor<1, 3>>> of_body;
+  };
 
   /**
-   * The triangles (master-body vertices) of the master surface of the body-pair zone @p zone,
-   * with their outward area normals.
+   * The displacement of node @p node relative to what it is held against,
+   * u(x_k) − Σ_j w_j u(y_j), from the displacements @p u of its vertices.
    */
-  std::pair<std::vector<std::array<unsigned int, 3>>, std::vector<dealii::Tensor<1, 3>>>
-  master_triangles(const std::vector<std::unique_ptr<Body>> &bodies,
-                   const Parameters::ContactZone            &zone);
+  dealii::Tensor<1, 3>
+  relative_displacement(const ContactNode &node, const VertexDisplacements &u);
 
   /** Σ_j w_j y_j: the point of the master surface that node @p node is held against. */
   dealii::Point<3>
@@ -133,14 +154,27 @@ namespace FetiContact
     unsigned int n_segments      = 0;
   };
 
-  /** A triangle of a zone's slave surface (body-mesh vertices), for output. */
+  /** A triangle of a zone's surface: its body-mesh vertices and their positions. */
   struct ContactTriangle
   {
-    unsigned int                zone;
-    unsigned int                body;
-    std::array<unsigned int, 3> vertices;
-    /** The active cell of the body's mesh whose face the triangle is. */
-    unsigned int cell;
+    unsigned int                    zone;
+    unsigned int                    body;
+    std::array<unsigned int, 3>     vertices;
+    std::array<dealii::Point<3>, 3> points;
+    /** The outward normal times the area. */
+    dealii::Tensor<1, 3> outward;
+    /** The part of the body's partition whose cell has the triangle as a face. */
+    unsigned int part;
+  };
+
+  /**
+   * The triangles of the zones' surfaces: of every zone's (slave) surface, and of the master
+   * surface of every body-pair zone. They are a surface's worth of the bodies: the contact
+   * output and the checks after the solve read them instead of the bodies' meshes.
+   */
+  struct ContactSurfaces
+  {
+    std::vector<ContactTriangle> slave, master;
   };
 
   /**
@@ -157,14 +191,14 @@ namespace FetiContact
    * its normal; otherwise the surfaces do not match and InputError names the node. A mortar pair
    * (doc/contact.md, "Non-matching meshes") has the slave vertices that the master surface
    * covers within the search distance, with n_k the mean outer normal at the vertex. If
-   * @p triangles is given, the triangles of every zone's surface are appended to it (for the
-   * contact-surface output); if @p reports is given, one report per zone.
+   * @p surfaces is given, the triangles of the zones' surfaces are appended to it; if
+   * @p reports is given, one report per zone.
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
-                     std::vector<ContactTriangle>             *triangles = nullptr,
-                     std::vector<ZoneReport>                  *reports   = nullptr);
+                     ContactSurfaces                          *surfaces = nullptr,
+                     std::vector<ZoneReport>                  *reports  = nullptr);
 
   /**
    * The signed distance of @p x from the surface of the rigid obstacle of @p zone (a plane, a

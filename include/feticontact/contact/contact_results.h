@@ -102,17 +102,36 @@ namespace FetiContact
    * the surface that a surface chosen too small lets through the obstacle. Spheres and cylinders
    * the same way, each for itself. Body pairs: every vertex of the slave surface that is no
    * contact node of the zone (beyond the search distance) against the deformed master surface,
-   * its depth behind a master triangle it projects into (up to 2 max |u| plus the largest cell).
+   * its depth behind a master triangle it projects into (up to 2 max |u| plus
+   * @p largest_cell, the largest cell diameter of the bodies).
+   *
+   * This function checks the vertices of the zones' surfaces (@p surfaces, displaced by @p u);
+   * the vertices off them are checked one by one by vertex_penetration(), whose largest value
+   * over all vertices, divided by @p u_max (max |u|), completes the check.
    */
   double
-  surface_penetration(const Parameters::Contact                            &contact,
-                      const std::vector<ContactTriangle>                   &triangles,
-                      const std::vector<ContactNode>                       &nodes,
-                      const std::vector<std::unique_ptr<Body>>             &bodies,
-                      const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u);
+  surface_penetration(const Parameters::Contact      &contact,
+                      const ContactSurfaces          &surfaces,
+                      const std::vector<ContactNode> &nodes,
+                      const VertexDisplacements      &u,
+                      const double                    u_max,
+                      const double                    largest_cell);
 
   /**
-   * Evaluates every contact node. @p vertex_u: displacements per body and vertex; @p lambda in the
+   * The part of the check of surface_penetration() for one vertex @p x of body @p body,
+   * displaced by @p u, wherever it lies: its depth inside a sphere or cylinder of the body's
+   * zones that it starts outside of, and, if it starts in front of all the body's rigid planes,
+   * the least of its depths behind them (not relative).
+   */
+  double
+  vertex_penetration(const Parameters::Contact  &contact,
+                     const unsigned int          body,
+                     const dealii::Point<3>     &x,
+                     const dealii::Tensor<1, 3> &u);
+
+  /**
+   * Evaluates every contact node. @p u: the displacements of the nodes' vertices, @p u_max the
+   * largest displacement of the bodies; @p lambda in the
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
    * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) μ λ_N
    * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
@@ -120,12 +139,13 @@ namespace FetiContact
    * that given slip bound g instead of μ λ_N (Coulomb friction, no value).
    */
   std::vector<ContactNodeResult>
-  evaluate_contact(const std::vector<ContactNode>                       &nodes,
-                   const DualLayout                                     &layout,
-                   const dealii::Vector<double>                         &lambda,
-                   const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
-                   ContactCheck                                         &check,
-                   const std::optional<double> tresca_slip_bound = std::nullopt);
+  evaluate_contact(const std::vector<ContactNode> &nodes,
+                   const DualLayout               &layout,
+                   const dealii::Vector<double>   &lambda,
+                   const VertexDisplacements      &u,
+                   const double                    u_max,
+                   ContactCheck                   &check,
+                   const std::optional<double>     tresca_slip_bound = std::nullopt);
 
   /**
    * Writes the rows of contact.csv for the nodes @p which (indices into @p nodes, in that order),

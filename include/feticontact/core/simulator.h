@@ -190,8 +190,13 @@ namespace FetiContact
      */
     struct Evaluation
     {
-      std::vector<std::vector<dealii::Tensor<1, 3>>> vertex_u;
-      double                                         u_max = 0, interface_jump = 0;
+      /** The displacements of the vertices of the contact surfaces. */
+      VertexDisplacements surface_u;
+      /** max |u| over all vertices, and the displacement components that are not finite. */
+      double       u_max = 0, interface_jump = 0;
+      unsigned int u_not_finite = 0;
+      /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
+      double vertex_penetration = 0;
       /** λ on the contact rows (contact_multipliers()), and the entries of λ not finite. */
       dealii::Vector<double>            contact_lambda;
       unsigned int                      lambda_not_finite = 0;
@@ -275,7 +280,7 @@ namespace FetiContact
     std::vector<ContactNode>                contact_nodes;
     /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
     std::unique_ptr<LoadBalanceTest> load_balance_test;
-    std::vector<ContactTriangle>     contact_triangles;
+    ContactSurfaces                  contact_surfaces;
     DualLayout                       layout;
     std::unique_ptr<DualProblem>     dual;
 

@@ -36,11 +36,10 @@ namespace FetiContact
      */
     std::map<std::array<unsigned int, 3>, unsigned int> point_owner;
 
-    ContactOutputShare(const std::vector<std::unique_ptr<Body>> &bodies,
-                       const std::vector<unsigned int>          &first_subdomain,
-                       const std::vector<Subdomain *>           &owned,
-                       const std::vector<ContactNode>           &nodes,
-                       const std::vector<ContactTriangle>       &triangles);
+    ContactOutputShare(const std::vector<unsigned int>    &first_subdomain,
+                       const std::vector<Subdomain *>     &owned,
+                       const std::vector<ContactNode>     &nodes,
+                       const std::vector<ContactTriangle> &triangles);
   };
 
   /**
@@ -67,12 +66,11 @@ namespace FetiContact
    * `contact_surface.pvd` pointing to it, into @p directory through @p files. Collective.
    */
   void
-  write_contact_surface_vtu(ResultFiles                              &files,
-                            const MPI_Comm                            comm,
-                            const std::string                        &directory,
-                            const std::vector<std::unique_ptr<Body>> &bodies,
-                            const ContactOutputShare                 &share,
-                            const std::vector<ContactNode>           &nodes,
-                            const std::vector<ContactNodeResult>     &results,
-                            const std::vector<ContactTriangle>       &triangles);
+  write_contact_surface_vtu(ResultFiles                          &files,
+                            const MPI_Comm                        comm,
+                            const std::string                    &directory,
+                            const ContactOutputShare             &share,
+                            const std::vector<ContactNode>       &nodes,
+                            const std::vector<ContactNodeResult> &results,
+                            const std::vector<ContactTriangle>   &triangles);
 } // namespace FetiContact

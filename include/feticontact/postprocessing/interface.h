@@ -39,23 +39,21 @@ namespace FetiContact::Postprocessing
     /** This rank's subdomains and their displacements (by the subdomains' DoFs). */
     const std::vector<Subdomain *>            &owned;
     const std::vector<dealii::Vector<double>> &u;
-    /** The displacement of every vertex of every body (replicated). */
-    const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u;
     /**
      * The multipliers λ on the contact rows [λ_T; λ_N] (DualLayout: the first first_equality()
-     * rows), on every rank; the number of entries of all of λ that are not finite numbers; and
-     * max |u| over all vertices.
+     * rows), on every rank; the number of entries of all of λ and of the displacements of all
+     * vertices that are not finite numbers; and max |u| over all vertices.
      */
     const dealii::Vector<double> &lambda;
-    unsigned int                  lambda_not_finite;
+    unsigned int                  lambda_not_finite, u_not_finite;
     double                        u_max;
     /**
      * max |B_E u − c| over the equality rows (the jump across the subdomain interfaces and, with
      * TFETI, the Dirichlet misfit), relative to u_max.
      */
-    double                              interface_jump;
-    const std::vector<ContactNode>     &contact_nodes;
-    const std::vector<ContactTriangle> &contact_triangles;
+    double                          interface_jump;
+    const std::vector<ContactNode> &contact_nodes;
+    const ContactSurfaces          &contact_surfaces;
     /** Per contact node: the forces, the gap, the slip and the status. */
     const std::vector<ContactNodeResult> &contact_results;
     /** The contact conditions checked from u and the forces (the penetration of every vertex). */

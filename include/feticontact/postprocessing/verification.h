@@ -5,6 +5,7 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/contact/contact_geometry.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/subdomain/subdomain.h>
 
@@ -55,16 +56,29 @@ namespace FetiContact
                                const std::vector<std::unique_ptr<Body>> &bodies);
 
   /**
-   * The difference of the displacements @p vertex_u (gather_vertex_displacements) from
-   * @p reference; the energy norms from each owned subdomain's stiffness assembled anew without
-   * elimination (Σ_s over the subdomains is the stiffness of the whole body), summed over ranks.
+   * The difference of the displacements @p u of this rank's subdomains @p owned from
+   * @p reference: the largest over the vertices (each counted once, by the subdomain that
+   * reports it) and the energy norms from each owned subdomain's stiffness assembled anew without
+   * elimination (Σ_s over the subdomains is the stiffness of the whole body), over all ranks.
    */
   ReferenceDifference
   compare_with_reference(const MPI_Comm                                        comm,
                          const std::vector<Subdomain *>                       &owned,
                          const dealii::Mapping<3>                             &mapping,
-                         const std::vector<std::vector<dealii::Tensor<1, 3>>> &vertex_u,
+                         const std::vector<dealii::Vector<double>>            &u,
                          const std::vector<std::vector<dealii::Tensor<1, 3>>> &reference);
+
+  /**
+   * The displacements of the vertices of the triangles of @p surfaces, from the displacements
+   * @p u of the subdomains @p owned of each rank (a vertex takes the value of the lowest-numbered
+   * subdomain that holds it), on every rank of @p comm: a surface's worth of values.
+   */
+  VertexDisplacements
+  gather_surface_displacements(const MPI_Comm                             comm,
+                               const unsigned int                         n_bodies,
+                               const std::vector<Subdomain *>            &owned,
+                               const std::vector<dealii::Vector<double>> &u,
+                               const ContactSurfaces                     &surfaces);
 
   /**
    * Force balance of each body: the applied force Σ f (tractions and volume force), the force

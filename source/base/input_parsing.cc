@@ -1,3 +1,5 @@
+#include <deal.II/base/mpi.h>
+
 #include <feticontact/base/input_parsing.h>
 
 #include <cerrno>
@@ -114,3 +116,28 @@ namespace FetiContact::InputParsing
     return values;
   }
 } // namespace FetiContact::InputParsing
+
+namespace FetiContact
+{
+  void
+  on_all_ranks_of(const MPI_Comm comm, const std::function<void()> &step)
+  {
+    std::string error;
+    try
+      {
+        step();
+      }
+    catch (const InputError &e)
+      {
+        error = e.what();
+        if (error.empty())
+          error = "invalid input";
+      }
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int first_failed =
+      dealii::Utilities::MPI::min(error.empty() ? dealii::numbers::invalid_unsigned_int : rank,
+                                  comm);
+    if (first_failed != dealii::numbers::invalid_unsigned_int)
+      throw InputError(dealii::Utilities::MPI::broadcast(comm, error, first_failed));
+  }
+} // namespace FetiContact

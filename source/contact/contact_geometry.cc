@@ -1,12 +1,16 @@
 #include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/mortar.h>
 
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/vector.hpp>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -82,46 +86,107 @@ namespace FetiContact
       }
     };
 
-    /** The surface @p surface of @p body; @p parts_of_vertex is parts_of_vertices() of it. */
+    /**
+     * A boundary face of a body in a surface, as the rank that holds its cell sees it: the key
+     * (the cell's active index in the body and the face's number in it) that orders the faces
+     * of all ranks as one whole mesh would, and what the surface needs of it.
+     */
+    struct SurfaceFace
+    {
+      std::array<unsigned int, 2> key;
+      std::array<unsigned int, 3> vertex; ///< body vertices
+      std::array<Point<3>, 3>     point;
+      Tensor<1, 3>                area_normal; ///< outward
+      double                      edges = 0;   ///< the sum of the lengths of the three edges
+      unsigned int                part  = 0;
+      /** Per vertex: the parts that hold it, and its prescribed components (NaN: none). */
+      std::array<std::vector<unsigned int>, 3> holders;
+      std::array<std::array<double, 3>, 3>     prescribed;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &key &vertex &point &area_normal &edges &part &holders &prescribed;
+      }
+    };
+
+    /**
+     * The surface @p surface of @p body; @p parts_of_vertex is Body::parts_of_mesh_vertices().
+     * With the body's cells distributed, the faces of all ranks are gathered and taken in the
+     * order of the whole mesh, so that every rank has the same surface, to the bit, on any
+     * number of ranks. Collective then.
+     */
     Surface
     collect_surface(const Body                                   &body,
                     const BoundarySelector                       &surface,
                     const std::vector<std::vector<unsigned int>> &parts_of_vertex)
     {
-      Surface      s;
-      unsigned int n_edges = 0;
+      std::vector<SurfaceFace> faces;
       for (const auto &cell : body.mesh.active_cell_iterators())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary() && surface.contains(*face))
+        for (const unsigned int f : cell->face_indices())
+          {
+            const auto face = cell->face(f);
+            if (!face->at_boundary() || !surface.contains(*face))
+              continue;
+            SurfaceFace record;
+            record.key = {{body.body_cell(cell->active_cell_index()), f}};
+            for (unsigned int v = 0; v < 3; ++v)
+              {
+                const unsigned int mesh_vertex = face->vertex_index(v);
+                record.vertex[v]               = body.body_vertex(mesh_vertex);
+                record.point[v]                = face->vertex(v);
+                record.holders[v]              = parts_of_vertex[mesh_vertex];
+                record.prescribed[v].fill(std::numeric_limits<double>::quiet_NaN());
+                const auto prescribed = body.prescribed.find(record.vertex[v]);
+                if (prescribed != body.prescribed.end())
+                  for (unsigned int c = 0; c < 3; ++c)
+                    if (prescribed->second[c])
+                      record.prescribed[v][c] = *prescribed->second[c];
+              }
+            const auto &[a, b, c] = record.point;
+            record.area_normal    = 0.5 * cross_product_3d(b - a, c - a);
+            if (record.area_normal * (face->center() - cell->center()) < 0)
+              record.area_normal = -record.area_normal;
+            record.edges = a.distance(b) + b.distance(c) + c.distance(a);
+            record.part  = body.partition.part_of_cell[cell->active_cell_index()];
+            faces.push_back(std::move(record));
+          }
+      if (body.distributed())
+        {
+          std::vector<SurfaceFace> all;
+          for (auto &list : Utilities::MPI::all_gather(body.mesh_comm(), faces))
+            all.insert(all.end(), list.begin(), list.end());
+          std::sort(all.begin(), all.end(), [](const SurfaceFace &x, const SurfaceFace &y) {
+            return x.key < y.key;
+          });
+          faces = std::move(all);
+        }
+
+      Surface s;
+      for (const auto &face : faces)
+        {
+          for (unsigned int v = 0; v < 3; ++v)
             {
-              const Point<3> a = face->vertex(0), b = face->vertex(1), c = face->vertex(2);
-              Tensor<1, 3>   area_normal = 0.5 * cross_product_3d(b - a, c - a);
-              if (area_normal * (face->center() - cell->center()) < 0)
-                area_normal = -area_normal;
-              for (const unsigned int v : face->vertex_indices())
+              const auto [entry, first_seen] = s.vertex.emplace(face.vertex[v], SurfaceVertex());
+              if (first_seen)
                 {
-                  const auto [entry, first_seen] =
-                    s.vertex.emplace(face->vertex_index(v), SurfaceVertex());
-                  if (first_seen)
-                    {
-                      entry->second.x            = face->vertex(v);
-                      entry->second.copies.parts = parts_of_vertex[face->vertex_index(v)];
-                      const auto prescribed      = body.prescribed.find(face->vertex_index(v));
-                      if (prescribed != body.prescribed.end())
-                        entry->second.copies.prescribed = prescribed->second;
-                    }
-                  s.normal_sum[face->vertex_index(v)] += area_normal;
-                  s.area[face->vertex_index(v)] += area_normal.norm() / 3;
+                  entry->second.x            = face.point[v];
+                  entry->second.copies.parts = face.holders[v];
+                  for (unsigned int c = 0; c < 3; ++c)
+                    if (!std::isnan(face.prescribed[v][c]))
+                      entry->second.copies.prescribed[c] = face.prescribed[v][c];
                 }
-              s.triangles.push_back(
-                {{face->vertex_index(0), face->vertex_index(1), face->vertex_index(2)}});
-              s.outward.push_back(area_normal);
-              s.part.push_back(body.partition.part_of_cell[cell->active_cell_index()]);
-              s.mean_edge += a.distance(b) + b.distance(c) + c.distance(a);
-              n_edges += 3;
+              s.normal_sum[face.vertex[v]] += face.area_normal;
+              s.area[face.vertex[v]] += face.area_normal.norm() / 3;
             }
-      if (n_edges > 0)
-        s.mean_edge /= n_edges;
+          s.triangles.push_back(face.vertex);
+          s.outward.push_back(face.area_normal);
+          s.part.push_back(face.part);
+          s.mean_edge += face.edges;
+        }
+      if (!faces.empty())
+        s.mean_edge /= 3 * faces.size();
       return s;
     }
 
@@ -654,7 +719,9 @@ namespace FetiContact
       BoundarySelector master_selector(zone.master_surface);
       try
         {
-          master_selector.resolve(master_body.mesh, master_body.parameters.name);
+          master_selector.resolve(master_body.mesh,
+                                  master_body.parameters.name,
+                                  master_body.mesh_comm());
         }
       catch (const InputError &e)
         {
@@ -716,7 +783,7 @@ namespace FetiContact
     const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
       parts_of_vertex = [&](const Body &body) -> const std::vector<std::vector<unsigned int>> & {
       if (parts[body.index].empty())
-        parts[body.index] = parts_of_vertices(body.mesh, body.partition);
+        parts[body.index] = body.parts_of_mesh_vertices();
       return parts[body.index];
     };
     std::vector<ContactNode> nodes;
@@ -728,7 +795,7 @@ namespace FetiContact
         BoundarySelector  surface(zone.surface);
         try
           {
-            surface.resolve(body.mesh, body.parameters.name);
+            surface.resolve(body.mesh, body.parameters.name, body.mesh_comm());
           }
         catch (const InputError &e)
           {

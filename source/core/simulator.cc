@@ -168,22 +168,40 @@ namespace FetiContact
   void
   Simulator::set_up_bodies()
   {
+    // With distributed dual vectors the bodies' cells are distributed too: rank 0 creates and
+    // partitions every mesh, and every rank keeps the cells of its own subdomains.
+    const bool distributed =
+      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
+    const std::string whole_meshes =
+      " assembles the undecomposed bodies on rank 0, and with 'FETI/Dual vectors = distributed' "
+      "on several ranks no rank holds their whole meshes: use 'Dual vectors = replicated' or one "
+      "rank for it.";
+    require(!distributed || n_ranks == 1 || !parameters.output.write_fclib,
+            "Output/Write FCLIB problem: the export" + whole_meshes);
+    require(!distributed || n_ranks == 1 || !parameters.verification.compare_with_monolithic,
+            "Verification/Compare with monolithic solve: the comparison" + whole_meshes);
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
       {
         bodies.push_back(std::make_unique<Body>(parameters.bodies[b], b));
-        bodies.back()->setup();
-        if (!in_contact(parameters.contact, b))
-          bodies.back()->check_held();
+        bodies.back()->create_and_partition(comm, distributed);
         first_subdomain.push_back(n_subdomains);
         n_subdomains += bodies.back()->partition.n_parts;
-        pcout << "Body '" << bodies.back()->parameters.name
-              << "': " << bodies.back()->mesh.n_active_cells() << " tetrahedra, "
-              << bodies.back()->mesh.n_used_vertices() << " vertices, "
-              << bodies.back()->partition.n_parts << " subdomains" << std::endl;
       }
     first_subdomain.push_back(n_subdomains);
+    distribute_subdomains();
+    for (const auto &body : bodies)
+      {
+        body->distribute(
+          [&](const unsigned int part) { return owner[first_subdomain[body->index] + part]; });
+        body->set_up_boundary();
+        if (!in_contact(parameters.contact, body->index))
+          body->check_held();
+        pcout << "Body '" << body->parameters.name << "': " << body->n_cells << " tetrahedra, "
+              << body->n_vertices << " vertices, " << body->partition.n_parts << " subdomains"
+              << std::endl;
+      }
     // Read (and check) reference displacements before any solving, so that a wrong file is
     // refused without output.
     if (!parameters.verification.reference_displacements.empty())
@@ -301,7 +319,6 @@ namespace FetiContact
   void
   Simulator::set_up_subdomains()
   {
-    distribute_subdomains();
     TimerOutput::Scope scope(timer, "setup");
     const bool         primal =
       parameters.feti.dirichlet_treatment == Parameters::Feti::DirichletTreatment::primal;
@@ -314,7 +331,7 @@ namespace FetiContact
     std::vector<std::vector<std::vector<unsigned int>>> parts_of_vertex(bodies.size());
     for (const auto &[body, p] : parts)
       if (parts_of_vertex[body->index].empty())
-        parts_of_vertex[body->index] = parts_of_vertices(body->mesh, body->partition);
+        parts_of_vertex[body->index] = body->parts_of_mesh_vertices();
     subdomains.resize(parts.size());
     SubdomainThreads::for_each(parts.size(), [&](const unsigned int i) {
       const auto &[body, p] = parts[i];
@@ -341,8 +358,8 @@ namespace FetiContact
     const unsigned int        n = first_subdomain.back();
     std::vector<unsigned int> cells_before(n + 1, 0);
     for (const auto &body : bodies)
-      for (const unsigned int p : body->partition.part_of_cell)
-        ++cells_before[first_subdomain[body->index] + p + 1];
+      for (unsigned int p = 0; p < body->partition.n_parts; ++p)
+        cells_before[first_subdomain[body->index] + p + 1] = body->cells_per_part[p];
     std::partial_sum(cells_before.begin(), cells_before.end(), cells_before.begin());
     const BlockPartition ranges = BlockPartition::balanced(comm, cells_before);
     owner.assign(n, 0);
@@ -919,7 +936,9 @@ namespace FetiContact
     n_primal_feti = Utilities::MPI::sum(n_primal_feti, comm);
     double h_min  = std::numeric_limits<double>::max();
     for (const auto &body : bodies)
-      h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
+      if (body->mesh.n_active_cells() > 0)
+        h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
+    h_min                            = Utilities::MPI::min(h_min, comm);
     const unsigned int n_bound_total = contact_nodes.empty() ? dual->n_F_applications : n_bound;
     const unsigned int n_A = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
 

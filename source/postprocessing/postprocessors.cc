@@ -234,7 +234,7 @@ namespace FetiContact::Postprocessing
   ReferenceComparison::execute(const Input &input)
   {
     const auto difference = compare_with_reference(
-      input.comm, input.owned, input.mapping, input.u, input.reference_displacements);
+      input.comm, input.owned, input.mapping, input.u, *input.reference_displacements);
     input.summary.set("reference_difference",
                       JsonObject()
                         .set("max_relative", difference.max_relative)

@@ -123,7 +123,7 @@ namespace FetiContact
     return balance;
   }
 
-  std::vector<std::vector<Tensor<1, 3>>>
+  VertexDisplacements
   read_reference_displacements(const std::string                        &file,
                                const std::vector<std::unique_ptr<Body>> &bodies)
   {
@@ -164,7 +164,7 @@ namespace FetiContact
         double size = 0;
         for (const auto &x : body->mesh.get_vertices())
           size = std::max(size, x.norm());
-        unit[body->index] = 1e-9 * std::max(size, 1e-300);
+        unit[body->index] = 1e-9 * std::max(Utilities::MPI::max(size, body->mesh_comm()), 1e-300);
       }
     using Key      = std::array<long long, 3>;
     const auto key = [&](const unsigned int b, const Point<3> &x) {
@@ -205,12 +205,10 @@ namespace FetiContact
           }
       }
 
-    std::vector<std::vector<Tensor<1, 3>>> reference(bodies.size());
+    VertexDisplacements reference(bodies.size());
     for (const auto &body : bodies)
-      {
-        auto &r = reference[body->index];
-        r.resize(body->mesh.n_vertices());
-        for (unsigned int v = 0; v < r.size(); ++v)
+      on_all_ranks_of(body->mesh_comm(), [&]() {
+        for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
           if (body->mesh.get_used_vertices()[v])
             {
               const auto &x  = body->mesh.get_vertices()[v];
@@ -224,25 +222,25 @@ namespace FetiContact
                                    body->parameters.name +
                                    "': they were written for another mesh.");
                 }
-              r[v] = it->second;
+              reference.set(body->index, body->body_vertex(v), it->second);
             }
-      }
+      });
     return reference;
   }
 
   ReferenceDifference
-  compare_with_reference(const MPI_Comm                                comm,
-                         const std::vector<Subdomain *>               &owned,
-                         const Mapping<3>                             &mapping,
-                         const std::vector<Vector<double>>            &u,
-                         const std::vector<std::vector<Tensor<1, 3>>> &reference)
+  compare_with_reference(const MPI_Comm                     comm,
+                         const std::vector<Subdomain *>    &owned,
+                         const Mapping<3>                  &mapping,
+                         const std::vector<Vector<double>> &u,
+                         const VertexDisplacements         &reference)
   {
     ReferenceDifference result;
     double              max_difference = 0, max_reference = 0;
     for (unsigned int i = 0; i < owned.size(); ++i)
       for (const auto &[w, v] : owned[i]->reported_vertices())
         {
-          const Tensor<1, 3> &r = reference[owned[i]->body.index][w];
+          const Tensor<1, 3> &r = reference(owned[i]->body.index, w);
           Tensor<1, 3>        e;
           for (unsigned int c = 0; c < 3; ++c)
             e[c] = u[i][owned[i]->vertex_dofs[v][c]] - r[c];
@@ -270,7 +268,7 @@ namespace FetiContact
           {
             const unsigned int v = s->body_vertex[s->dof_vertex[d]];
             const unsigned int c = s->dof_component[d];
-            r[d]                 = reference[s->body.index][v][c];
+            r[d]                 = reference(s->body.index, v)[c];
             e[d]                 = u[i][d] - r[d];
           }
         energies[0] += K.matrix_norm_square(e);

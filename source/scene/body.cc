@@ -1,3 +1,6 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/grid/tria_description.h>
+
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/mesh_generation.h>
@@ -7,7 +10,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 namespace FetiContact
@@ -22,51 +27,285 @@ namespace FetiContact
   void
   Body::setup()
   {
-    MeshGeneration::create_mesh(parameters.mesh, mesh, parameters.name);
+    create_and_partition(MPI_COMM_SELF, false);
+    set_up_boundary();
+  }
 
-    auto &bc = parameters.boundary_conditions;
-    for (auto &p : bc.prescribed_displacements)
-      p.boundary.resolve(mesh, parameters.name);
-    for (auto &t : bc.tractions)
-      t.boundary.resolve(mesh, parameters.name);
+  void
+  Body::create_and_partition(const MPI_Comm communicator, const bool distributed)
+  {
+    comm              = communicator;
+    cells_distributed = distributed && Utilities::MPI::n_mpi_processes(comm) > 1;
+    const bool root   = Utilities::MPI::this_mpi_process(comm) == 0;
+    const auto create = [&]() {
+      if (cells_distributed && !root)
+        return;
+      MeshGeneration::create_mesh(parameters.mesh, mesh, parameters.name);
+      partition = partition_cells(mesh, parameters.decomposition, parameters.mesh, parameters.name);
+      cells_per_part.assign(partition.n_parts, 0);
+      for (const unsigned int p : partition.part_of_cell)
+        ++cells_per_part[p];
+      n_cells    = mesh.n_active_cells();
+      n_vertices = mesh.n_used_vertices();
+    };
+    if (!cells_distributed)
+      {
+        create();
+        list_cells_of_parts();
+        return;
+      }
+    on_all_ranks_of(comm, create);
+    cells_per_part    = Utilities::MPI::broadcast(comm, cells_per_part, 0);
+    partition.n_parts = cells_per_part.size();
+    n_cells           = Utilities::MPI::broadcast(comm, n_cells, 0);
+    n_vertices        = Utilities::MPI::broadcast(comm, n_vertices, 0);
+  }
 
-    // Γ_u vertex by vertex; two parts that prescribe different values for the same component
-    // of a vertex contradict each other.
-    prescribed.clear();
-    std::map<unsigned int, std::array<const Parameters::PrescribedDisplacement *, 3>> source;
+  void
+  Body::distribute(const std::function<unsigned int(unsigned int)> &owner)
+  {
+    if (!cells_distributed)
+      return;
+    // Rank 0 cuts every part from the whole mesh and sends it to its owner.
+    part_owner.resize(partition.n_parts);
+    for (unsigned int p = 0; p < partition.n_parts; ++p)
+      part_owner[p] = owner(p);
+    std::map<unsigned int, std::vector<PartCells>> outgoing;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        list_cells_of_parts();
+        const auto parts = parts_of_vertices(mesh, partition);
+        for (unsigned int p = 0; p < partition.n_parts; ++p)
+          outgoing[part_owner[p]].push_back(part_cells(p, parts));
+        mesh.clear();
+      }
+    std::vector<PartCells> own;
+    for (auto &[from, list] : Utilities::MPI::some_to_some(comm, outgoing))
+      for (auto &part : list)
+        own.push_back(std::move(part));
+    std::sort(own.begin(), own.end(), [](const PartCells &a, const PartCells &b) {
+      return a.part < b.part;
+    });
+
+    // This rank's mesh: the cells of its parts in the order of the body's cells, their vertices
+    // merged by their numbers in the body; faces on the body's boundary keep their ids, the
+    // others that bound this rank's cells become interface faces.
+    std::vector<std::tuple<unsigned int, const PartCells *, unsigned int>> cells; // (cell, part, i)
+    for (const auto &part : own)
+      for (unsigned int c = 0; c < part.cells.size(); ++c)
+        cells.emplace_back(part.body_cell[c], &part, c);
+    std::sort(cells.begin(), cells.end());
+    std::unordered_map<unsigned int, unsigned int> local_vertex;
+    std::vector<Point<3>>                          points;
+    std::vector<CellData<3>>                       cell_data;
+    std::vector<unsigned int>                      part_of_cell;
+    vertex_number.clear();
+    cell_number.clear();
+    holder_start.assign(1, 0);
+    holder_parts.clear();
+    for (const auto &[body_cell, part, c] : cells)
+      {
+        CellData<3> data(4);
+        for (unsigned int v = 0; v < 4; ++v)
+          {
+            const unsigned int w = part->cells[c][v];
+            const auto [entry, first_seen] =
+              local_vertex.emplace(part->body_vertex[w], points.size());
+            if (first_seen)
+              {
+                points.push_back(part->points[w]);
+                vertex_number.push_back(part->body_vertex[w]);
+                const auto holders = part->holders(w);
+                holder_parts.insert(holder_parts.end(), holders.begin(), holders.end());
+                holder_start.push_back(holder_parts.size());
+              }
+            data.vertices[v] = entry->second;
+          }
+        data.material_id = index;
+        cell_data.push_back(data);
+        cell_number.push_back(body_cell);
+        part_of_cell.push_back(part->part);
+      }
+    std::map<std::array<unsigned int, 3>, types::boundary_id> boundary_faces;
+    for (const auto &part : own)
+      for (const auto &[face, id] : part.boundary_faces)
+        {
+          std::array<unsigned int, 3> key;
+          for (unsigned int v = 0; v < 3; ++v)
+            key[v] = part.body_vertex[face[v]];
+          std::sort(key.begin(), key.end());
+          boundary_faces[key] = id;
+        }
+    mesh.clear();
+    if (!cell_data.empty()) // (a rank may own no part of this body)
+      mesh.create_triangulation(points, cell_data, SubCellData());
     for (const auto &cell : mesh.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary())
-          for (const auto &p : bc.prescribed_displacements)
-            if (p.boundary.contains(*face))
-              for (const unsigned int v : face->vertex_indices())
-                {
-                  const unsigned int vertex = face->vertex_index(v);
-                  auto              &value  = prescribed[vertex];
-                  auto              &from   = source[vertex];
-                  for (unsigned int c = 0; c < 3; ++c)
-                    if (p.value[c])
-                      {
-                        if (value[c] && from[c] != &p)
-                          {
-                            const double a = *value[c], b = *p.value[c];
-                            require(std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)),
-                                    "Body '" + parameters.name + "': the boundary parts <" +
-                                      from[c]->boundary.name() + "> and <" + p.boundary.name() +
-                                      "> prescribe different displacements (" +
-                                      InputParsing::number_text(a) + " and " +
-                                      InputParsing::number_text(b) + ") for component " +
-                                      std::to_string(c) + " at the vertex they share.");
-                          }
-                        value[c] = p.value[c];
-                        from[c]  = &p;
-                      }
-                }
+          {
+            std::array<unsigned int, 3> key;
+            for (unsigned int v = 0; v < 3; ++v)
+              key[v] = vertex_number[face->vertex_index(v)];
+            std::sort(key.begin(), key.end());
+            const auto it = boundary_faces.find(key);
+            face->set_boundary_id(it == boundary_faces.end() ? interface_boundary_id : it->second);
+          }
+    partition.part_of_cell = std::move(part_of_cell);
+    list_cells_of_parts();
+  }
 
-    partition = partition_cells(mesh, parameters.decomposition, parameters.mesh, parameters.name);
+  void
+  Body::list_cells_of_parts()
+  {
     cells_of_part.assign(partition.n_parts, {});
     for (const auto &cell : mesh.active_cell_iterators())
       cells_of_part[partition.part_of_cell[cell->active_cell_index()]].push_back(cell);
+  }
+
+  void
+  Body::set_up_boundary()
+  {
+    auto &bc = parameters.boundary_conditions;
+    for (auto &p : bc.prescribed_displacements)
+      p.boundary.resolve(mesh, parameters.name, mesh_comm());
+    for (auto &t : bc.tractions)
+      t.boundary.resolve(mesh, parameters.name, mesh_comm());
+    collect_prescribed();
+  }
+
+  namespace
+  {
+    /**
+     * One vertex's Γ_u as the boundary parts prescribe it: per component the value and the
+     * index of the prescription (the last in the parameter file wins among those that agree).
+     */
+    struct VertexPrescription
+    {
+      std::array<double, 3>       value{};
+      std::array<unsigned int, 3> source{{numbers::invalid_unsigned_int,
+                                          numbers::invalid_unsigned_int,
+                                          numbers::invalid_unsigned_int}};
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &value &source;
+      }
+    };
+
+    /**
+     * Adds component @p c = @p value of prescription @p p to @p target; two prescriptions that
+     * differ there contradict each other.
+     */
+    void
+    add_prescription(VertexPrescription                                    &target,
+                     const unsigned int                                     c,
+                     const double                                           value,
+                     const unsigned int                                     p,
+                     const std::vector<Parameters::PrescribedDisplacement> &list,
+                     const std::string                                     &body_name)
+    {
+      if (target.source[c] != numbers::invalid_unsigned_int && target.source[c] != p)
+        {
+          const double a = target.value[c], b = value;
+          require(std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)),
+                  "Body '" + body_name + "': the boundary parts <" +
+                    list[std::min(p, target.source[c])].boundary.name() + "> and <" +
+                    list[std::max(p, target.source[c])].boundary.name() +
+                    "> prescribe different displacements (" +
+                    InputParsing::number_text(p < target.source[c] ? b : a) + " and " +
+                    InputParsing::number_text(p < target.source[c] ? a : b) + ") for component " +
+                    std::to_string(c) + " at the vertex they share.");
+          if (p < target.source[c])
+            return;
+        }
+      target.value[c]  = value;
+      target.source[c] = p;
+    }
+  } // namespace
+
+  void
+  Body::collect_prescribed()
+  {
+    // Γ_u vertex by vertex from the boundary faces of this rank's mesh; two parts that prescribe
+    // different values for the same component of a vertex contradict each other.
+    const auto &list = parameters.boundary_conditions.prescribed_displacements;
+    std::map<unsigned int, VertexPrescription> found; // by body vertex
+    on_all_ranks_of(mesh_comm(), [&]() {
+      for (const auto &cell : mesh.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            for (unsigned int p = 0; p < list.size(); ++p)
+              if (list[p].boundary.contains(*face))
+                for (const unsigned int v : face->vertex_indices())
+                  for (unsigned int c = 0; c < 3; ++c)
+                    if (list[p].value[c])
+                      add_prescription(found[body_vertex(face->vertex_index(v))],
+                                       c,
+                                       *list[p].value[c],
+                                       p,
+                                       list,
+                                       parameters.name);
+    });
+    if (distributed())
+      {
+        // A vertex on an interface between ranks: its holders on other ranks may see boundary
+        // faces at it that this rank does not. Every rank sends what it found at such a vertex
+        // to the owners of the vertex's other parts.
+        std::map<unsigned int, std::vector<std::pair<unsigned int, VertexPrescription>>> outgoing;
+        for (unsigned int v = 0; v + 1 < holder_start.size(); ++v)
+          {
+            const auto it = found.find(vertex_number[v]);
+            if (it == found.end())
+              continue;
+            std::set<unsigned int> ranks;
+            for (unsigned int h = holder_start[v]; h < holder_start[v + 1]; ++h)
+              if (!holds_part(holder_parts[h]))
+                ranks.insert(part_owner[holder_parts[h]]);
+            for (const unsigned int r : ranks)
+              outgoing[r].push_back(*it);
+          }
+        const auto incoming = Utilities::MPI::some_to_some(comm, outgoing);
+        on_all_ranks_of(comm, [&]() {
+          for (const auto &[from, list_from] : incoming)
+            for (const auto &[vertex, prescription] : list_from)
+              for (unsigned int c = 0; c < 3; ++c)
+                if (prescription.source[c] != numbers::invalid_unsigned_int)
+                  add_prescription(found[vertex],
+                                   c,
+                                   prescription.value[c],
+                                   prescription.source[c],
+                                   list,
+                                   parameters.name);
+        });
+      }
+    prescribed.clear();
+    for (const auto &[vertex, prescription] : found)
+      {
+        Prescribed &value = prescribed[vertex];
+        for (unsigned int c = 0; c < 3; ++c)
+          if (prescription.source[c] != numbers::invalid_unsigned_int)
+            value[c] = prescription.value[c];
+      }
+  }
+
+  std::vector<std::vector<unsigned int>>
+  Body::parts_of_mesh_vertices() const
+  {
+    if (!distributed())
+      return parts_of_vertices(mesh, partition);
+    std::vector<std::vector<unsigned int>> parts(mesh.n_vertices());
+    for (unsigned int v = 0; v < parts.size(); ++v)
+      parts[v].assign(holder_parts.begin() + holder_start[v],
+                      holder_parts.begin() + holder_start[v + 1]);
+    return parts;
+  }
+
+  PartCells
+  Body::part_cells(const unsigned int part) const
+  {
+    return part_cells(part, parts_of_mesh_vertices());
   }
 
   PartCells
@@ -83,14 +322,14 @@ namespace FetiContact
         std::array<unsigned int, 4> local;
         for (const unsigned int v : cell->vertex_indices())
           {
-            const unsigned int body_vertex = cell->vertex_index(v);
+            const unsigned int mesh_vertex = cell->vertex_index(v);
             const auto [entry, first_seen] =
-              local_vertex.emplace(body_vertex, result.points.size());
+              local_vertex.emplace(mesh_vertex, result.points.size());
             if (first_seen)
               {
                 result.points.push_back(cell->vertex(v));
-                result.body_vertex.push_back(body_vertex);
-                const auto &holders = parts_of_vertex[body_vertex];
+                result.body_vertex.push_back(body_vertex(mesh_vertex));
+                const auto &holders = parts_of_vertex[mesh_vertex];
                 result.holder_parts.insert(result.holder_parts.end(),
                                            holders.begin(),
                                            holders.end());
@@ -99,8 +338,9 @@ namespace FetiContact
             local[v] = entry->second;
           }
         result.cells.push_back(local);
+        result.body_cell.push_back(body_cell(cell->active_cell_index()));
         for (const auto &face : cell->face_iterators())
-          if (face->at_boundary())
+          if (face->at_boundary() && face->boundary_id() != interface_boundary_id)
             {
               std::array<unsigned int, 3> key;
               for (unsigned int v = 0; v < 3; ++v)
@@ -110,12 +350,6 @@ namespace FetiContact
             }
       }
     return result;
-  }
-
-  PartCells
-  Body::part_cells(const unsigned int part) const
-  {
-    return part_cells(part, parts_of_vertices(mesh, partition));
   }
 
   Tensor<1, 3>
@@ -135,23 +369,36 @@ namespace FetiContact
   FreeRigidMotions
   Body::free_rigid_motions() const
   {
-    FreeRigidMotions motions;
-    Point<3>         lower, upper;
-    unsigned int     n = 0;
+    // Every vertex of the body once, by the rank that reports it.
+    FreeRigidMotions          motions;
+    const auto                parts = parts_of_mesh_vertices();
+    std::vector<unsigned int> reported;
     for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
-      if (mesh.get_used_vertices()[v])
-        {
-          const Point<3> &x = mesh.get_vertices()[v];
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              lower[d] = n == 0 ? x[d] : std::min(lower[d], x[d]);
-              upper[d] = n == 0 ? x[d] : std::max(upper[d], x[d]);
-            }
-          motions.centre += x;
-          ++n;
-        }
+      if (reports(v, parts))
+        reported.push_back(v);
+    const double inf = std::numeric_limits<double>::infinity();
+    Point<3>     lower(inf, inf, inf), upper(-inf, -inf, -inf);
+    for (const unsigned int v : reported)
+      {
+        const Point<3> &x = mesh.get_vertices()[v];
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            lower[d] = std::min(lower[d], x[d]);
+            upper[d] = std::max(upper[d], x[d]);
+          }
+        motions.centre += x;
+      }
+    const MPI_Comm     mc = mesh_comm();
+    const unsigned int n  = Utilities::MPI::sum<unsigned int>(reported.size(), mc);
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        motions.centre[d] = Utilities::MPI::sum(motions.centre[d], mc);
+        lower[d]          = Utilities::MPI::min(lower[d], mc);
+        upper[d]          = Utilities::MPI::max(upper[d], mc);
+      }
     motions.centre /= std::max(n, 1u);
-    motions.length = std::max(lower.distance(upper), std::numeric_limits<double>::min());
+    motions.length =
+      std::max(n > 0 ? lower.distance(upper) : 0., std::numeric_limits<double>::min());
 
     // M = Σ φᵀφ over all DoFs, P = the same over the prescribed DoFs (6 × 6 each); the free
     // motions are the eigenvectors of M^{-1/2} P M^{-1/2} with eigenvalues below 1e-10 (their
@@ -161,14 +408,12 @@ namespace FetiContact
     unit.centre       = motions.centre;
     unit.length       = motions.length;
     unit.coefficients = IdentityMatrix(6);
-    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+    for (const unsigned int v : reported)
       {
-        if (!mesh.get_used_vertices()[v])
-          continue;
         std::array<Tensor<1, 3>, 6> phi;
         for (unsigned int i = 0; i < 6; ++i)
           phi[i] = unit.value(i, mesh.get_vertices()[v]);
-        const auto it = prescribed.find(v);
+        const auto it = prescribed.find(body_vertex(v));
         for (unsigned int c = 0; c < 3; ++c)
           {
             const bool fixed = it != prescribed.end() && it->second[c].has_value();
@@ -181,6 +426,8 @@ namespace FetiContact
                 }
           }
       }
+    for (auto *matrix : {&M, &P})
+      Utilities::MPI::sum(*matrix, mc, *matrix);
     std::vector<double> w;
     FullMatrix<double>  V;
     symmetric_eigen(M, w, V);
@@ -237,6 +484,7 @@ namespace FetiContact
                     work[j] += traction.value * motions.value(j, face->center()) * area;
                 }
       }
+    Utilities::MPI::sum(work, mesh_comm(), work);
     return work;
   }
 
@@ -255,11 +503,15 @@ namespace FetiContact
   unsigned int
   Body::n_free_dofs() const
   {
-    unsigned int n = 3 * mesh.n_used_vertices();
-    for (const auto &[v, value] : prescribed)
-      for (const auto &c : value)
-        if (c)
-          --n;
-    return n;
+    const auto   parts = parts_of_mesh_vertices();
+    unsigned int n     = 0;
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      if (reports(v, parts))
+        {
+          const auto it = prescribed.find(body_vertex(v));
+          for (unsigned int c = 0; c < 3; ++c)
+            n += it == prescribed.end() || !it->second[c];
+        }
+    return Utilities::MPI::sum(n, mesh_comm());
   }
 } // namespace FetiContact

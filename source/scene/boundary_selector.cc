@@ -1,9 +1,11 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/boundary_selector.h>
 
 #include <cmath>
+#include <limits>
 
 namespace FetiContact
 {
@@ -47,25 +49,40 @@ namespace FetiContact
   }
 
   void
-  BoundarySelector::resolve(const Triangulation<3> &mesh, const std::string &body_name)
+  BoundarySelector::resolve(const Triangulation<3> &mesh,
+                            const std::string      &body_name,
+                            const MPI_Comm          comm)
   {
     if (kind == Kind::boundary_id)
       {
-        const auto ids = mesh.get_boundary_ids();
-        require(std::find(ids.begin(), ids.end(), id) != ids.end(),
+        const auto ids   = mesh.get_boundary_ids();
+        const bool found = std::find(ids.begin(), ids.end(), id) != ids.end();
+        require(Utilities::MPI::logical_or(found, comm),
                 ("Body '" + body_name + "': boundary id " + std::to_string(id) +
                  " is used in the scene but the mesh has no boundary face with "
                  "this id."));
         return;
       }
-    const auto box = GridTools::compute_bounding_box(mesh);
+    // The bounding box of the body's vertices (of every rank's cells).
+    const double inf = std::numeric_limits<double>::infinity();
+    Point<3>     lower(inf, inf, inf), upper(-inf, -inf, -inf);
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      if (mesh.get_used_vertices()[v])
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            lower[d] = std::min(lower[d], mesh.get_vertices()[v][d]);
+            upper[d] = std::max(upper[d], mesh.get_vertices()[v][d]);
+          }
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        lower[d] = Utilities::MPI::min(lower[d], comm);
+        upper[d] = Utilities::MPI::max(upper[d], comm);
+      }
     if (bound < 0)
-      value = box.get_boundary_points().first[axis];
+      value = lower[axis];
     else if (bound > 0)
-      value = box.get_boundary_points().second[axis];
-    const double diameter =
-      box.get_boundary_points().first.distance(box.get_boundary_points().second);
-    tolerance = 1e-8 * diameter;
+      value = upper[axis];
+    tolerance = 1e-8 * lower.distance(upper);
 
     bool found = false;
     for (const auto &cell : mesh.active_cell_iterators())
@@ -75,7 +92,7 @@ namespace FetiContact
             found = true;
             break;
           }
-    require(found,
+    require(Utilities::MPI::logical_or(found, comm),
             ("Body '" + body_name + "': no boundary face lies in the plane <" + text + ">."));
   }
 

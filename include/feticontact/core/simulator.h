@@ -266,8 +266,8 @@ namespace FetiContact
     std::vector<std::unique_ptr<Body>> bodies;
     std::vector<unsigned int>          first_subdomain; ///< per body, + total at the end
     /** Verification/Reference displacements, by body and vertex (empty: none). */
-    std::vector<std::vector<dealii::Tensor<1, 3>>> reference_displacements;
-    std::vector<unsigned int>                      owner; ///< rank of each subdomain
+    std::optional<VertexDisplacements> reference_displacements;
+    std::vector<unsigned int>          owner; ///< rank of each subdomain
     /**
      * The reserves of the node's ranks: factors in shared memory, whose local work in every
      * multiplication by F the ranks share (FETI/Shared local work > 0, if possible).

@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <mpi.h>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,13 +62,13 @@ namespace FetiContact::Postprocessing
     /** The force of the contacts on each body. */
     const std::vector<dealii::Tensor<1, 3>> &contact_forces;
     /** Verification/Reference displacements, by body and vertex (empty: none). */
-    const std::vector<std::vector<dealii::Tensor<1, 3>>> &reference_displacements;
-    const dealii::Mapping<3>                             &mapping;
-    const dealii::FiniteElement<3>                       &fe;
-    const std::string                                    &output_directory;
-    ResultFiles                                          &result_files;
-    Summary                                              &summary;
-    const dealii::ConditionalOStream                     &pcout;
+    const std::optional<VertexDisplacements> &reference_displacements;
+    const dealii::Mapping<3>                 &mapping;
+    const dealii::FiniteElement<3>           &fe;
+    const std::string                        &output_directory;
+    ResultFiles                              &result_files;
+    Summary                                  &summary;
+    const dealii::ConditionalOStream         &pcout;
 
     /** Whether this is rank 0, which writes the files of the whole scene. */
     bool

@@ -49,9 +49,10 @@ namespace FetiContact
    * Reads @p file, a displacements.csv (columns body, x, y, z, ux, uy, uz; without the body
    * column every row belongs to body 0) and matches its rows to the vertices of the bodies by
    * position (to 1e-9 of each body's size). Throws InputError, naming the file and the point,
-   * if a vertex has no row or the file is malformed. Returns the displacement of each vertex.
+   * if a vertex has no row or the file is malformed. Returns the displacement of each vertex of
+   * the cells this rank holds. Collective.
    */
-  std::vector<std::vector<dealii::Tensor<1, 3>>>
+  VertexDisplacements
   read_reference_displacements(const std::string                        &file,
                                const std::vector<std::unique_ptr<Body>> &bodies);
 
@@ -62,11 +63,11 @@ namespace FetiContact
    * elimination (Σ_s over the subdomains is the stiffness of the whole body), over all ranks.
    */
   ReferenceDifference
-  compare_with_reference(const MPI_Comm                                        comm,
-                         const std::vector<Subdomain *>                       &owned,
-                         const dealii::Mapping<3>                             &mapping,
-                         const std::vector<dealii::Vector<double>>            &u,
-                         const std::vector<std::vector<dealii::Tensor<1, 3>>> &reference);
+  compare_with_reference(const MPI_Comm                             comm,
+                         const std::vector<Subdomain *>            &owned,
+                         const dealii::Mapping<3>                  &mapping,
+                         const std::vector<dealii::Vector<double>> &u,
+                         const VertexDisplacements                 &reference);
 
   /**
    * The displacements of the vertices of the triangles of @p surfaces, from the displacements

@@ -4,6 +4,7 @@
 #include <deal.II/base/types.h>
 #include <deal.II/grid/tria.h>
 
+#include <mpi.h>
 #include <string>
 
 namespace FetiContact
@@ -29,11 +30,16 @@ namespace FetiContact
 
     /**
      * Fixes the numeric value of `xmin`-like planes from the body's bounding box and checks
-     * that the selector names a part of @p mesh's boundary (an existing boundary id, or a plane
-     * that contains at least one boundary face). Throws with a message naming the selector.
+     * that the selector names a part of the body's boundary (an existing boundary id, or a plane
+     * that contains at least one boundary face). @p mesh holds this rank's cells of the body and
+     * @p comm the ranks that hold the others (MPI_COMM_SELF for a whole mesh); faces with
+     * interface_boundary_id are not on the body's boundary. Throws with a message naming the
+     * selector on every rank. Collective.
      */
     void
-    resolve(const dealii::Triangulation<3> &mesh, const std::string &body_name);
+    resolve(const dealii::Triangulation<3> &mesh,
+            const std::string              &body_name,
+            const MPI_Comm                  comm = MPI_COMM_SELF);
 
     /** Whether the boundary face @p face belongs to this part of the boundary. */
     bool

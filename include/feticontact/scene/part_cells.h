@@ -5,6 +5,9 @@
 #include <deal.II/base/types.h>
 
 #include <array>
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
 #include <utility>
 #include <vector>
 
@@ -30,8 +33,18 @@ namespace FetiContact
     std::vector<unsigned int> holder_parts;
     /** The tetrahedra, by local vertex number, in the order of the body's active cells. */
     std::vector<std::array<unsigned int, 4>> cells;
+    /** Per tetrahedron: its active cell index in the body's mesh. */
+    std::vector<unsigned int> body_cell;
     /** The faces on the body's boundary: local vertex numbers (increasing) and boundary id. */
     std::vector<std::pair<std::array<unsigned int, 3>, dealii::types::boundary_id>> boundary_faces;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &part &points &body_vertex &holder_start &holder_parts &cells &body_cell
+        &boundary_faces;
+    }
 
     /** The number of vertices. */
     unsigned int

@@ -3,8 +3,8 @@
 a fixed global size.
 
     python3 benchmarks/communication.py [--exe build/feticontact] [--prm prm/brick_contact.prm]
-        [--k 16] [--blocks 8,2,2] [--np 1,2,4,8,16] [--csv doc/data/communication.csv]
-        [--markdown doc/data/communication.md] [--report-only]
+        [--k 16] [--blocks 8,2,2] [--np 1,2,4,8,16] [--dual-vectors replicated]
+        [--csv doc/data/communication.csv] [--markdown doc/data/communication.md] [--report-only]
 
 Every case runs the program once on `mpirun -np N --oversubscribe` (one MSA step: the volumes
 and the memory do not depend on the number of iterations) and reads from summary.json, per
@@ -16,8 +16,11 @@ rank (`communication.*_per_rank`, `memory.peak_rss_mib_per_rank`):
 - distributed dual vectors: the ghost rows a rank imports (point to point) and from how many
   ranks;
 - the values received per application of F on either kind (slots + gathered or + ghosts);
-- the peak resident memory, and the memory of the meshes, which every rank holds whole
-  (`memory.meshes_mib`).
+- the peak resident memory, and the memory of the meshes that a rank holds (`memory.meshes_mib`;
+  whole with replicated dual vectors, the rank's own cells with distributed ones).
+
+--dual-vectors sets `FETI/Dual vectors` (the exchanges are counted for both kinds either way;
+the memory is that of the setting).
 
 The table gives the largest value over the ranks (and the smallest for the memory). The CSV is
 rewritten after every case; --report-only writes the table from it. Standard library only.
@@ -29,7 +32,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
 from runs import collect_rows, summary_of_run, write_table  # noqa: E402
 
-arguments(__doc__, ["--exe", "--prm", "--k", "--blocks", "--np", "--csv", "--markdown"],
+arguments(__doc__, ["--exe", "--prm", "--k", "--blocks", "--np", "--dual-vectors", "--csv",
+                    "--markdown"],
           ["--report-only"])
 
 EXE = option("--exe", "build/feticontact")
@@ -37,6 +41,7 @@ PRM = option("--prm", "prm/brick_contact.prm")
 K = int(option("--k", "16"))
 BLOCKS = option("--blocks", "8,2,2")
 NP = [int(n) for n in option("--np", "1,2,4,8,16").split(",")]
+DUAL_VECTORS = option("--dual-vectors", "replicated")
 CSV = option("--csv", "doc/data/communication.csv")
 MD = option("--markdown", "doc/data/communication.md")
 
@@ -52,7 +57,8 @@ def run(np_):
                                   "Body 1/Decomposition/Method=blocks",
                                   "Body 1/Decomposition/Blocks=" + BLOCKS.replace(",", ", "),
                                   "Contact solver/Maximum MSA iterations=1",
-                                  "Output/Write vtu=false"], np=np_)
+                                  "Output/Write vtu=false",
+                                  "FETI/Dual vectors=" + DUAL_VECTORS], np=np_)
     c, m = s["communication"], s["memory"]["peak_rss_mib_per_rank"]
     replicated = [a + b for a, b in zip(c["slots_received_per_rank"],
                                         c["gathered_values_per_rank"])]
@@ -72,9 +78,10 @@ def run(np_):
 
 def write_markdown(rows):
     lines = ["Brick `%s`, Subdivisions %d, %d, %d, blocks %s (%s subdomains, m = %s dual "
-             "unknowns); values per application of F, the largest over the ranks "
-             "(`python3 benchmarks/communication.py`)." % (
-                 PRM, 3 * K, K, K, BLOCKS, rows[0]["n_subdomains"], rows[0]["m_total"]),
+             "unknowns), %s dual vectors; values per application of F, the largest over the "
+             "ranks (`python3 benchmarks/communication.py`)." % (
+                 PRM, 3 * K, K, K, BLOCKS, rows[0]["n_subdomains"], rows[0]["m_total"],
+                 DUAL_VECTORS),
              "",
              "| np | slot neighbours | slots received | replicated: row sums gathered | "
              "distributed: ghost neighbours | ghosts received | received per F, replicated | "

@@ -2,6 +2,7 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/core/memory_estimate.h>
+#include <feticontact/scene/lattice_parts.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +23,11 @@ namespace FetiContact
     constexpr double baseline_mib        = 182.0;   ///< M₀
     constexpr double mib_per_cell        = 4.59e-4; ///< a
     constexpr double mib_per_factor_unit = 2.05e-4; ///< b_f
+    /**
+     * a_m: a cell of a whole mesh alone (Triangulation::memory_consumption(): 136.2 MiB for the
+     * 196,608 cells of the brick at k = 32, doc/data/communication_k32.md).
+     */
+    constexpr double mib_per_mesh_cell = 136.2 / 196608;
     /** The largest relative error of the model on the measured peaks, rounded up. */
     constexpr double model_error = 0.1;
 
@@ -156,9 +162,12 @@ namespace FetiContact
     {
       std::vector<double> cells, vertices, parts;
       std::vector<bool>   box;
-      bool                monolithic    = false;
-      unsigned int        n_ranks       = 1;
-      unsigned int        ranks_on_node = 1; ///< the least over the machines of the run
+      bool                monolithic = false;
+      /** Whether the cells are distributed, and which bodies rank 0 creates whole then. */
+      bool              distributed = false;
+      std::vector<bool> whole_on_root;
+      unsigned int      n_ranks       = 1;
+      unsigned int      ranks_on_node = 1; ///< the least over the machines of the run
 
       double
       cells_at(const unsigned int b, const double s) const
@@ -179,22 +188,37 @@ namespace FetiContact
             units += parts[b] * std::pow(3 * v_part, 4.0 / 3.0);
             whole += std::pow(3 * v, 4.0 / 3.0);
           }
-        // The largest rank's share of the parts; the monolithic solve (rank 0 alone) shared
-        // among the ranks of its machine, whose memory they share.
+        // The monolithic solve (rank 0 alone) shared among the ranks of its machine, whose
+        // memory they share.
+        return units * share() + (monolithic ? whole / ranks_on_node : 0);
+      }
+
+      /** The largest rank's share of the parts. */
+      double
+      share() const
+      {
         double n_parts = 0;
         for (const double p : parts)
           n_parts += p;
-        const double share = std::ceil(n_parts / n_ranks) / n_parts;
-        return units * share + (monolithic ? whole / ranks_on_node : 0);
+        return std::ceil(n_parts / n_ranks) / n_parts;
       }
 
       double
       peak_mib(const double s) const
       {
-        double c = 0;
+        // Distributed cells: the rank's share of them, and on rank 0 the whole meshes that it
+        // creates and cuts.
+        double c = 0, whole = 0;
         for (unsigned int b = 0; b < cells.size(); ++b)
-          c += cells_at(b, s);
-        return baseline_mib + mib_per_cell * c + mib_per_factor_unit * factor_units(s);
+          {
+            c += cells_at(b, s);
+            if (distributed && whole_on_root[b])
+              whole += cells_at(b, s);
+          }
+        if (distributed)
+          c *= share();
+        return baseline_mib + mib_per_cell * c + mib_per_mesh_cell * whole +
+               mib_per_factor_unit * factor_units(s);
       }
     };
 
@@ -202,8 +226,12 @@ namespace FetiContact
     model_of(const Parameters::Scene &scene, const unsigned int n_ranks)
     {
       Model model;
-      model.n_ranks    = n_ranks;
-      model.monolithic = scene.verification.compare_with_monolithic && scene.contact.zones.empty();
+      model.n_ranks = n_ranks;
+      model.distributed =
+        scene.feti.dual_vectors == Parameters::Feti::DualVectors::distributed && n_ranks > 1;
+      // (With distributed cells the monolithic comparison is skipped.)
+      model.monolithic = scene.verification.compare_with_monolithic &&
+                         scene.contact.zones.empty() && !model.distributed;
       for (const auto &body : scene.bodies)
         {
           const auto [c, v] = mesh_size(body.mesh);
@@ -214,6 +242,7 @@ namespace FetiContact
                                                    1.0,
                                                    std::max(1.0, c)));
           model.box.push_back(body.mesh.type == Parameters::Mesh::Type::box);
+          model.whole_on_root.push_back(!LatticeParts::of(body).has_value());
         }
       return model;
     }

@@ -172,14 +172,10 @@ namespace FetiContact
     // partitions every mesh, and every rank keeps the cells of its own subdomains.
     const bool distributed =
       parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
-    const std::string whole_meshes =
-      " assembles the undecomposed bodies on rank 0, and with 'FETI/Dual vectors = distributed' "
-      "on several ranks no rank holds their whole meshes: use 'Dual vectors = replicated' or one "
-      "rank for it.";
     require(!distributed || n_ranks == 1 || !parameters.output.write_fclib,
-            "Output/Write FCLIB problem: the export" + whole_meshes);
-    require(!distributed || n_ranks == 1 || !parameters.verification.compare_with_monolithic,
-            "Verification/Compare with monolithic solve: the comparison" + whole_meshes);
+            "Output/Write FCLIB problem: the export assembles the undecomposed bodies on rank 0, "
+            "and with 'FETI/Dual vectors = distributed' on several ranks no rank holds their "
+            "whole meshes: use 'Dual vectors = replicated' or one rank for it.");
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)

@@ -67,7 +67,9 @@ namespace FetiContact::Parameters
       "subdomain is its own), gets the other rows of its subdomains from the neighbouring ranks, "
       "and the dot products and norms are the only global reductions; G is held by the columns "
       "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor stays on every "
-      "rank). Either way the iterates "
+      "rank); on several ranks the bodies' meshes are distributed too: rank 0 creates and "
+      "partitions them and every rank keeps the cells of its own subdomains (the FCLIB export "
+      "then needs 'replicated'). Either way the iterates "
       "and iteration counts are the same on any number of ranks; between the two they differ "
       "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
     QP::ProjectedCGParameters::declare_parameters(prm);

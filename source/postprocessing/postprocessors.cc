@@ -201,6 +201,14 @@ namespace FetiContact::Postprocessing
                     << std::endl;
         return;
       }
+    if (input.bodies.front()->distributed())
+      {
+        input.pcout << "Comparison with a monolithic solve skipped: it solves the undecomposed "
+                       "bodies on one rank, and with 'FETI/Dual vectors = distributed' on several "
+                       "ranks no rank holds their whole meshes."
+                    << std::endl;
+        return;
+      }
     // The undecomposed bodies are solved on rank 0, which gathers every vertex's displacement.
     const auto vertex_u =
       gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);

@@ -54,6 +54,17 @@ namespace FetiContact
         list_cells_of_parts();
         return;
       }
+    lattice = LatticeParts::of(parameters);
+    if (lattice)
+      {
+        partition.n_parts = lattice->n_parts();
+        cells_per_part.resize(partition.n_parts);
+        for (unsigned int p = 0; p < partition.n_parts; ++p)
+          cells_per_part[p] = lattice->n_cells(p);
+        n_cells    = lattice->n_cells();
+        n_vertices = lattice->n_vertices();
+        return;
+      }
     on_all_ranks_of(comm, create);
     cells_per_part    = Utilities::MPI::broadcast(comm, cells_per_part, 0);
     partition.n_parts = cells_per_part.size();
@@ -66,27 +77,42 @@ namespace FetiContact
   {
     if (!cells_distributed)
       return;
-    // Rank 0 cuts every part from the whole mesh and sends it to its owner.
     part_owner.resize(partition.n_parts);
     for (unsigned int p = 0; p < partition.n_parts; ++p)
       part_owner[p] = owner(p);
-    std::map<unsigned int, std::vector<PartCells>> outgoing;
-    if (Utilities::MPI::this_mpi_process(comm) == 0)
-      {
-        list_cells_of_parts();
-        const auto parts = parts_of_vertices(mesh, partition);
-        for (unsigned int p = 0; p < partition.n_parts; ++p)
-          outgoing[part_owner[p]].push_back(part_cells(p, parts));
-        mesh.clear();
-      }
+    const unsigned int     rank = Utilities::MPI::this_mpi_process(comm);
     std::vector<PartCells> own;
-    for (auto &[from, list] : Utilities::MPI::some_to_some(comm, outgoing))
-      for (auto &part : list)
-        own.push_back(std::move(part));
-    std::sort(own.begin(), own.end(), [](const PartCells &a, const PartCells &b) {
-      return a.part < b.part;
-    });
+    if (lattice)
+      for (unsigned int p = 0; p < partition.n_parts; ++p)
+        {
+          if (part_owner[p] == rank)
+            own.push_back(lattice->part_cells(p));
+        }
+    else
+      {
+        // Rank 0 cuts every part from the whole mesh and sends it to its owner.
+        std::map<unsigned int, std::vector<PartCells>> outgoing;
+        if (rank == 0)
+          {
+            list_cells_of_parts();
+            const auto parts = parts_of_vertices(mesh, partition);
+            for (unsigned int p = 0; p < partition.n_parts; ++p)
+              outgoing[part_owner[p]].push_back(part_cells(p, parts));
+            mesh.clear();
+          }
+        for (auto &[from, list] : Utilities::MPI::some_to_some(comm, outgoing))
+          for (auto &part : list)
+            own.push_back(std::move(part));
+        std::sort(own.begin(), own.end(), [](const PartCells &a, const PartCells &b) {
+          return a.part < b.part;
+        });
+      }
+    hold(own);
+  }
 
+  void
+  Body::hold(const std::vector<PartCells> &own)
+  {
     // This rank's mesh: the cells of its parts in the order of the body's cells, their vertices
     // merged by their numbers in the body; faces on the body's boundary keep their ids, the
     // others that bound this rank's cells become interface faces.

@@ -304,6 +304,41 @@ namespace FetiContact::MeshGeneration
     }
   } // namespace
 
+  Point<3>
+  kuhn_lattice_point(const std::array<unsigned int, 3> &n,
+                     const Point<3>                    &p1,
+                     const Point<3>                    &p2,
+                     const std::array<unsigned int, 3> &i)
+  {
+    return Point<3>(p1[0] + (p2[0] - p1[0]) * i[0] / n[0],
+                    p1[1] + (p2[1] - p1[1]) * i[1] / n[1],
+                    p1[2] + (p2[2] - p1[2]) * i[2] / n[2]);
+  }
+
+  std::array<std::array<unsigned int, 3>, 4>
+  kuhn_tetrahedron(const std::array<unsigned int, 3> &n,
+                   const Point<3>                    &p1,
+                   const Point<3>                    &p2,
+                   const std::array<unsigned int, 3> &cube,
+                   const unsigned int                 t)
+  {
+    // The six monotone lattice paths from corner 0 to corner 7 of the unit cube, one per
+    // ordering of the axes; corner c has offsets (c & 1, (c >> 1) & 1, (c >> 2) & 1).
+    static const unsigned int paths[6][4] = {
+      {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+    std::array<std::array<unsigned int, 3>, 4> vertex;
+    std::array<Point<3>, 4>                    p;
+    for (unsigned int v = 0; v < 4; ++v)
+      {
+        const unsigned int c = paths[t][v];
+        vertex[v] = {{cube[0] + (c & 1), cube[1] + ((c >> 1) & 1), cube[2] + ((c >> 2) & 1)}};
+        p[v]      = kuhn_lattice_point(n, p1, p2, vertex[v]);
+      }
+    if (signed_volume(p) < 0)
+      std::swap(vertex[1], vertex[2]);
+    return vertex;
+  }
+
   void
   subdivided_box_kuhn(Triangulation<3>                  &mesh,
                       const std::array<unsigned int, 3> &n,
@@ -315,39 +350,63 @@ namespace FetiContact::MeshGeneration
     for (unsigned int k = 0; k <= n[2]; ++k)
       for (unsigned int j = 0; j <= n[1]; ++j)
         for (unsigned int i = 0; i <= n[0]; ++i)
-          vertices.emplace_back(p1[0] + (p2[0] - p1[0]) * i / n[0],
-                                p1[1] + (p2[1] - p1[1]) * j / n[1],
-                                p1[2] + (p2[2] - p1[2]) * k / n[2]);
-    const auto index = [&](unsigned int i, unsigned int j, unsigned int k) {
-      return i + (n[0] + 1) * (j + (n[1] + 1) * k);
-    };
-
-    // The six monotone lattice paths from corner 0 to corner 7 of the unit cube, one per
-    // ordering of the axes; corner c has offsets (c & 1, (c >> 1) & 1, (c >> 2) & 1).
-    const unsigned int paths[6][4] = {
-      {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
-
+          vertices.push_back(kuhn_lattice_point(n, p1, p2, {{i, j, k}}));
     std::vector<CellData<3>> cells;
     cells.reserve(6 * n[0] * n[1] * n[2]);
     for (unsigned int k = 0; k < n[2]; ++k)
       for (unsigned int j = 0; j < n[1]; ++j)
         for (unsigned int i = 0; i < n[0]; ++i)
-          for (const auto &path : paths)
+          for (unsigned int t = 0; t < 6; ++t)
             {
-              CellData<3>             cell(4);
-              std::array<Point<3>, 4> p;
+              CellData<3> cell(4);
+              const auto  vertex = kuhn_tetrahedron(n, p1, p2, {{i, j, k}}, t);
               for (unsigned int v = 0; v < 4; ++v)
-                {
-                  const unsigned int c = path[v];
-                  cell.vertices[v]     = index(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-                  p[v]                 = vertices[cell.vertices[v]];
-                }
-              if (signed_volume(p) < 0)
-                std::swap(cell.vertices[1], cell.vertices[2]);
+                cell.vertices[v] =
+                  vertex[v][0] + (n[0] + 1) * (vertex[v][1] + (n[1] + 1) * vertex[v][2]);
               cells.push_back(cell);
             }
     mesh.create_triangulation(vertices, cells, SubCellData());
     colorize_box_faces(mesh, p1, p2);
+  }
+
+  Point<3>
+  graded_point(const Point<3> &x,
+               const Point<3> &p1,
+               const Point<3> &p2,
+               const Point<3> &focus,
+               const double    grading,
+               const double    spherical_bottom_radius)
+  {
+    const double beta = grading, R = spherical_bottom_radius;
+    if (beta == 0 && R == 0)
+      return x;
+    // The distance from the focus to the face on the side of x_d (0 when the focus lies on it).
+    const auto side = [&](const unsigned int d, const double x_d) {
+      return x_d >= focus[d] ? p2[d] - focus[d] : focus[d] - p1[d];
+    };
+    Point<3> xi;
+    double   rho = 0;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        const double length = side(d, x[d]);
+        xi[d]               = length > 0 ? (x[d] - focus[d]) / length : 0.;
+        rho                 = std::max(rho, std::abs(xi[d]));
+      }
+    // g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1); its limit β/(e^β − 1) at ρ = 0.
+    const double scale = beta == 0 ? 1. :
+                                     (rho > 0 ? std::expm1(beta * rho) / std::expm1(beta) / rho :
+                                                beta / std::expm1(beta));
+    Point<3>     y;
+    for (unsigned int d = 0; d < 3; ++d)
+      y[d] = focus[d] + scale * xi[d] * side(d, x[d]);
+    if (R > 0)
+      {
+        const double r2 =
+          (y[0] - focus[0]) * (y[0] - focus[0]) + (y[1] - focus[1]) * (y[1] - focus[1]);
+        const double zeta = (y[2] - p1[2]) / (p2[2] - p1[2]);
+        y[2] += (1 - zeta) * (R - std::sqrt(R * R - r2));
+      }
+    return y;
   }
 
   void
@@ -358,39 +417,11 @@ namespace FetiContact::MeshGeneration
                  const double      grading,
                  const double      spherical_bottom_radius)
   {
-    const double beta = grading, R = spherical_bottom_radius;
-    if (beta == 0 && R == 0)
+    if (grading == 0 && spherical_bottom_radius == 0)
       return;
-    // The distance from the focus to the face on the side of x_d (0 when the focus lies on it).
-    const auto side = [&](const unsigned int d, const double x) {
-      return x >= focus[d] ? p2[d] - focus[d] : focus[d] - p1[d];
-    };
     GridTools::transform(
       [&](const Point<3> &x) {
-        Point<3> xi;
-        double   rho = 0;
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            const double length = side(d, x[d]);
-            xi[d]               = length > 0 ? (x[d] - focus[d]) / length : 0.;
-            rho                 = std::max(rho, std::abs(xi[d]));
-          }
-        // g(ρ)/ρ with g(ρ) = (e^{βρ} − 1)/(e^β − 1); its limit β/(e^β − 1) at ρ = 0.
-        const double scale =
-          beta == 0 ?
-            1. :
-            (rho > 0 ? std::expm1(beta * rho) / std::expm1(beta) / rho : beta / std::expm1(beta));
-        Point<3> y;
-        for (unsigned int d = 0; d < 3; ++d)
-          y[d] = focus[d] + scale * xi[d] * side(d, x[d]);
-        if (R > 0)
-          {
-            const double r2 =
-              (y[0] - focus[0]) * (y[0] - focus[0]) + (y[1] - focus[1]) * (y[1] - focus[1]);
-            const double zeta = (y[2] - p1[2]) / (p2[2] - p1[2]);
-            y[2] += (1 - zeta) * (R - std::sqrt(R * R - r2));
-          }
-        return y;
+        return graded_point(x, p1, p2, focus, grading, spherical_bottom_radius);
       },
       mesh);
   }

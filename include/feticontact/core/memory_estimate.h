@@ -28,6 +28,11 @@ namespace FetiContact
    * doc/performance.md, "Memory"); a run is refused only when even the estimate less 10 % exceeds
    * the memory available. Box meshes give C and V from their subdivisions, Gmsh files from the
    * counts in their $Nodes and $Elements headers.
+   *
+   * With the cells distributed over the ranks (FETI/Dual vectors = distributed, np > 1) the cell
+   * term is the largest rank's share, s a Σ_b C_b, plus a_m C_b for every body whose mesh rank 0
+   * creates whole (all but the blocks of generated boxes, LatticeParts), a_m the memory of a
+   * cell of a whole mesh, and there is no monolithic solve.
    */
   struct MemoryEstimate
   {

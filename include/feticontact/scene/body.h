@@ -6,6 +6,7 @@
 
 #include <feticontact/scene/body_parameters.h>
 #include <feticontact/scene/decomposition.h>
+#include <feticontact/scene/lattice_parts.h>
 #include <feticontact/scene/part_cells.h>
 
 #include <array>
@@ -46,11 +47,12 @@ namespace FetiContact
    * of its cells into FETI subdomains.
    *
    * The mesh is the cells this rank holds: every cell of the body (replicated), or, distributed
-   * over the ranks of a communicator, the cells of the parts this rank owns. Rank 0 then creates
-   * the whole mesh and partitions it, sends every rank the cells of its parts (PartCells) and
-   * keeps only its own. The vertices and cells keep the numbers they have in the whole mesh
-   * (body_vertex(), body_cell()); what concerns the whole body (selectors, Γ_u along the
-   * interfaces, rigid motions, loads, counts) is reduced over the ranks.
+   * over the ranks of a communicator, the cells of the parts this rank owns. Every rank then makes
+   * the cells of its own parts where the parts are blocks of a generated box (LatticeParts);
+   * otherwise rank 0 creates the whole mesh and partitions it, sends every rank the cells of its
+   * parts (PartCells) and keeps only its own. The vertices and cells keep the numbers they have in
+   * the whole mesh (body_vertex(), body_cell()); what concerns the whole body (selectors, Γ_u along
+   * the interfaces, rigid motions, loads, counts) is reduced over the ranks.
    */
   class Body
   {
@@ -69,15 +71,16 @@ namespace FetiContact
 
     /**
      * Creates the mesh and its partition: on every rank of @p comm, or with @p distributed only
-     * on rank 0, which tells the others the number of cells of every part. Collective.
+     * on rank 0, which tells the others the number of cells of every part (on no rank for the
+     * blocks of a generated box, whose parts every rank knows). Collective.
      */
     void
     create_and_partition(const MPI_Comm comm, const bool distributed);
 
     /**
-     * Distributed: rank 0 sends every rank the cells of the parts that @p owner (a part's rank)
-     * gives it, and every rank makes its mesh of the cells it receives. Replicated: nothing.
-     * Collective.
+     * Distributed: every rank makes its mesh of the cells of the parts that @p owner (a part's
+     * rank) gives it, which it generates (blocks of a box) or receives from rank 0. Replicated:
+     * nothing. Collective.
      */
     void
     distribute(const std::function<unsigned int(unsigned int)> &owner);
@@ -203,12 +206,18 @@ namespace FetiContact
     void
     list_cells_of_parts();
 
+    /** Makes this rank's mesh of the cells of its parts @p own (distributed). */
+    void
+    hold(const std::vector<PartCells> &own);
+
     /** Γ_u from the boundary faces of this rank's mesh, made consistent over the ranks. */
     void
     collect_prescribed();
 
     MPI_Comm comm              = MPI_COMM_SELF;
     bool     cells_distributed = false;
+    /** Distributed, for a box cut into blocks of cubes: every rank makes its own parts. */
+    std::optional<LatticeParts> lattice;
     /** Distributed: the body's numbers of the vertices and cells of this rank's mesh. */
     std::vector<unsigned int> vertex_number, cell_number;
     /** Distributed: the rank that owns every part. */

@@ -4,6 +4,8 @@
 
 #include <feticontact/scene/body_parameters.h>
 
+#include <array>
+
 namespace FetiContact::MeshGeneration
 {
   /**
@@ -18,6 +20,27 @@ namespace FetiContact::MeshGeneration
               const std::string        &body_name);
 
   /**
+   * The point of lattice index @p i (per axis 0 … n_d) of the box from @p p1 to @p p2 in
+   * @p n cubes, undistorted.
+   */
+  dealii::Point<3>
+  kuhn_lattice_point(const std::array<unsigned int, 3> &n,
+                     const dealii::Point<3>            &p1,
+                     const dealii::Point<3>            &p2,
+                     const std::array<unsigned int, 3> &i);
+
+  /**
+   * Tetrahedron @p t (0 … 5) of cube @p cube of that box, as subdivided_box_kuhn() makes it:
+   * the lattice indices of its four vertices in the order of the cell's vertices.
+   */
+  std::array<std::array<unsigned int, 3>, 4>
+  kuhn_tetrahedron(const std::array<unsigned int, 3> &n,
+                   const dealii::Point<3>            &p1,
+                   const dealii::Point<3>            &p2,
+                   const std::array<unsigned int, 3> &cube,
+                   const unsigned int                 t);
+
+  /**
    * The box [p1, p2] with n[0] × n[1] × n[2] cubes, each split into six tetrahedra around its
    * diagonal from the lowest to the highest corner (all cubes split alike).
    */
@@ -26,6 +49,18 @@ namespace FetiContact::MeshGeneration
                       const std::array<unsigned int, 3> &n,
                       const dealii::Point<3>            &p1,
                       const dealii::Point<3>            &p2);
+
+  /**
+   * The point of the graded and bent box (grade_and_bend()) that the point @p x of the
+   * undistorted box becomes.
+   */
+  dealii::Point<3>
+  graded_point(const dealii::Point<3> &x,
+               const dealii::Point<3> &p1,
+               const dealii::Point<3> &p2,
+               const dealii::Point<3> &focus,
+               const double            grading,
+               const double            spherical_bottom_radius);
 
   /**
    * Moves the vertices of the box [p1, p2] (its faces stay where they are) towards the focus

@@ -221,8 +221,8 @@ namespace FetiContact
     JsonObject
     summarize_memory() const;
     /**
-     * The memory of the meshes of all bodies (Triangulation::memory_consumption()), which every
-     * rank holds whole, in MiB.
+     * The memory of the meshes that this rank holds (Triangulation::memory_consumption()): every
+     * body's whole mesh, or with distributed cells the rank's own, in MiB.
      */
     double
     meshes_mib() const;

@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 
 #include <cerrno>
 #include <cmath>
@@ -133,11 +134,8 @@ namespace FetiContact
         if (error.empty())
           error = "invalid input";
       }
-    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
-    const unsigned int first_failed =
-      dealii::Utilities::MPI::min(error.empty() ? dealii::numbers::invalid_unsigned_int : rank,
-                                  comm);
-    if (first_failed != dealii::numbers::invalid_unsigned_int)
-      throw InputError(dealii::Utilities::MPI::broadcast(comm, error, first_failed));
+    error = MPITools::first_error(comm, error);
+    if (!error.empty())
+      throw InputError(error);
   }
 } // namespace FetiContact

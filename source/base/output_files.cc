@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/output_files.h>
 
 #include <cerrno>
@@ -270,12 +271,9 @@ namespace FetiContact
     void
     throw_if_any_failed(const MPI_Comm comm, const std::string &local_error)
     {
-      const unsigned int rank         = dealii::Utilities::MPI::this_mpi_process(comm);
-      const unsigned int first_failed = dealii::Utilities::MPI::min(
-        local_error.empty() ? dealii::numbers::invalid_unsigned_int : rank, comm);
-      if (first_failed == dealii::numbers::invalid_unsigned_int)
-        return;
-      throw OutputError(dealii::Utilities::MPI::broadcast(comm, local_error, first_failed));
+      const std::string error = MPITools::first_error(comm, local_error);
+      if (!error.empty())
+        throw OutputError(error);
     }
 
     void

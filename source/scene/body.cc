@@ -353,13 +353,9 @@ namespace FetiContact
               local_vertex.emplace(mesh_vertex, result.points.size());
             if (first_seen)
               {
-                result.points.push_back(cell->vertex(v));
-                result.body_vertex.push_back(body_vertex(mesh_vertex));
-                const auto &holders = parts_of_vertex[mesh_vertex];
-                result.holder_parts.insert(result.holder_parts.end(),
-                                           holders.begin(),
-                                           holders.end());
-                result.holder_start.push_back(result.holder_parts.size());
+                result.add_vertex(cell->vertex(v),
+                                  body_vertex(mesh_vertex),
+                                  parts_of_vertex[mesh_vertex]);
               }
             local[v] = entry->second;
           }

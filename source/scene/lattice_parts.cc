@@ -119,20 +119,16 @@ namespace FetiContact
                     local_vertex.emplace(number, result.points.size());
                   if (first_seen)
                     {
-                      result.points.push_back(MeshGeneration::graded_point(
-                        MeshGeneration::kuhn_lattice_point(
-                          n, mesh.lower_corner, mesh.upper_corner, vertex[v]),
-                        mesh.lower_corner,
-                        mesh.upper_corner,
-                        mesh.focus,
-                        mesh.grading,
-                        mesh.spherical_bottom_radius));
-                      result.body_vertex.push_back(number);
-                      const auto parts = holders(vertex[v]);
-                      result.holder_parts.insert(result.holder_parts.end(),
-                                                 parts.begin(),
-                                                 parts.end());
-                      result.holder_start.push_back(result.holder_parts.size());
+                      result.add_vertex(MeshGeneration::graded_point(
+                                          MeshGeneration::kuhn_lattice_point(
+                                            n, mesh.lower_corner, mesh.upper_corner, vertex[v]),
+                                          mesh.lower_corner,
+                                          mesh.upper_corner,
+                                          mesh.focus,
+                                          mesh.grading,
+                                          mesh.spherical_bottom_radius),
+                                        number,
+                                        holders(vertex[v]));
                     }
                   local[v] = entry->second;
                 }

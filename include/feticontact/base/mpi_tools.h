@@ -1,11 +1,30 @@
 #pragma once
 
+#include <deal.II/base/mpi.h>
+
 #include <mpi.h>
+#include <string>
 #include <type_traits>
 #include <vector>
 
 namespace FetiContact::MPITools
 {
+  /**
+   * The message of the lowest rank whose @p local_error (its message; empty if it succeeded) is
+   * not empty, on every rank; empty if no rank failed. Collective: so that all ranks stop
+   * together with the same message.
+   */
+  inline std::string
+  first_error(const MPI_Comm comm, const std::string &local_error)
+  {
+    const unsigned int rank         = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int first_failed = dealii::Utilities::MPI::min(
+      local_error.empty() ? dealii::numbers::invalid_unsigned_int : rank, comm);
+    if (first_failed == dealii::numbers::invalid_unsigned_int)
+      return {};
+    return dealii::Utilities::MPI::broadcast(comm, local_error, first_failed);
+  }
+
   /**
    * The concatenation, in rank order, of every rank's @p local (trivially copyable T), sent as
    * raw bytes. deal.II's Utilities::MPI::all_gather serializes each rank's object through boost

@@ -46,6 +46,18 @@ namespace FetiContact
         &boundary_faces;
     }
 
+    /** Appends a vertex: its position, its number in the body and the parts that hold it. */
+    void
+    add_vertex(const dealii::Point<3>          &x,
+               const unsigned int               number,
+               const std::vector<unsigned int> &holders)
+    {
+      points.push_back(x);
+      body_vertex.push_back(number);
+      holder_parts.insert(holder_parts.end(), holders.begin(), holders.end());
+      holder_start.push_back(holder_parts.size());
+    }
+
     /** The number of vertices. */
     unsigned int
     n_vertices() const

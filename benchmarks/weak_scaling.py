@@ -12,8 +12,8 @@ of the same size. One MSA step (`Contact solver/Maximum MSA iterations = 1`: the
 factors and the QP vectors all exist by then), under `mpirun --oversubscribe`. From summary.json:
 the unknowns, the largest and smallest peak resident memory over the ranks
 (`memory.peak_rss_mib_per_rank`), the program's own estimate (`memory.estimated_peak_mib`) and
-the memory of the meshes, which every rank holds whole (`memory.meshes_mib`). --dual-vectors
-sets `FETI/Dual vectors`.
+the memory of the meshes that a rank holds (`memory.meshes_mib`: whole with replicated dual
+vectors, its own block with distributed ones). --dual-vectors sets `FETI/Dual vectors`.
 The table gives the largest peak against that of np = 1. The CSV is rewritten after every case;
 --report-only writes the table from it. Standard library only.
 """

@@ -328,6 +328,16 @@ namespace FetiContact
     return parts;
   }
 
+  std::vector<unsigned int>
+  Body::reported_vertices() const
+  {
+    std::vector<unsigned int> reported;
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      if (distributed() ? holds_part(holder_parts[holder_start[v]]) : mesh.get_used_vertices()[v])
+        reported.push_back(v);
+    return reported;
+  }
+
   PartCells
   Body::part_cells(const unsigned int part) const
   {
@@ -392,14 +402,10 @@ namespace FetiContact
   Body::free_rigid_motions() const
   {
     // Every vertex of the body once, by the rank that reports it.
-    FreeRigidMotions          motions;
-    const auto                parts = parts_of_mesh_vertices();
-    std::vector<unsigned int> reported;
-    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
-      if (reports(v, parts))
-        reported.push_back(v);
-    const double inf = std::numeric_limits<double>::infinity();
-    Point<3>     lower(inf, inf, inf), upper(-inf, -inf, -inf);
+    FreeRigidMotions motions;
+    const auto       reported = reported_vertices();
+    const double     inf      = std::numeric_limits<double>::infinity();
+    Point<3>         lower(inf, inf, inf), upper(-inf, -inf, -inf);
     for (const unsigned int v : reported)
       {
         const Point<3> &x = mesh.get_vertices()[v];
@@ -525,15 +531,13 @@ namespace FetiContact
   unsigned int
   Body::n_free_dofs() const
   {
-    const auto   parts = parts_of_mesh_vertices();
-    unsigned int n     = 0;
-    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
-      if (reports(v, parts))
-        {
-          const auto it = prescribed.find(body_vertex(v));
-          for (unsigned int c = 0; c < 3; ++c)
-            n += it == prescribed.end() || !it->second[c];
-        }
+    unsigned int n = 0;
+    for (const unsigned int v : reported_vertices())
+      {
+        const auto it = prescribed.find(body_vertex(v));
+        for (unsigned int c = 0; c < 3; ++c)
+          n += it == prescribed.end() || !it->second[c];
+      }
     return Utilities::MPI::sum(n, mesh_comm());
   }
 } // namespace FetiContact

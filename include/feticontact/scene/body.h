@@ -166,15 +166,12 @@ namespace FetiContact
     parts_of_mesh_vertices() const;
 
     /**
-     * Whether this rank reports vertex @p v of its mesh, i.e. holds the lowest-numbered part
-     * that contains it (every vertex of the body is reported by one rank); @p parts is
-     * parts_of_mesh_vertices().
+     * The vertices of this rank's mesh that it reports, in increasing order: those whose
+     * lowest-numbered part it holds (every used vertex of a whole mesh), so that every vertex of
+     * the body is reported by one rank.
      */
-    bool
-    reports(const unsigned int v, const std::vector<std::vector<unsigned int>> &parts) const
-    {
-      return !parts[v].empty() && (!distributed() || holds_part(parts[v].front()));
-    }
+    std::vector<unsigned int>
+    reported_vertices() const;
 
     /** Whether this rank holds the cells of part @p part. */
     bool

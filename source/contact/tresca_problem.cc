@@ -41,7 +41,7 @@ namespace FetiContact
     , rows(dual)
     , block_t(rows.block(0, layout.n_tangential))
     , block_c(rows.block(layout.n_tangential, layout.size() - layout.n_tangential))
-    , h(rows.restrict(dual.h))
+    , h(rows.h())
     , set(rows.n_local())
     , set_c(block_c.end - block_c.begin)
     , set_t(block_t.end - block_t.begin)
@@ -161,7 +161,7 @@ namespace FetiContact
   {
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
     G_norm                 = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
-    const VectorType start = rows.restrict(dual.c);
+    const VectorType start = rows.c();
     // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
     // with floating subdomains it also measures the local pseudo-inverses on the rigid body
     // modes, which P removes: with the projector SMALBE gets ‖PFP‖, the norm of the FETI part

@@ -379,8 +379,19 @@ namespace FetiContact
                               polygonal ? parameters.contact_solver.polygon_directions : 0,
                               parameters.feti.average_contact_rows);
     contact_rows_time += rows_timer.wall_time();
-    const DualRows equality = build_equality_rows(comm, owned, !primal);
-    layout.n_equality       = equality.n_rows();
+    // With distributed dual vectors (and without shared local work, whose ranks may solve any
+    // subdomain) a rank keeps the rows that touch its subdomains: the contact rows of the nodes
+    // on them (rank 0 also those without coefficients, which it adds up), and the equality rows
+    // of their vertices, made without any rank holding all.
+    const bool local_rows =
+      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed &&
+      parameters.feti.shared_local_work == 0 && n_ranks > 1;
+    if (local_rows)
+      rows =
+        rows.rows_touching([this](const unsigned int s) { return owner[s] == rank; }, rank == 0);
+    const DualRows equality = local_rows ? build_local_equality_rows(comm, owned, owner, !primal) :
+                                           build_equality_rows(comm, owned, !primal);
+    layout.n_equality       = equality.n_all;
     rows.append(equality);
     if (!contact_nodes.empty())
       pcout << "Contact: " << contact_nodes.size() << " contact nodes, " << layout.n_normal
@@ -495,7 +506,7 @@ namespace FetiContact
       QP::ProjectedCG<VectorType>(parameters.feti.projected_cg)
         .solve([this](const VectorType &x, VectorType &y) { dual->apply_F(x, y); },
                [this](VectorType &x) { dual->coarse.project(x); },
-               rows.restrict(dual->h),
+               rows.h(),
                solution,
                [this](unsigned int it, double residual) {
                  if (it % 50 == 0)

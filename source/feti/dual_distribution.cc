@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/dual_distribution.h>
@@ -12,12 +13,13 @@ namespace FetiContact
   DualDistribution::DualDistribution(const MPI_Comm                   comm,
                                      const std::vector<unsigned int> &owned_rows,
                                      const std::vector<unsigned int> &relevant_rows,
-                                     const std::vector<int>          &row_owner,
+                                     const std::vector<int>          &relevant_owner,
+                                     const unsigned int               n_rows,
                                      const std::vector<unsigned int> &chunk_of_owned_row)
     : comm(comm)
     , vector_layout(std::make_shared<const DistributedVector::Layout>(comm,
                                                                       owned_rows,
-                                                                      row_owner.size(),
+                                                                      n_rows,
                                                                       chunk_of_owned_row))
     , relevant(relevant_rows)
   {
@@ -30,9 +32,9 @@ namespace FetiContact
     // The ghosts by owner, and the owners' lists of what to send (one exchange of counts, then
     // the lists, between the ranks that share rows).
     std::vector<std::vector<unsigned int>> wanted(n_ranks);
-    for (const unsigned int r : relevant)
-      if (row_owner[r] != this_rank)
-        wanted[row_owner[r]].push_back(r);
+    for (unsigned int j = 0; j < relevant.size(); ++j)
+      if (relevant_owner[j] != this_rank)
+        wanted[relevant_owner[j]].push_back(relevant[j]);
     std::vector<int> n_wanted(n_ranks), n_asked(n_ranks);
     for (int p = 0; p < n_ranks; ++p)
       n_wanted[p] = wanted[p].size();
@@ -82,23 +84,6 @@ namespace FetiContact
           }
       }
     requests.resize(send.size() + receive.size());
-
-    // gather(): every rank's owned rows, in rank order.
-    const int n_owned = owned_rows.size();
-    gather_count.resize(n_ranks);
-    MPI_Allgather(&n_owned, 1, MPI_INT, gather_count.data(), 1, MPI_INT, comm);
-    gather_displacement.assign(n_ranks + 1, 0);
-    for (int p = 0; p < n_ranks; ++p)
-      gather_displacement[p + 1] = gather_displacement[p] + gather_count[p];
-    gathered_rows.resize(gather_displacement[n_ranks]);
-    MPI_Allgatherv(owned_rows.data(),
-                   n_owned,
-                   MPI_UNSIGNED,
-                   gathered_rows.data(),
-                   gather_count.data(),
-                   gather_displacement.data(),
-                   MPI_UNSIGNED,
-                   comm);
   }
 
   unsigned int
@@ -146,6 +131,26 @@ namespace FetiContact
   Vector<double>
   DualDistribution::gather(const DistributedVector &x) const
   {
+    if (gather_count.empty())
+      {
+        // Every rank's owned rows, in rank order.
+        const int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+        const int n_owned = x.locally_owned_size();
+        gather_count.resize(n_ranks);
+        MPI_Allgather(&n_owned, 1, MPI_INT, gather_count.data(), 1, MPI_INT, comm);
+        gather_displacement.assign(n_ranks + 1, 0);
+        for (int p = 0; p < n_ranks; ++p)
+          gather_displacement[p + 1] = gather_displacement[p] + gather_count[p];
+        gathered_rows.resize(gather_displacement[n_ranks]);
+        MPI_Allgatherv(vector_layout->global_index.data(),
+                       n_owned,
+                       MPI_UNSIGNED,
+                       gathered_rows.data(),
+                       gather_count.data(),
+                       gather_displacement.data(),
+                       MPI_UNSIGNED,
+                       comm);
+      }
     std::vector<double> values(gathered_rows.size());
     MPI_Allgatherv(x.begin(),
                    x.locally_owned_size(),

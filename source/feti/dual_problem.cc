@@ -21,21 +21,29 @@ namespace FetiContact
                            const bool                       distributed_coarse)
     : comm(comm)
     , owned(owned)
+    , n_all_rows(rows.n_all)
+    , all_rows(Utilities::MPI::min(rows.complete() ? 1u : 0u, comm) == 1)
     , B(owned.size())
     , work(owned.size())
     , shared(shared)
   {
-    const unsigned int m = rows.n_rows();
-    c.reinit(m);
-    for (unsigned int r = 0; r < m; ++r)
-      c[r] = rows.c[r];
+    AssertThrow(std::is_sorted(rows.number.begin(), rows.number.end()),
+                ExcMessage("DualProblem: the rows must be in increasing order of their numbers."));
+    AssertThrow(all_rows || (distributed_coarse && !shared),
+                ExcMessage("DualProblem: products with replicated dual vectors and the shared "
+                           "local work need all rows of B."));
+    if (all_rows)
+      {
+        c.reinit(rows.n_rows());
+        std::copy(rows.c.begin(), rows.c.end(), c.begin());
+      }
 
     build_blocks(rows);
     // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
     // entries: on one rank the order of the loop over the subdomains.
     slot_start.assign(rows.row_start.begin(), rows.row_start.end());
     slot_order.resize(rows.entries.size());
-    for (unsigned int r = 0; r < m; ++r)
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
       {
         const auto first = slot_order.begin() + slot_start[r];
         const auto last  = slot_order.begin() + slot_start[r + 1];
@@ -66,7 +74,6 @@ namespace FetiContact
     first_mode = mode_offset;
     std::vector<CoarseProblem::Entry> G_entries;
     e.reinit(mode_offset.back());
-    h.reinit(m);
     for (unsigned int i = 0; i < owned.size(); ++i)
       {
         const Subdomain   &s     = *owned[i];
@@ -106,19 +113,34 @@ namespace FetiContact
     Utilities::MPI::sum(ArrayView<const double>(e.begin(), e.size()),
                         comm,
                         ArrayView<double>(e.begin(), e.size()));
-    sum_slots(h);
-    h -= c;
+    c_owned = row_distribution->vector();
+    for (unsigned int j = 0; j < own_local.size(); ++j)
+      c_owned[j] = rows.c[own_local[j]];
+    if (all_rows)
+      {
+        sum_slots(h);
+        h -= c;
+        h_owned = row_distribution->restrict(h);
+      }
+    else
+      {
+        // The same sums, on this rank's rows only.
+        h_owned = row_distribution->vector();
+        exchange_slots();
+        sum_own_rows(h_owned.begin());
+        h_owned -= c_owned;
+      }
     const auto [first_own_mode, end_own_mode] = own_modes(mode_offset);
     if (distributed_coarse)
       coarse.initialize_distributed(*row_distribution,
                                     relevant_G_entries(G_entries, rows, owners),
                                     mode_offset.back(),
-                                    m,
+                                    size(),
                                     first_own_mode,
                                     end_own_mode);
     else
       {
-        coarse.initialize(comm, G_entries, mode_offset.back(), m);
+        coarse.initialize(comm, G_entries, mode_offset.back(), size());
         coarse.distribute(*row_distribution, first_own_mode, end_own_mode);
       }
   }
@@ -137,8 +159,9 @@ namespace FetiContact
     for (const CoarseProblem::Entry &e : own_entries)
       {
         relevant.push_back(e);
-        ranks.assign(1, owners.row_rank[e.column]);
-        for (unsigned int k = rows.row_start[e.column]; k < rows.row_start[e.column + 1]; ++k)
+        const unsigned int r = index_of_row(rows, e.column);
+        ranks.assign(1, owners.row_rank[r]);
+        for (unsigned int k = rows.row_start[r]; k < rows.row_start[r + 1]; ++k)
           ranks.push_back(owners.subdomain_rank[rows.entries[k].subdomain]);
         std::sort(ranks.begin(), ranks.end());
         ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
@@ -174,7 +197,7 @@ namespace FetiContact
             continue;
           const unsigned int i = it->second;
           const unsigned int v = vertex_of_body_vertex[i].at(entry.body_vertex);
-          B[i].row.push_back(r);
+          B[i].row.push_back(rows.number[r]);
           B[i].dof.push_back(owned[i]->vertex_dofs[v][entry.component]);
           B[i].value.push_back(entry.value);
           B[i].slot.push_back(k);
@@ -208,6 +231,15 @@ namespace FetiContact
       slot_values[b.slot[k]] = b.value[k] * u[b.dof[k]];
   }
 
+  unsigned int
+  DualProblem::index_of_row(const DualRows &rows, const unsigned int number)
+  {
+    const auto it = std::lower_bound(rows.number.begin(), rows.number.end(), number);
+    AssertThrow(it != rows.number.end() && *it == number,
+                ExcMessage("DualProblem: row " + std::to_string(number) + " is not here."));
+    return it - rows.number.begin();
+  }
+
   DualProblem::Owners
   DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
   {
@@ -215,10 +247,10 @@ namespace FetiContact
     MPI_Comm_size(comm, &n_ranks);
     MPI_Comm_rank(comm, &this_rank);
     single_rank          = (n_ranks == 1);
-    const unsigned int m = size();
+    const unsigned int n = rows.n_rows();
 
     // The rank of every subdomain, and of every row: the rank of the first subdomain in the
-    // row's summation order.
+    // row's summation order (rank 0 for a row without coefficients).
     std::vector<int> subdomain_rank(n_subdomains, -1);
     for (const Subdomain *s : owned)
       subdomain_rank[s->global_index] = this_rank;
@@ -234,36 +266,37 @@ namespace FetiContact
     // The first subdomain of every row (the lowest of a set of rows held together), its rank
     // and its chunk of the dual vectors' sums: a chunk is the same rows on any number of ranks,
     // and all on one rank (the subdomains of a rank are a contiguous range). Which rank adds up
-    // a row does not change its sum.
-    std::vector<unsigned int> first_subdomain(m, 0);
-    for (unsigned int r = 0; r < m; ++r)
+    // a row does not change its sum. Every rank that holds a row holds its whole set, and so
+    // gives it the same rank.
+    std::vector<unsigned int> first_subdomain(n, 0);
+    std::vector<int>          row_rank(n, 0);
+    for (unsigned int r = 0; r < n; ++r)
       if (slot_start[r] < slot_start[r + 1])
-        first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
+        {
+          first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
+          row_rank[r]        = rank_of_slot(slot_order[slot_start[r]]);
+        }
     for (const auto &set : rows.held_together)
       {
         unsigned int first = numbers::invalid_unsigned_int;
+        int          rank  = n_ranks;
         for (const unsigned int r : set)
-          first = std::min(first, first_subdomain[r]);
+          {
+            first = std::min(first, first_subdomain[r]);
+            rank  = std::min(rank, row_rank[r]);
+          }
         for (const unsigned int r : set)
-          first_subdomain[r] = first;
-      }
-    std::vector<int> row_rank(m, 0);
-    for (unsigned int r = 0; r < m; ++r)
-      if (slot_start[r] < slot_start[r + 1])
-        row_rank[r] = rank_of_slot(slot_order[slot_start[r]]);
-    for (const auto &set : rows.held_together)
-      {
-        int rank = n_ranks;
-        for (const unsigned int r : set)
-          rank = std::min(rank, row_rank[r]);
-        for (const unsigned int r : set)
-          row_rank[r] = rank;
+          {
+            first_subdomain[r] = first;
+            row_rank[r]        = rank;
+          }
       }
 
     // The slots that cross ranks: terms of this rank's subdomains in other ranks' rows (sent)
-    // and the other way round (received), both listed by increasing slot on either side.
-    std::vector<std::vector<unsigned int>> send(n_ranks), receive(n_ranks);
-    for (unsigned int r = 0; r < m; ++r)
+    // and the other way round (received), both listed by increasing row number and, within a
+    // row, in the order of its entries, on either side.
+    std::map<int, std::vector<unsigned int>> send, receive;
+    for (unsigned int r = 0; r < n; ++r)
       for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
         {
           const int from = rank_of_slot(k), to = row_rank[r];
@@ -276,38 +309,41 @@ namespace FetiContact
         }
     send_slots.clear();
     receive_slots.clear();
-    for (int p = 0; p < n_ranks; ++p)
-      {
-        if (!send[p].empty())
-          send_slots.push_back({p, std::move(send[p]), {}});
-        if (!receive[p].empty())
-          receive_slots.push_back({p, std::move(receive[p]), {}});
-      }
+    for (auto &[p, list] : send)
+      send_slots.push_back({p, std::move(list), {}});
+    for (auto &[p, list] : receive)
+      receive_slots.push_back({p, std::move(list), {}});
     for (auto &exchange : send_slots)
       exchange.buffer.resize(exchange.slots.size());
     for (auto &exchange : receive_slots)
       exchange.buffer.resize(exchange.slots.size());
     requests.resize(send_slots.size() + receive_slots.size());
 
-    // This rank's rows, and the order of all rows in the gathered sums (rank by rank).
+    // This rank's rows.
     own_rows.clear();
-    gathered_rows.clear();
-    row_count.assign(n_ranks, 0);
-    row_displacement.assign(n_ranks, 0);
-    for (unsigned int r = 0; r < m; ++r)
-      ++row_count[row_rank[r]];
-    for (int p = 1; p < n_ranks; ++p)
-      row_displacement[p] = row_displacement[p - 1] + row_count[p - 1];
-    gathered_rows.resize(m);
-    std::vector<int> next(row_displacement);
-    for (unsigned int r = 0; r < m; ++r)
-      {
-        gathered_rows[next[row_rank[r]]++] = r;
-        if (row_rank[r] == this_rank)
-          own_rows.push_back(r);
-      }
+    own_local.clear();
+    for (unsigned int r = 0; r < n; ++r)
+      if (row_rank[r] == this_rank)
+        {
+          own_rows.push_back(rows.number[r]);
+          own_local.push_back(r);
+        }
     own_sums.resize(own_rows.size());
-    gathered_sums.resize(m);
+    if (all_rows && !single_rank && !shared)
+      {
+        // The order of all rows in the gathered sums (rank by rank), for the replicated products.
+        row_count.assign(n_ranks, 0);
+        row_displacement.assign(n_ranks, 0);
+        for (unsigned int r = 0; r < n; ++r)
+          ++row_count[row_rank[r]];
+        for (int p = 1; p < n_ranks; ++p)
+          row_displacement[p] = row_displacement[p - 1] + row_count[p - 1];
+        gathered_rows.resize(n);
+        std::vector<int> next(row_displacement);
+        for (unsigned int r = 0; r < n; ++r)
+          gathered_rows[next[row_rank[r]]++] = r;
+        gathered_sums.resize(n);
+      }
 
     // The distributed dual vectors: this rank's rows, and the rows of its subdomains.
     std::vector<unsigned int> relevant(own_rows);
@@ -315,11 +351,14 @@ namespace FetiContact
       relevant.insert(relevant.end(), b.row.begin(), b.row.end());
     std::sort(relevant.begin(), relevant.end());
     relevant.erase(std::unique(relevant.begin(), relevant.end()), relevant.end());
+    std::vector<int> relevant_owner(relevant.size());
+    for (unsigned int j = 0; j < relevant.size(); ++j)
+      relevant_owner[j] = row_rank[index_of_row(rows, relevant[j])];
     std::vector<unsigned int> chunk_of_own_row(own_rows.size());
     for (unsigned int j = 0; j < own_rows.size(); ++j)
-      chunk_of_own_row[j] = first_subdomain[own_rows[j]];
-    row_distribution =
-      std::make_unique<DualDistribution>(comm, own_rows, relevant, row_rank, chunk_of_own_row);
+      chunk_of_own_row[j] = first_subdomain[own_local[j]];
+    row_distribution = std::make_unique<DualDistribution>(
+      comm, own_rows, relevant, relevant_owner, size(), chunk_of_own_row);
     relevant_row.resize(B.size());
     for (unsigned int i = 0; i < B.size(); ++i)
       {
@@ -356,6 +395,7 @@ namespace FetiContact
   void
   DualProblem::sum_slots(Vector<double> &y) const
   {
+    AssertThrow(all_rows, ExcMessage("DualProblem: the replicated products need all rows of B."));
     if (y.size() != size())
       y.reinit(size(), true);
     const auto row_sum = [&](const unsigned int r) {
@@ -431,9 +471,9 @@ namespace FetiContact
   void
   DualProblem::sum_own_rows(double *sums) const
   {
-    for (unsigned int j = 0; j < own_rows.size(); ++j)
+    for (unsigned int j = 0; j < own_local.size(); ++j)
       {
-        const unsigned int r   = own_rows[j];
+        const unsigned int r   = own_local[j];
         double             sum = 0;
         for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
           sum += slot_values[slot_order[k]];
@@ -629,7 +669,7 @@ namespace FetiContact
   {
     DistributedVector gradient;
     apply_F(lambda, gradient);
-    gradient -= row_distribution->restrict(h);
+    gradient -= h_owned;
     return recover_primal(lambda, coarse.coarse_coefficients(gradient));
   }
 
@@ -689,8 +729,7 @@ namespace FetiContact
         exchange_slots();
         sum_own_rows(r.begin());
       }
-    for (unsigned int i = 0; i < r.locally_owned_size(); ++i)
-      r[i] -= c[r.global_index(i)];
+    r -= c_owned;
     return r;
   }
 } // namespace FetiContact

@@ -7,6 +7,10 @@
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 #include <cmath>
+#include <cstdint>
+#include <map>
+#include <unordered_map>
+#include <utility>
 
 namespace FetiContact
 {
@@ -18,6 +22,7 @@ namespace FetiContact
     entries.insert(entries.end(), row.begin(), row.end());
     row_start.push_back(entries.size());
     c.push_back(rhs);
+    number.push_back(n_all++);
   }
 
   void
@@ -29,7 +34,16 @@ namespace FetiContact
           r += n_rows();
         held_together.push_back(std::move(set));
       }
-    append(other, 0, other.n_rows());
+    for (unsigned int r = 0; r < other.n_rows(); ++r)
+      {
+        entries.insert(entries.end(),
+                       other.entries.begin() + other.row_start[r],
+                       other.entries.begin() + other.row_start[r + 1]);
+        row_start.push_back(entries.size());
+        c.push_back(other.c[r]);
+        number.push_back(n_all + other.number[r]);
+      }
+    n_all += other.n_all;
   }
 
   void
@@ -39,6 +53,45 @@ namespace FetiContact
       add_row(std::vector<DualRowEntry>(other.entries.begin() + other.row_start[r],
                                         other.entries.begin() + other.row_start[r + 1]),
               other.c[r]);
+  }
+
+  DualRows
+  DualRows::rows_touching(const std::function<bool(unsigned int)> &touches,
+                          const bool                               keep_empty) const
+  {
+    std::vector<bool> keep(n_rows(), false);
+    for (unsigned int r = 0; r < n_rows(); ++r)
+      {
+        keep[r] = keep_empty && row_start[r] == row_start[r + 1];
+        for (unsigned int k = row_start[r]; !keep[r] && k < row_start[r + 1]; ++k)
+          keep[r] = touches(entries[k].subdomain);
+      }
+    for (const auto &set : held_together)
+      if (std::any_of(set.begin(), set.end(), [&](const unsigned int r) { return keep[r]; }))
+        for (const unsigned int r : set)
+          keep[r] = true;
+    DualRows                  kept;
+    std::vector<unsigned int> index(n_rows(), numbers::invalid_unsigned_int);
+    for (unsigned int r = 0; r < n_rows(); ++r)
+      if (keep[r])
+        {
+          index[r] = kept.n_rows();
+          kept.entries.insert(kept.entries.end(),
+                              entries.begin() + row_start[r],
+                              entries.begin() + row_start[r + 1]);
+          kept.row_start.push_back(kept.entries.size());
+          kept.c.push_back(c[r]);
+          kept.number.push_back(number[r]);
+        }
+    kept.n_all = n_all;
+    for (const auto &set : held_together)
+      if (keep[set.front()])
+        {
+          kept.held_together.emplace_back();
+          for (const unsigned int r : set)
+            kept.held_together.back().push_back(index[r]);
+        }
+    return kept;
   }
 
   namespace
@@ -108,6 +161,147 @@ namespace FetiContact
           3 * g + 5 < rank_groups.size() ? rank_groups[3 * g + 5] : rank_rows.n_rows();
         rows.append(rank_rows, rank_groups[3 * g + 2], last);
       }
+    return rows;
+  }
+} // namespace FetiContact
+
+namespace FetiContact
+{
+  namespace
+  {
+    /** Appends row @p r of @p from to @p to with the number @p number. */
+    void
+    copy_row(const DualRows &from, const unsigned int r, DualRows &to, const unsigned int number)
+    {
+      to.entries.insert(to.entries.end(),
+                        from.entries.begin() + from.row_start[r],
+                        from.entries.begin() + from.row_start[r + 1]);
+      to.row_start.push_back(to.entries.size());
+      to.c.push_back(from.c[r]);
+      to.number.push_back(number);
+    }
+
+    /**
+     * The number among all rows of the first row of every group (body, body vertex, first row)
+     * in @p groups, which has @p n_rows rows in all: every rank counts the rows of a range of the
+     * vertices of all bodies, ranges in rank order, and numbers them after the rows of the lower
+     * ranges. Returns the first numbers and the number of all rows.
+     */
+    std::pair<std::vector<std::uint64_t>, std::uint64_t>
+    number_groups(const MPI_Comm                   comm,
+                  const std::vector<unsigned int> &groups,
+                  const unsigned int               n_rows)
+    {
+      const unsigned int n_ranks  = Utilities::MPI::n_mpi_processes(comm);
+      const unsigned int n_groups = groups.size() / 3;
+      // A vertex's key: the vertices of all bodies one after the other.
+      unsigned int n_bodies = 0;
+      for (unsigned int g = 0; g < n_groups; ++g)
+        n_bodies = std::max(n_bodies, groups[3 * g] + 1);
+      n_bodies = Utilities::MPI::max(n_bodies, comm);
+      std::vector<unsigned int> n_vertices(n_bodies, 0);
+      for (unsigned int g = 0; g < n_groups; ++g)
+        n_vertices[groups[3 * g]] = std::max(n_vertices[groups[3 * g]], groups[3 * g + 1] + 1);
+      Utilities::MPI::max(n_vertices, comm, n_vertices);
+      std::vector<std::uint64_t> key_offset(n_bodies + 1, 0);
+      for (unsigned int b = 0; b < n_bodies; ++b)
+        key_offset[b + 1] = key_offset[b] + n_vertices[b];
+      const auto key_of = [&](const unsigned int g) {
+        return key_offset[groups[3 * g]] + groups[3 * g + 1];
+      };
+      const auto counter = [&](const std::uint64_t key) {
+        return static_cast<unsigned int>(key * n_ranks / key_offset.back());
+      };
+      const auto size_of = [&](const unsigned int g) {
+        return (g + 1 < n_groups ? groups[3 * g + 5] : n_rows) - groups[3 * g + 2];
+      };
+
+      // Every group's key and size to the rank that counts its range.
+      std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> sizes;
+      for (unsigned int g = 0; g < n_groups; ++g)
+        sizes[counter(key_of(g))].push_back({{key_of(g), size_of(g)}});
+      std::vector<std::array<std::uint64_t, 3>> ranged; // (key, size, rank of the group)
+      for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, sizes))
+        for (const auto &[key, size] : list)
+          ranged.push_back({{key, size, from}});
+      std::sort(ranged.begin(), ranged.end());
+      std::uint64_t n_counted = 0, before = 0;
+      for (const auto &group : ranged)
+        n_counted += group[1];
+      MPI_Exscan(&n_counted, &before, 1, MPI_UINT64_T, MPI_SUM, comm);
+      if (Utilities::MPI::this_mpi_process(comm) == 0)
+        before = 0;
+      std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> firsts;
+      for (const auto &[key, size, from] : ranged)
+        {
+          firsts[from].push_back({{key, before}});
+          before += size;
+        }
+      std::unordered_map<std::uint64_t, std::uint64_t> first_of_key;
+      for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, firsts))
+        for (const auto &[key, first] : list)
+          first_of_key[key] = first;
+      std::vector<std::uint64_t> first(n_groups);
+      for (unsigned int g = 0; g < n_groups; ++g)
+        first[g] = first_of_key.at(key_of(g));
+      return {std::move(first), Utilities::MPI::sum(n_counted, comm)};
+    }
+  } // namespace
+
+  DualRows
+  build_local_equality_rows(const MPI_Comm                   comm,
+                            const std::vector<Subdomain *>  &owned,
+                            const std::vector<unsigned int> &owner,
+                            const bool                       dirichlet_rows)
+  {
+    const unsigned int this_rank = Utilities::MPI::this_mpi_process(comm);
+    // This rank's rows, a group per vertex: (body, body vertex, first row) of each group.
+    DualRows                  mine;
+    std::vector<unsigned int> groups;
+    for (const Subdomain *s : owned)
+      add_vertex_rows(*s, dirichlet_rows, mine, groups);
+    const auto [first, n_all] = number_groups(comm, groups, mine.n_rows());
+    AssertThrow(n_all < numbers::invalid_unsigned_int,
+                ExcMessage("The rows of B_E exceed the range of an unsigned int."));
+
+    // Every row numbered, kept if it touches this rank's subdomains, and sent to the ranks of
+    // the other subdomains it touches.
+    DualRows                         numbered;
+    std::map<unsigned int, DualRows> outgoing;
+    std::vector<unsigned int>        ranks;
+    const unsigned int               n_groups = groups.size() / 3;
+    for (unsigned int g = 0; g < n_groups; ++g)
+      {
+        const unsigned int begin = groups[3 * g + 2];
+        const unsigned int end   = g + 1 < n_groups ? groups[3 * g + 5] : mine.n_rows();
+        for (unsigned int r = begin; r < end; ++r)
+          {
+            ranks.clear();
+            for (unsigned int k = mine.row_start[r]; k < mine.row_start[r + 1]; ++k)
+              ranks.push_back(owner[mine.entries[k].subdomain]);
+            std::sort(ranks.begin(), ranks.end());
+            ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+            const unsigned int number = first[g] + (r - begin);
+            for (const unsigned int p : ranks)
+              copy_row(mine, r, p == this_rank ? numbered : outgoing[p], number);
+          }
+      }
+    std::vector<std::pair<unsigned int, const DualRows *>> sources{{this_rank, &numbered}};
+    const auto incoming = Utilities::MPI::some_to_some(comm, outgoing);
+    for (const auto &[from, rows] : incoming)
+      if (from != this_rank)
+        sources.emplace_back(from, &rows);
+
+    // All of them by number.
+    std::vector<std::array<unsigned int, 3>> order; // (number, source, row)
+    for (unsigned int j = 0; j < sources.size(); ++j)
+      for (unsigned int r = 0; r < sources[j].second->n_rows(); ++r)
+        order.push_back({{sources[j].second->number[r], j, r}});
+    std::sort(order.begin(), order.end());
+    DualRows rows;
+    for (const auto &[number, j, r] : order)
+      copy_row(*sources[j].second, r, rows, number);
+    rows.n_all = n_all;
     return rows;
   }
 } // namespace FetiContact

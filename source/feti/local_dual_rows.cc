@@ -28,6 +28,26 @@ namespace FetiContact
   }
 
   template <typename VectorType>
+  const VectorType &
+  LocalDualRows<VectorType>::h() const
+  {
+    if constexpr (distributed)
+      return dual.h_owned;
+    else
+      return dual.h;
+  }
+
+  template <typename VectorType>
+  const VectorType &
+  LocalDualRows<VectorType>::c() const
+  {
+    if constexpr (distributed)
+      return dual.c_owned;
+    else
+      return dual.c;
+  }
+
+  template <typename VectorType>
   VectorType LocalDualRows<VectorType>::restrict(const Vector<double> &all) const
   {
     if constexpr (distributed)

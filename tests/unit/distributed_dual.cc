@@ -5,7 +5,9 @@
 // MPI_COMM_SELF), and so must the dot products of the distributed vectors. With G held by the
 // ranks' relevant columns (DualProblem with distributed_coarse: GGᵀ assembled by rows of the ranks'
 // modes), G x, Gᵀy, P x, the least-norm and the tiered particular solution of Gλ = e too, while
-// a rank holds fewer entries of G than one rank holding everything.
+// a rank holds fewer entries of G than one rank holding everything. With the rows of B made per
+// rank (build_local_equality_rows: each rank the rows that touch its subdomains), the rows are
+// those of one rank holding all, and F x, h, c and the primal recovery the same bits.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -164,6 +166,52 @@ main(int argc, char **argv)
         "G by columns" + on + ": at most " +
           std::to_string(Utilities::MPI::max(split.coarse.n_entries(), world)) + " of the " +
           std::to_string(reference.coarse.n_entries()) + " entries of G on a rank");
+
+  // Rows held per rank: the rows of this rank's subdomains, made and numbered without a rank
+  // holding all, are those of one rank holding all, and the dual problem on them gives the same
+  // bits.
+  std::vector<unsigned int> owner(n_sub);
+  for (unsigned int q = 0; q < n_ranks; ++q)
+    for (unsigned int p = n_sub * q / n_ranks; p < n_sub * (q + 1) / n_ranks; ++p)
+      owner[p] = q;
+  const DualRows local = build_local_equality_rows(world, own, owner, true);
+  const DualRows touching =
+    rows.rows_touching([&](const unsigned int s) { return owner[s] == rank; }, false);
+  bool same_local = local.n_all == rows.n_all && local.number == touching.number &&
+                    local.row_start == touching.row_start && local.c == touching.c &&
+                    local.entries.size() == touching.entries.size();
+  for (unsigned int k = 0; same_local && k < local.entries.size(); ++k)
+    same_local = local.entries[k].subdomain == touching.entries[k].subdomain &&
+                 local.entries[k].body_vertex == touching.entries[k].body_vertex &&
+                 local.entries[k].component == touching.entries[k].component &&
+                 local.entries[k].value == touching.entries[k].value;
+  check(Utilities::MPI::min(same_local ? 1u : 0u, world) == 1,
+        "the rows of B_E made per rank are those of one rank holding all that touch its "
+        "subdomains, with the same numbers");
+  check(n_ranks == 1 || Utilities::MPI::max(local.n_rows(), world) < rows.n_rows(),
+        "rows per rank: at most " + std::to_string(Utilities::MPI::max(local.n_rows(), world)) +
+          " of the " + std::to_string(rows.n_rows()) + " rows on a rank");
+  const DualProblem on_local(world, own, mode_offset, local, nullptr, true);
+  const auto       &d_l = on_local.distribution();
+  DistributedVector Fx_l, lumped_x_l, lambda0_l;
+  on_local.apply_F(d_l.restrict(x), Fx_l);
+  on_local.apply_lumped(d_l.restrict(x), lumped_x_l);
+  on_local.coarse.least_norm_solution(on_local.e, lambda0_l);
+  const auto u_l      = on_local.recover_primal(lambda0_l);
+  bool       same_u_l = u_l.size() == own.size();
+  for (unsigned int i = 0; same_u_l && i < own.size(); ++i)
+    same_u_l = same_bits(u_l[i], u_reference[first + i]);
+  check(on_local.size() == m && same_bits(d_l.gather(Fx_l), Fx) &&
+          same_bits(d_l.gather(lumped_x_l), lumped_x) &&
+          same_bits(d_l.gather(on_local.h_owned), reference.h) &&
+          same_bits(d_l.gather(on_local.c_owned), reference.c) &&
+          same_bits(d_l.gather(lambda0_l), lambda0) && same_u_l &&
+          same_bits(d_l.gather(on_local.distributed_constraint_residual(u_l)), r_reference),
+        "rows per rank" + on +
+          ": F x, the lumped preconditioner, h, c, λ₀, the primal recovery and B u − c the same "
+          "bits as on one rank");
+  check(n_ranks == 1 || on_local.h.size() == 0,
+        "rows per rank: h and c of all rows held on no rank");
 
   const int failures = Utilities::MPI::max(n_failures, world);
   if (rank == 0)

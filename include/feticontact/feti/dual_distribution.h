@@ -24,15 +24,16 @@ namespace FetiContact
   public:
     /**
      * @p owned_rows: the rows this rank owns, increasing; @p relevant_rows: the rows it needs,
-     * increasing, a superset of the owned ones; @p n_rows: the number of all rows. Collective
-     * (one exchange of the ghost lists with their owners, whom @p row_owner names).
-     * @p chunk_of_owned_row: the chunk of every owned row for the sums of the dual vectors
-     * (DistributedVector::Layout).
+     * increasing, a superset of the owned ones, and @p relevant_owner the rank that owns each;
+     * @p n_rows: the number of all rows. Collective (one exchange of the ghost lists with their
+     * owners). @p chunk_of_owned_row: the chunk of every owned row for the sums of the dual
+     * vectors (DistributedVector::Layout).
      */
     DualDistribution(const MPI_Comm                   comm,
                      const std::vector<unsigned int> &owned_rows,
                      const std::vector<unsigned int> &relevant_rows,
-                     const std::vector<int>          &row_owner,
+                     const std::vector<int>          &relevant_owner,
+                     const unsigned int               n_rows,
                      const std::vector<unsigned int> &chunk_of_owned_row = {});
 
     /** The layout of the dual vectors (the owned rows in increasing order). */
@@ -78,8 +79,8 @@ namespace FetiContact
     DistributedVector restrict(const dealii::Vector<double> &all) const;
 
     /**
-     * All rows of @p x on every rank (MPI_Allgatherv). For what still needs a global view (the
-     * contact results, the output); collective.
+     * All rows of @p x on every rank (MPI_Allgatherv). For tests and the shared local work,
+     * which need a global view; collective (the first call also gathers the rows' numbers).
      */
     dealii::Vector<double>
     gather(const DistributedVector &x) const;
@@ -114,8 +115,11 @@ namespace FetiContact
     /** send: local indices of owned rows; receive: relevant indices of ghosts. */
     std::vector<Exchange>            send, receive;
     mutable std::vector<MPI_Request> requests;
-    /** For gather(): the numbers of owned rows of every rank and where they start. */
-    std::vector<int>          gather_count, gather_displacement;
-    std::vector<unsigned int> gathered_rows;
+    /**
+     * For gather(), made at its first call: the numbers of owned rows of every rank, where they
+     * start, and every rank's rows.
+     */
+    mutable std::vector<int>          gather_count, gather_displacement;
+    mutable std::vector<unsigned int> gathered_rows;
   };
 } // namespace FetiContact

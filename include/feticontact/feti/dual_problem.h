@@ -48,7 +48,10 @@ namespace FetiContact
   public:
     /**
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
-     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c. With
+     * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c, or, with
+     * @p distributed_coarse and without @p shared, at least the rows that touch this rank's
+     * subdomains (DualRows::rows_touching(), build_local_equality_rows()): then the rank holds
+     * nothing of the length of all rows but what the coarse problem needs. With
      * @p shared (which holds the factors of this rank's reserve, SharedLocalWork::take_factor(),
      * and must outlive this object) the ranks of the node share the reserves' part of the local
      * work of every multiplication by F; F x is the same either way. With @p distributed_coarse
@@ -66,7 +69,7 @@ namespace FetiContact
     unsigned int
     size() const
     {
-      return c.size();
+      return n_all_rows;
     }
 
     /** y = F x (counted in n_F_applications, timed in F_time). */
@@ -146,8 +149,13 @@ namespace FetiContact
     DistributedVector
     distributed_constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
 
-    CoarseProblem          coarse;
-    dealii::Vector<double> h, c, e;
+    CoarseProblem coarse;
+    /** h and c on all rows: only if every rank was given all rows (DualRows::complete()). */
+    dealii::Vector<double> h, c;
+    /** h and c on this rank's rows (the layout of distribution()). */
+    DistributedVector h_owned, c_owned;
+    /** e = Rᵀf, on every rank. */
+    dealii::Vector<double> e;
     mutable unsigned int   n_F_applications = 0;
     /** Wall time spent in apply_F (local solves, B and Bᵀ, the sum over ranks) [s]. */
     mutable double F_time = 0;
@@ -172,9 +180,15 @@ namespace FetiContact
     {
       std::vector<int> subdomain_rank, row_rank;
     };
-    /** The rows of each rank and the slots that cross ranks (from the rows and the owners). */
+    /**
+     * The rows of each rank and the slots that cross ranks (from the rows and the owners).
+     * Owners::row_rank is given for the rows of @p rows.
+     */
     Owners
     setup_row_sums(const DualRows &rows, const unsigned int n_subdomains);
+    /** The index in @p rows of the row numbered @p number. */
+    static unsigned int
+    index_of_row(const DualRows &rows, const unsigned int number);
     /**
      * The entries of G in the columns relevant to this rank, from @p own_entries (those of its
      * modes) of every rank (point to point).
@@ -245,8 +259,12 @@ namespace FetiContact
     mutable dealii::Vector<double>              lumped_Dx;
     mutable std::vector<dealii::Vector<double>> lumped_Ku;
 
-    MPI_Comm                                    comm;
-    std::vector<Subdomain *>                    owned;
+    MPI_Comm                 comm;
+    std::vector<Subdomain *> owned;
+    /** The number of all rows (m). */
+    unsigned int n_all_rows = 0;
+    /** Whether every rank was given all rows (then h and c of all rows exist). */
+    bool                                        all_rows = false;
     std::vector<BlockOfB>                       B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;
@@ -282,8 +300,12 @@ namespace FetiContact
     bool                             single_rank = true;
     std::vector<SlotExchange>        send_slots, receive_slots;
     mutable std::vector<MPI_Request> requests;
-    /** This rank's rows (increasing); all rows in the order of the gathered sums. */
-    std::vector<unsigned int>   own_rows, gathered_rows;
+    /**
+     * This rank's rows: their numbers (increasing) and their indices in the rows given to the
+     * constructor (the rows of the slots); all rows in the order of the gathered sums (only with
+     * all rows on several ranks).
+     */
+    std::vector<unsigned int>   own_rows, own_local, gathered_rows;
     std::vector<int>            row_count, row_displacement;
     mutable std::vector<double> own_sums, gathered_sums;
   };

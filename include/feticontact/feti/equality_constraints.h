@@ -2,6 +2,7 @@
 
 #include <feticontact/subdomain/subdomain.h>
 
+#include <functional>
 #include <memory>
 #include <mpi.h>
 #include <vector>
@@ -27,39 +28,60 @@ namespace FetiContact
   /**
    * Rows of the constraint operator B with their right-hand side c (B u = c or B u ≤ c), stored
    * row by row with DoFs named by subdomain, body vertex and component, so that every rank can
-   * build the same global numbering of the dual unknowns and extract its subdomains' blocks B_i.
+   * extract its subdomains' blocks B_i. The rows are all rows of B, or those a rank holds (the
+   * rows that touch its subdomains, rows_touching()): every row carries its number among all
+   * rows, and the rows are in increasing order of their numbers.
    */
   struct DualRows
   {
     std::vector<unsigned int> row_start{0};
     std::vector<DualRowEntry> entries;
     std::vector<double>       c;
+    /** The number of every row among all rows (increasing). */
+    std::vector<unsigned int> number;
+    /** The number of all rows, also of those that are not here. */
+    unsigned int n_all = 0;
     /**
-     * Sets of rows that one rank must hold together in the distributed dual vectors (the rows
-     * of one block of a separable constraint set, e.g. a contact node's normal and tangential
-     * rows); rows in no set are placed one by one.
+     * Sets of rows (indices here, not numbers) that one rank must hold together in the
+     * distributed dual vectors (the rows of one block of a separable constraint set, e.g. a
+     * contact node's normal and tangential rows); rows in no set are placed one by one.
      */
     std::vector<std::vector<unsigned int>> held_together;
 
+    /** The number of rows here. */
     unsigned int
     n_rows() const
     {
       return c.size();
     }
+    /** Whether these are all rows. */
+    bool
+    complete() const
+    {
+      return n_rows() == n_all;
+    }
+    /** Appends a row numbered n_all (one more row of all rows). */
     void
     add_row(const std::vector<DualRowEntry> &row, const double rhs);
-    /** Appends all rows of @p other after these. */
+    /** Appends the rows of @p other after these, renumbered after all rows of these. */
     void
     append(const DualRows &other);
-    /** Appends rows @p first to @p last (exclusive) of @p other after these. */
+    /** Appends rows @p first to @p last (exclusive) of @p other as new rows (add_row()). */
     void
     append(const DualRows &other, const unsigned int first, const unsigned int last);
+    /**
+     * The rows with a coefficient in a subdomain for which @p touches is true, with every row
+     * held together with one of them, and, with @p keep_empty, the rows without coefficients and
+     * those held together with one. Numbers and n_all are kept.
+     */
+    DualRows
+    rows_touching(const std::function<bool(unsigned int)> &touches, const bool keep_empty) const;
 
     template <class Archive>
     void
     serialize(Archive &archive, const unsigned int /*version*/)
     {
-      archive &row_start &entries &c &held_together;
+      archive &row_start &entries &c &number &n_all &held_together;
     }
   };
 
@@ -80,4 +102,17 @@ namespace FetiContact
   build_equality_rows(const MPI_Comm                  comm,
                       const std::vector<Subdomain *> &owned,
                       const bool                      dirichlet_rows);
+
+  /**
+   * The rows of build_equality_rows() that touch this rank's subdomains @p owned, with the same
+   * numbers, without any rank holding all rows: the lowest holder of a vertex makes its rows,
+   * the rows are numbered in the order of bodies, vertices and components by a sum over the
+   * ranks (each rank counts a range of the vertices), and the maker sends the rows to the ranks
+   * of the vertex's other holders. @p owner: the rank of every subdomain.
+   */
+  DualRows
+  build_local_equality_rows(const MPI_Comm                   comm,
+                            const std::vector<Subdomain *>  &owned,
+                            const std::vector<unsigned int> &owner,
+                            const bool                       dirichlet_rows);
 } // namespace FetiContact

@@ -36,6 +36,14 @@ namespace FetiContact
     VectorType
     vector() const;
 
+    /** h of the dual problem on this rank's rows. */
+    const VectorType &
+    h() const;
+
+    /** c (the right-hand side of B u = c, B u ≤ c) on this rank's rows. */
+    const VectorType &
+    c() const;
+
     /** The entries this rank holds of a vector of all rows. */
     VectorType restrict(const dealii::Vector<double> &all) const;
 

@@ -16,8 +16,9 @@ rank (`communication.*_per_rank`, `memory.peak_rss_mib_per_rank`):
 - distributed dual vectors: the ghost rows a rank imports (point to point) and from how many
   ranks;
 - the values received per application of F on either kind (slots + gathered or + ghosts);
-- the peak resident memory, and the memory of the meshes that a rank holds (`memory.meshes_mib`;
-  whole with replicated dual vectors, the rank's own cells with distributed ones).
+- the peak resident memory, the memory of the meshes that a rank holds (`memory.meshes_mib`;
+  whole with replicated dual vectors, the rank's own cells with distributed ones), and of the
+  contact nodes and surfaces, which every rank holds whole (`memory.contact_mib`).
 
 --dual-vectors sets `FETI/Dual vectors` (the exchanges are counted for both kinds either way;
 the memory is that of the setting).
@@ -48,7 +49,7 @@ MD = option("--markdown", "doc/data/communication.md")
 FIELDS = ["np", "m_total", "n_subdomains", "slot_neighbours_max", "slots_received_max",
           "gathered_values_max", "ghost_neighbours_max", "ghosts_received_max",
           "replicated_received_max", "distributed_received_max", "peak_rss_mib_max",
-          "peak_rss_mib_min", "meshes_mib"]
+          "peak_rss_mib_min", "meshes_mib", "contact_mib"]
 
 
 def run(np_):
@@ -73,7 +74,8 @@ def run(np_):
             "replicated_received_max": int(max(replicated)),
             "distributed_received_max": int(max(distributed)),
             "peak_rss_mib_max": round(max(m)), "peak_rss_mib_min": round(min(m)),
-            "meshes_mib": round(s["memory"]["meshes_mib"], 1)}
+            "meshes_mib": round(s["memory"]["meshes_mib"], 1),
+            "contact_mib": round(s["memory"]["contact_mib"], 2)}
 
 
 def write_markdown(rows):
@@ -85,14 +87,16 @@ def write_markdown(rows):
              "",
              "| np | slot neighbours | slots received | replicated: row sums gathered | "
              "distributed: ghost neighbours | ghosts received | received per F, replicated | "
-             "received per F, distributed | peak memory per rank [MiB] | meshes [MiB] |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "received per F, distributed | peak memory per rank [MiB] | meshes [MiB] | "
+             "contact nodes and surfaces [MiB] |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s–%s | %s |" % (
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s–%s | %s | %s |" % (
             r["np"], r["slot_neighbours_max"], r["slots_received_max"],
             r["gathered_values_max"], r["ghost_neighbours_max"], r["ghosts_received_max"],
             r["replicated_received_max"], r["distributed_received_max"],
-            r["peak_rss_mib_min"], r["peak_rss_mib_max"], r["meshes_mib"]))
+            r["peak_rss_mib_min"], r["peak_rss_mib_max"], r["meshes_mib"],
+            r.get("contact_mib", "–")))
     write_table(MD, lines)
 
 

@@ -879,4 +879,20 @@ namespace FetiContact
         g[*nodes[k].keeper] += g[k];
     return g;
   }
+
+  std::size_t
+  memory_consumption(const std::vector<ContactNode> &nodes, const ContactSurfaces &surfaces)
+  {
+    std::size_t bytes =
+      nodes.capacity() * sizeof(ContactNode) +
+      (surfaces.slave.capacity() + surfaces.master.capacity()) * sizeof(ContactTriangle);
+    for (const ContactNode &node : nodes)
+      {
+        bytes += node.master.capacity() * sizeof(MasterPoint) +
+                 node.copies.parts.capacity() * sizeof(unsigned int);
+        for (const MasterPoint &m : node.master)
+          bytes += m.copies.parts.capacity() * sizeof(unsigned int);
+      }
+    return bytes;
+  }
 } // namespace FetiContact

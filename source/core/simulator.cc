@@ -879,7 +879,10 @@ namespace FetiContact
       .set("estimated_peak_mib", memory_estimate.peak_mib)
       .set("model_cells", memory_estimate.cells)
       .set("model_factor_units", memory_estimate.factor_units)
-      .set("meshes_mib", meshes_mib());
+      .set("meshes_mib", meshes_mib())
+      .set("contact_mib",
+           static_cast<double>(memory_consumption(contact_nodes, contact_surfaces)) /
+             (1024.0 * 1024.0));
     pcout << "Peak resident memory per rank: ";
     for (const double p : peak_mib)
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;

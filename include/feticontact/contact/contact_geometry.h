@@ -177,6 +177,10 @@ namespace FetiContact
     std::vector<ContactTriangle> slave, master;
   };
 
+  /** The bytes that @p nodes and @p surfaces hold (every rank holds all of them). */
+  std::size_t
+  memory_consumption(const std::vector<ContactNode> &nodes, const ContactSurfaces &surfaces);
+
   /**
    * The contact nodes of all zones: the vertices of each zone's surface that have no prescribed
    * displacement component, or only components orthogonal to the node's normal, such as a

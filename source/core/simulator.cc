@@ -383,9 +383,11 @@ namespace FetiContact
     // subdomain) a rank keeps the rows that touch its subdomains: the contact rows of the nodes
     // on them (rank 0 also those without coefficients, which it adds up), and the equality rows
     // of their vertices, made without any rank holding all.
+    const bool shared = parameters.feti.shared_local_work > 0 &&
+                        SharedLocalWork::possible(comm, parameters.feti.local_solver);
     const bool local_rows =
-      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed &&
-      parameters.feti.shared_local_work == 0 && n_ranks > 1;
+      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed && !shared &&
+      n_ranks > 1;
     if (local_rows)
       rows =
         rows.rows_touching([this](const unsigned int s) { return owner[s] == rank; }, rank == 0);

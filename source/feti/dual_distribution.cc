@@ -131,11 +131,13 @@ namespace FetiContact
   Vector<double>
   DualDistribution::gather(const DistributedVector &x) const
   {
+    AssertThrow(x.get_layout() == vector_layout,
+                ExcMessage("DualDistribution::gather: a vector of another layout."));
     if (gather_count.empty())
       {
         // Every rank's owned rows, in rank order.
         const int n_ranks = Utilities::MPI::n_mpi_processes(comm);
-        const int n_owned = x.locally_owned_size();
+        const int n_owned = vector_layout->global_index.size();
         gather_count.resize(n_ranks);
         MPI_Allgather(&n_owned, 1, MPI_INT, gather_count.data(), 1, MPI_INT, comm);
         gather_displacement.assign(n_ranks + 1, 0);

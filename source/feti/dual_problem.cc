@@ -22,21 +22,16 @@ namespace FetiContact
     : comm(comm)
     , owned(owned)
     , n_all_rows(rows.n_all)
-    , all_rows(Utilities::MPI::min(rows.complete() ? 1u : 0u, comm) == 1)
+    , replicated_products(!distributed_coarse || shared)
     , B(owned.size())
     , work(owned.size())
     , shared(shared)
   {
     AssertThrow(std::is_sorted(rows.number.begin(), rows.number.end()),
                 ExcMessage("DualProblem: the rows must be in increasing order of their numbers."));
-    AssertThrow(all_rows || (distributed_coarse && !shared),
+    AssertThrow(!replicated_products || Utilities::MPI::min(rows.complete() ? 1u : 0u, comm) == 1,
                 ExcMessage("DualProblem: products with replicated dual vectors and the shared "
-                           "local work need all rows of B."));
-    if (all_rows)
-      {
-        c.reinit(rows.n_rows());
-        std::copy(rows.c.begin(), rows.c.end(), c.begin());
-      }
+                           "local work need all rows of B on every rank."));
 
     build_blocks(rows);
     // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
@@ -113,23 +108,7 @@ namespace FetiContact
     Utilities::MPI::sum(ArrayView<const double>(e.begin(), e.size()),
                         comm,
                         ArrayView<double>(e.begin(), e.size()));
-    c_owned = row_distribution->vector();
-    for (unsigned int j = 0; j < own_local.size(); ++j)
-      c_owned[j] = rows.c[own_local[j]];
-    if (all_rows)
-      {
-        sum_slots(h);
-        h -= c;
-        h_owned = row_distribution->restrict(h);
-      }
-    else
-      {
-        // The same sums, on this rank's rows only.
-        h_owned = row_distribution->vector();
-        exchange_slots();
-        sum_own_rows(h_owned.begin());
-        h_owned -= c_owned;
-      }
+    set_up_right_hand_sides(rows);
     const auto [first_own_mode, end_own_mode] = own_modes(mode_offset);
     if (distributed_coarse)
       coarse.initialize_distributed(*row_distribution,
@@ -142,6 +121,31 @@ namespace FetiContact
       {
         coarse.initialize(comm, G_entries, mode_offset.back(), size());
         coarse.distribute(*row_distribution, first_own_mode, end_own_mode);
+      }
+  }
+
+  void
+  DualProblem::set_up_right_hand_sides(const DualRows &rows)
+  {
+    // The slots hold B K⁺ f.
+    c_owned = row_distribution->vector();
+    for (unsigned int j = 0; j < own_local.size(); ++j)
+      c_owned[j] = rows.c[own_local[j]];
+    if (replicated_products)
+      {
+        c.reinit(rows.n_rows());
+        std::copy(rows.c.begin(), rows.c.end(), c.begin());
+        sum_slots(h);
+        h -= c;
+        h_owned = row_distribution->restrict(h);
+      }
+    else
+      {
+        // The same sums, on this rank's rows only.
+        h_owned = row_distribution->vector();
+        exchange_slots();
+        sum_own_rows(h_owned.begin());
+        h_owned -= c_owned;
       }
   }
 
@@ -329,7 +333,7 @@ namespace FetiContact
           own_local.push_back(r);
         }
     own_sums.resize(own_rows.size());
-    if (all_rows && !single_rank && !shared)
+    if (replicated_products && !single_rank && !shared)
       {
         // The order of all rows in the gathered sums (rank by rank), for the replicated products.
         row_count.assign(n_ranks, 0);
@@ -395,7 +399,9 @@ namespace FetiContact
   void
   DualProblem::sum_slots(Vector<double> &y) const
   {
-    AssertThrow(all_rows, ExcMessage("DualProblem: the replicated products need all rows of B."));
+    AssertThrow(replicated_products,
+                ExcMessage("DualProblem: the replicated products do not exist with distributed "
+                           "rows and coarse problem."));
     if (y.size() != size())
       y.reinit(size(), true);
     const auto row_sum = [&](const unsigned int r) {

@@ -26,8 +26,21 @@ namespace FetiContact
   }
 
   void
+  DualRows::add_row_of(const DualRows &other, const unsigned int r, const unsigned int row_number)
+  {
+    entries.insert(entries.end(),
+                   other.entries.begin() + other.row_start[r],
+                   other.entries.begin() + other.row_start[r + 1]);
+    row_start.push_back(entries.size());
+    c.push_back(other.c[r]);
+    number.push_back(row_number);
+  }
+
+  void
   DualRows::append(const DualRows &other)
   {
+    AssertThrow(std::uint64_t(n_all) + other.n_all < numbers::invalid_unsigned_int,
+                ExcMessage("The rows of B exceed the range of an unsigned int."));
     for (auto set : other.held_together)
       {
         for (unsigned int &r : set)
@@ -35,14 +48,7 @@ namespace FetiContact
         held_together.push_back(std::move(set));
       }
     for (unsigned int r = 0; r < other.n_rows(); ++r)
-      {
-        entries.insert(entries.end(),
-                       other.entries.begin() + other.row_start[r],
-                       other.entries.begin() + other.row_start[r + 1]);
-        row_start.push_back(entries.size());
-        c.push_back(other.c[r]);
-        number.push_back(n_all + other.number[r]);
-      }
+      add_row_of(other, r, n_all + other.number[r]);
     n_all += other.n_all;
   }
 
@@ -50,9 +56,7 @@ namespace FetiContact
   DualRows::append(const DualRows &other, const unsigned int first, const unsigned int last)
   {
     for (unsigned int r = first; r < last; ++r)
-      add_row(std::vector<DualRowEntry>(other.entries.begin() + other.row_start[r],
-                                        other.entries.begin() + other.row_start[r + 1]),
-              other.c[r]);
+      add_row_of(other, r, n_all++);
   }
 
   DualRows
@@ -76,16 +80,11 @@ namespace FetiContact
       if (keep[r])
         {
           index[r] = kept.n_rows();
-          kept.entries.insert(kept.entries.end(),
-                              entries.begin() + row_start[r],
-                              entries.begin() + row_start[r + 1]);
-          kept.row_start.push_back(kept.entries.size());
-          kept.c.push_back(c[r]);
-          kept.number.push_back(number[r]);
+          kept.add_row_of(*this, r, number[r]);
         }
     kept.n_all = n_all;
     for (const auto &set : held_together)
-      if (keep[set.front()])
+      if (!set.empty() && keep[set.front()])
         {
           kept.held_together.emplace_back();
           for (const unsigned int r : set)
@@ -163,39 +162,18 @@ namespace FetiContact
       }
     return rows;
   }
-} // namespace FetiContact
 
-namespace FetiContact
-{
   namespace
   {
-    /** Appends row @p r of @p from to @p to with the number @p number. */
-    void
-    copy_row(const DualRows &from, const unsigned int r, DualRows &to, const unsigned int number)
-    {
-      to.entries.insert(to.entries.end(),
-                        from.entries.begin() + from.row_start[r],
-                        from.entries.begin() + from.row_start[r + 1]);
-      to.row_start.push_back(to.entries.size());
-      to.c.push_back(from.c[r]);
-      to.number.push_back(number);
-    }
-
     /**
-     * The number among all rows of the first row of every group (body, body vertex, first row)
-     * in @p groups, which has @p n_rows rows in all: every rank counts the rows of a range of the
-     * vertices of all bodies, ranges in rank order, and numbers them after the rows of the lower
-     * ranges. Returns the first numbers and the number of all rows.
+     * The key of the vertex of every group (body, body vertex, first row) in @p groups, with the
+     * vertices of all bodies one after the other, and the number of all keys (over the ranks).
      */
     std::pair<std::vector<std::uint64_t>, std::uint64_t>
-    number_groups(const MPI_Comm                   comm,
-                  const std::vector<unsigned int> &groups,
-                  const unsigned int               n_rows)
+    vertex_keys(const MPI_Comm comm, const std::vector<unsigned int> &groups)
     {
-      const unsigned int n_ranks  = Utilities::MPI::n_mpi_processes(comm);
       const unsigned int n_groups = groups.size() / 3;
-      // A vertex's key: the vertices of all bodies one after the other.
-      unsigned int n_bodies = 0;
+      unsigned int       n_bodies = 0;
       for (unsigned int g = 0; g < n_groups; ++g)
         n_bodies = std::max(n_bodies, groups[3 * g] + 1);
       n_bodies = Utilities::MPI::max(n_bodies, comm);
@@ -206,11 +184,31 @@ namespace FetiContact
       std::vector<std::uint64_t> key_offset(n_bodies + 1, 0);
       for (unsigned int b = 0; b < n_bodies; ++b)
         key_offset[b + 1] = key_offset[b] + n_vertices[b];
-      const auto key_of = [&](const unsigned int g) {
-        return key_offset[groups[3 * g]] + groups[3 * g + 1];
-      };
-      const auto counter = [&](const std::uint64_t key) {
-        return static_cast<unsigned int>(key * n_ranks / key_offset.back());
+      std::vector<std::uint64_t> keys(n_groups);
+      for (unsigned int g = 0; g < n_groups; ++g)
+        keys[g] = key_offset[groups[3 * g]] + groups[3 * g + 1];
+      return {std::move(keys), key_offset.back()};
+    }
+
+    /**
+     * The number among all rows of the first row of every group (body, body vertex, first row)
+     * in @p groups, which has @p n_rows rows in all: every rank counts the rows of a range of the
+     * vertices of all bodies, ranges in rank order, and numbers them after the rows of the lower
+     * ranges (only groups with rows are counted). Returns the first numbers and the number of all
+     * rows.
+     */
+    std::pair<std::vector<std::uint64_t>, std::uint64_t>
+    number_groups(const MPI_Comm                   comm,
+                  const std::vector<unsigned int> &groups,
+                  const unsigned int               n_rows)
+    {
+      const unsigned int                n_ranks  = Utilities::MPI::n_mpi_processes(comm);
+      const unsigned int                n_groups = groups.size() / 3;
+      const auto                        keyed    = vertex_keys(comm, groups);
+      const std::vector<std::uint64_t> &keys     = keyed.first;
+      const std::uint64_t               n_keys   = keyed.second;
+      const auto                        counter  = [&](const std::uint64_t key) {
+        return static_cast<unsigned int>(key * n_ranks / n_keys);
       };
       const auto size_of = [&](const unsigned int g) {
         return (g + 1 < n_groups ? groups[3 * g + 5] : n_rows) - groups[3 * g + 2];
@@ -219,7 +217,8 @@ namespace FetiContact
       // Every group's key and size to the rank that counts its range.
       std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> sizes;
       for (unsigned int g = 0; g < n_groups; ++g)
-        sizes[counter(key_of(g))].push_back({{key_of(g), size_of(g)}});
+        if (size_of(g) > 0)
+          sizes[counter(keys[g])].push_back({{keys[g], size_of(g)}});
       std::vector<std::array<std::uint64_t, 3>> ranged; // (key, size, rank of the group)
       for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, sizes))
         for (const auto &[key, size] : list)
@@ -243,7 +242,8 @@ namespace FetiContact
           first_of_key[key] = first;
       std::vector<std::uint64_t> first(n_groups);
       for (unsigned int g = 0; g < n_groups; ++g)
-        first[g] = first_of_key.at(key_of(g));
+        if (size_of(g) > 0)
+          first[g] = first_of_key.at(keys[g]);
       return {std::move(first), Utilities::MPI::sum(n_counted, comm)};
     }
   } // namespace
@@ -283,7 +283,7 @@ namespace FetiContact
             ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
             const unsigned int number = first[g] + (r - begin);
             for (const unsigned int p : ranks)
-              copy_row(mine, r, p == this_rank ? numbered : outgoing[p], number);
+              (p == this_rank ? numbered : outgoing[p]).add_row_of(mine, r, number);
           }
       }
     std::vector<std::pair<unsigned int, const DualRows *>> sources{{this_rank, &numbered}};
@@ -300,7 +300,7 @@ namespace FetiContact
     std::sort(order.begin(), order.end());
     DualRows rows;
     for (const auto &[number, j, r] : order)
-      copy_row(*sources[j].second, r, rows, number);
+      rows.add_row_of(*sources[j].second, r, number);
     rows.n_all = n_all;
     return rows;
   }

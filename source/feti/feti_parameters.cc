@@ -69,7 +69,8 @@ namespace FetiContact::Parameters
       "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor stays on every "
       "rank); on several ranks the bodies' meshes are distributed too: rank 0 creates and "
       "partitions them and every rank keeps the cells of its own subdomains (the FCLIB export "
-      "then needs 'replicated'). Either way the iterates "
+      "then needs 'replicated'), and, unless the ranks share local work, only the rows of B "
+      "that touch them. Either way the iterates "
       "and iteration counts are the same on any number of ranks; between the two they differ "
       "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
     QP::ProjectedCGParameters::declare_parameters(prm);

@@ -210,7 +210,7 @@ main(int argc, char **argv)
         "rows per rank" + on +
           ": F x, the lumped preconditioner, h, c, λ₀, the primal recovery and B u − c the same "
           "bits as on one rank");
-  check(n_ranks == 1 || on_local.h.size() == 0,
+  check(on_local.h.size() == 0 && on_local.c.size() == 0,
         "rows per rank: h and c of all rows held on no rank");
 
   const int failures = Utilities::MPI::max(n_failures, world);

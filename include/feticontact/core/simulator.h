@@ -140,8 +140,13 @@ namespace FetiContact
     /** This rank's subdomains, their meshes and DoFs, and the rows of B. */
     void
     set_up_subdomains();
+    /** The rank of every subdomain (owner): contiguous ranges balanced by cells. */
     void
     distribute_subdomains();
+    /**
+     * The rows of B, λ = [λ_T; λ_N; λ_E]: all of them, or with distributed dual vectors on
+     * several ranks (and no shared local work) those that touch this rank's subdomains.
+     */
     void
     build_dual_rows();
     void
@@ -276,8 +281,9 @@ namespace FetiContact
     std::vector<std::unique_ptr<Subdomain>> subdomains; ///< this rank's
     std::vector<Subdomain *>                owned;
     std::vector<unsigned int>               mode_offset;
-    DualRows                                rows;
-    std::vector<ContactNode>                contact_nodes;
+    /** The rows of B that this rank holds (build_dual_rows()). */
+    DualRows                 rows;
+    std::vector<ContactNode> contact_nodes;
     /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
     std::unique_ptr<LoadBalanceTest> load_balance_test;
     ContactSurfaces                  contact_surfaces;

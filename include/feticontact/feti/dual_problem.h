@@ -50,8 +50,10 @@ namespace FetiContact
      * @p owned: this rank's subdomains (factorized); @p mode_offset: first rigid mode of every
      * global subdomain (size n_subdomains + 1); @p rows: all rows of B with c, or, with
      * @p distributed_coarse and without @p shared, at least the rows that touch this rank's
-     * subdomains (DualRows::rows_touching(), build_local_equality_rows()): then the rank holds
-     * nothing of the length of all rows but what the coarse problem needs. With
+     * subdomains (DualRows::rows_touching(), build_local_equality_rows()). With
+     * @p distributed_coarse and without @p shared the rank holds nothing of the length of all
+     * rows but what the coarse problem needs, and the products with replicated dual vectors
+     * (those taking dealii::Vector) throw. With
      * @p shared (which holds the factors of this rank's reserve, SharedLocalWork::take_factor(),
      * and must outlive this object) the ranks of the node share the reserves' part of the local
      * work of every multiplication by F; F x is the same either way. With @p distributed_coarse
@@ -150,7 +152,7 @@ namespace FetiContact
     distributed_constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
 
     CoarseProblem coarse;
-    /** h and c on all rows: only if every rank was given all rows (DualRows::complete()). */
+    /** h and c on all rows: only with the replicated products (empty otherwise). */
     dealii::Vector<double> h, c;
     /** h and c on this rank's rows (the layout of distribution()). */
     DistributedVector h_owned, c_owned;
@@ -189,6 +191,9 @@ namespace FetiContact
     /** The index in @p rows of the row numbered @p number. */
     static unsigned int
     index_of_row(const DualRows &rows, const unsigned int number);
+    /** c_owned and h_owned, and with the replicated products c and h (from the slots of B K⁺f). */
+    void
+    set_up_right_hand_sides(const DualRows &rows);
     /**
      * The entries of G in the columns relevant to this rank, from @p own_entries (those of its
      * modes) of every rank (point to point).
@@ -263,8 +268,11 @@ namespace FetiContact
     std::vector<Subdomain *> owned;
     /** The number of all rows (m). */
     unsigned int n_all_rows = 0;
-    /** Whether every rank was given all rows (then h and c of all rows exist). */
-    bool                                        all_rows = false;
+    /**
+     * Whether the products with replicated dual vectors exist (without @p distributed_coarse,
+     * or with the shared local work): then every rank has all rows, and h and c of all rows.
+     */
+    bool                                        replicated_products = true;
     std::vector<BlockOfB>                       B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;

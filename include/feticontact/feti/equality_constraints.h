@@ -63,6 +63,9 @@ namespace FetiContact
     /** Appends a row numbered n_all (one more row of all rows). */
     void
     add_row(const std::vector<DualRowEntry> &row, const double rhs);
+    /** Appends row @p r of @p other with the number @p row_number. */
+    void
+    add_row_of(const DualRows &other, const unsigned int r, const unsigned int row_number);
     /** Appends the rows of @p other after these, renumbered after all rows of these. */
     void
     append(const DualRows &other);

@@ -48,9 +48,10 @@ namespace FetiContact::Parameters
      * How the solvers hold the dual vectors λ (DualProblem): `replicated`, every rank holds all
      * rows; `distributed`, every rank holds the rows it adds up in F x (DistributedVector),
      * neighbouring ranks exchange the rows their subdomains share, the dot products and norms
-     * are the only global reductions, and G is held by the columns of each rank's subdomains
-     * (CoarseProblem::initialize_distributed()). Either way the iterates and counts do not
-     * depend on the number of ranks.
+     * are the only global reductions, G is held by the columns of each rank's subdomains
+     * (CoarseProblem::initialize_distributed()), and on several ranks a rank holds the cells
+     * of its subdomains and the rows of B that touch them (unless the ranks share local work).
+     * Either way the iterates and counts do not depend on the number of ranks.
      */
     enum class DualVectors
     {

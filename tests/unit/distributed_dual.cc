@@ -7,7 +7,9 @@
 // modes), G x, Gᵀy, P x, the least-norm and the tiered particular solution of Gλ = e too, while
 // a rank holds fewer entries of G than one rank holding everything. With the rows of B made per
 // rank (build_local_equality_rows: each rank the rows that touch its subdomains), the rows are
-// those of one rank holding all, and F x, h, c and the primal recovery the same bits.
+// those of one rank holding all, and F x, h, c and the primal recovery the same bits; so are F x
+// and h with contact-like rows before them, each held together with an empty row that rank 0
+// adds up (DualRows::rows_touching).
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -212,6 +214,34 @@ main(int argc, char **argv)
           "bits as on one rank");
   check(on_local.h.size() == 0 && on_local.c.size() == 0,
         "rows per rank: h and c of all rows held on no rank");
+
+  // Contact-like rows before the equality rows: every fifth row of B_E as a "normal" row held
+  // together with an empty "tangential" row (rank 0 adds it up), as the rows of a roller node.
+  DualRows contact;
+  for (unsigned int r = 0; r < rows.n_rows(); r += 5)
+    {
+      contact.held_together.push_back({contact.n_rows(), contact.n_rows() + 1});
+      contact.add_row_of(rows, r, contact.n_all++);
+      contact.add_row({}, 0.0);
+    }
+  DualRows all_rows = contact,
+           own_rows = contact.rows_touching([&](const unsigned int s) { return owner[s] == rank; },
+                                            rank == 0);
+  all_rows.append(rows);
+  own_rows.append(local);
+  const DualProblem with_contact(MPI_COMM_SELF, all, mode_offset, all_rows);
+  const DualProblem own_contact(world, own, mode_offset, own_rows, nullptr, true);
+  const auto       &d_c = own_contact.distribution();
+  Vector<double>    x_c(all_rows.n_rows()), Fx_c;
+  for (auto &xi : x_c)
+    xi = uniform(random);
+  DistributedVector Fx_own;
+  with_contact.apply_F(x_c, Fx_c);
+  own_contact.apply_F(d_c.restrict(x_c), Fx_own);
+  check(own_rows.n_all == all_rows.n_rows() && same_bits(d_c.gather(Fx_own), Fx_c) &&
+          same_bits(d_c.gather(own_contact.h_owned), with_contact.h),
+        "rows per rank with empty rows held together before them" + on +
+          ": F x and h the same bits as on one rank");
 
   const int failures = Utilities::MPI::max(n_failures, world);
   if (rank == 0)

@@ -247,38 +247,52 @@ namespace FetiContact
   DualProblem::Owners
   DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
   {
-    int n_ranks = 1, this_rank = 0;
-    MPI_Comm_size(comm, &n_ranks);
-    MPI_Comm_rank(comm, &this_rank);
-    single_rank          = (n_ranks == 1);
-    const unsigned int n = rows.n_rows();
+    single_rank   = Utilities::MPI::n_mpi_processes(comm) == 1;
+    Owners owners = row_owners(rows, n_subdomains);
+    set_up_slot_exchanges(rows, owners);
+    set_up_own_rows(rows, owners);
+    set_up_distribution(rows, owners);
+    return owners;
+  }
+
+  int
+  DualProblem::Owners::rank_of_entry(const DualRows &rows, const unsigned int k) const
+  {
+    const unsigned int s = rows.entries[k].subdomain;
+    AssertThrow(s < subdomain_rank.size() && subdomain_rank[s] >= 0,
+                ExcMessage("DualProblem: a row of B refers to subdomain " + std::to_string(s) +
+                           ", which no rank owns."));
+    return subdomain_rank[s];
+  }
+
+  DualProblem::Owners
+  DualProblem::row_owners(const DualRows &rows, const unsigned int n_subdomains) const
+  {
+    const int          n_ranks   = Utilities::MPI::n_mpi_processes(comm);
+    const int          this_rank = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n         = rows.n_rows();
 
     // The rank of every subdomain, and of every row: the rank of the first subdomain in the
     // row's summation order (rank 0 for a row without coefficients).
-    std::vector<int> subdomain_rank(n_subdomains, -1);
+    Owners owners;
+    owners.subdomain_rank.assign(n_subdomains, -1);
     for (const Subdomain *s : owned)
-      subdomain_rank[s->global_index] = this_rank;
+      owners.subdomain_rank[s->global_index] = this_rank;
     if (n_subdomains > 0)
-      MPI_Allreduce(MPI_IN_PLACE, subdomain_rank.data(), n_subdomains, MPI_INT, MPI_MAX, comm);
-    const auto rank_of_slot = [&](const unsigned int k) {
-      const unsigned int s = rows.entries[k].subdomain;
-      AssertThrow(s < n_subdomains && subdomain_rank[s] >= 0,
-                  ExcMessage("DualProblem: a row of B refers to subdomain " + std::to_string(s) +
-                             ", which no rank owns."));
-      return subdomain_rank[s];
-    };
+      MPI_Allreduce(
+        MPI_IN_PLACE, owners.subdomain_rank.data(), n_subdomains, MPI_INT, MPI_MAX, comm);
     // The first subdomain of every row (the lowest of a set of rows held together), its rank
     // and its chunk of the dual vectors' sums: a chunk is the same rows on any number of ranks,
     // and all on one rank (the subdomains of a rank are a contiguous range). Which rank adds up
     // a row does not change its sum. Every rank that holds a row holds its whole set, and so
     // gives it the same rank.
-    std::vector<unsigned int> first_subdomain(n, 0);
-    std::vector<int>          row_rank(n, 0);
+    owners.first_subdomain.assign(n, 0);
+    owners.row_rank.assign(n, 0);
     for (unsigned int r = 0; r < n; ++r)
       if (slot_start[r] < slot_start[r + 1])
         {
-          first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
-          row_rank[r]        = rank_of_slot(slot_order[slot_start[r]]);
+          owners.first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
+          owners.row_rank[r]        = owners.rank_of_entry(rows, slot_order[slot_start[r]]);
         }
     for (const auto &set : rows.held_together)
       {
@@ -286,24 +300,30 @@ namespace FetiContact
         int          rank  = n_ranks;
         for (const unsigned int r : set)
           {
-            first = std::min(first, first_subdomain[r]);
-            rank  = std::min(rank, row_rank[r]);
+            first = std::min(first, owners.first_subdomain[r]);
+            rank  = std::min(rank, owners.row_rank[r]);
           }
         for (const unsigned int r : set)
           {
-            first_subdomain[r] = first;
-            row_rank[r]        = rank;
+            owners.first_subdomain[r] = first;
+            owners.row_rank[r]        = rank;
           }
       }
+    return owners;
+  }
 
+  void
+  DualProblem::set_up_slot_exchanges(const DualRows &rows, const Owners &owners)
+  {
     // The slots that cross ranks: terms of this rank's subdomains in other ranks' rows (sent)
     // and the other way round (received), both listed by increasing row number and, within a
     // row, in the order of its entries, on either side.
+    const int                                this_rank = Utilities::MPI::this_mpi_process(comm);
     std::map<int, std::vector<unsigned int>> send, receive;
-    for (unsigned int r = 0; r < n; ++r)
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
       for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
         {
-          const int from = rank_of_slot(k), to = row_rank[r];
+          const int from = owners.rank_of_entry(rows, k), to = owners.row_rank[r];
           if (from == to)
             continue;
           if (from == this_rank)
@@ -322,12 +342,18 @@ namespace FetiContact
     for (auto &exchange : receive_slots)
       exchange.buffer.resize(exchange.slots.size());
     requests.resize(send_slots.size() + receive_slots.size());
+  }
 
-    // This rank's rows.
+  void
+  DualProblem::set_up_own_rows(const DualRows &rows, const Owners &owners)
+  {
+    const int          n_ranks   = Utilities::MPI::n_mpi_processes(comm);
+    const int          this_rank = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n         = rows.n_rows();
     own_rows.clear();
     own_local.clear();
     for (unsigned int r = 0; r < n; ++r)
-      if (row_rank[r] == this_rank)
+      if (owners.row_rank[r] == this_rank)
         {
           own_rows.push_back(rows.number[r]);
           own_local.push_back(r);
@@ -339,16 +365,20 @@ namespace FetiContact
         row_count.assign(n_ranks, 0);
         row_displacement.assign(n_ranks, 0);
         for (unsigned int r = 0; r < n; ++r)
-          ++row_count[row_rank[r]];
+          ++row_count[owners.row_rank[r]];
         for (int p = 1; p < n_ranks; ++p)
           row_displacement[p] = row_displacement[p - 1] + row_count[p - 1];
         gathered_rows.resize(n);
         std::vector<int> next(row_displacement);
         for (unsigned int r = 0; r < n; ++r)
-          gathered_rows[next[row_rank[r]]++] = r;
+          gathered_rows[next[owners.row_rank[r]]++] = r;
         gathered_sums.resize(n);
       }
+  }
 
+  void
+  DualProblem::set_up_distribution(const DualRows &rows, const Owners &owners)
+  {
     // The distributed dual vectors: this rank's rows, and the rows of its subdomains.
     std::vector<unsigned int> relevant(own_rows);
     for (const auto &b : B)
@@ -357,10 +387,10 @@ namespace FetiContact
     relevant.erase(std::unique(relevant.begin(), relevant.end()), relevant.end());
     std::vector<int> relevant_owner(relevant.size());
     for (unsigned int j = 0; j < relevant.size(); ++j)
-      relevant_owner[j] = row_rank[index_of_row(rows, relevant[j])];
+      relevant_owner[j] = owners.row_rank[index_of_row(rows, relevant[j])];
     std::vector<unsigned int> chunk_of_own_row(own_rows.size());
     for (unsigned int j = 0; j < own_rows.size(); ++j)
-      chunk_of_own_row[j] = first_subdomain[own_local[j]];
+      chunk_of_own_row[j] = owners.first_subdomain[own_local[j]];
     row_distribution = std::make_unique<DualDistribution>(
       comm, own_rows, relevant, relevant_owner, size(), chunk_of_own_row);
     relevant_row.resize(B.size());
@@ -370,7 +400,6 @@ namespace FetiContact
         for (unsigned int k = 0; k < B[i].row.size(); ++k)
           relevant_row[i][k] = row_distribution->relevant_index(B[i].row[k]);
       }
-    return {std::move(subdomain_rank), std::move(row_rank)};
   }
 
   DualProblem::CommunicationVolume

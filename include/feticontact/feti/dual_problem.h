@@ -177,10 +177,18 @@ namespace FetiContact
     /** Writes the terms of B_i u into the slots of subdomain i. */
     void
     set_B_slots(const unsigned int i, const dealii::Vector<double> &u) const;
-    /** The rank of every subdomain and of every row (the rank that adds it up). */
+    /**
+     * The rank of every subdomain, and of every row given (the rank that adds it up) with its
+     * first subdomain in summation order (its chunk of the dual vectors' sums).
+     */
     struct Owners
     {
-      std::vector<int> subdomain_rank, row_rank;
+      std::vector<int>          subdomain_rank, row_rank;
+      std::vector<unsigned int> first_subdomain;
+
+      /** The rank of the subdomain of entry @p k of @p rows. */
+      int
+      rank_of_entry(const DualRows &rows, const unsigned int k) const;
     };
     /**
      * The rows of each rank and the slots that cross ranks (from the rows and the owners).
@@ -188,6 +196,18 @@ namespace FetiContact
      */
     Owners
     setup_row_sums(const DualRows &rows, const unsigned int n_subdomains);
+    /** The owners of the subdomains and of the rows given (collective). */
+    Owners
+    row_owners(const DualRows &rows, const unsigned int n_subdomains) const;
+    /** The slots of this rank sent to, and received from, the ranks that add up their rows. */
+    void
+    set_up_slot_exchanges(const DualRows &rows, const Owners &owners);
+    /** This rank's rows, and for the replicated products the order of the gathered sums. */
+    void
+    set_up_own_rows(const DualRows &rows, const Owners &owners);
+    /** The distribution of the dual vectors and the relevant index of every entry of B_i. */
+    void
+    set_up_distribution(const DualRows &rows, const Owners &owners);
     /** The index in @p rows of the row numbered @p number. */
     static unsigned int
     index_of_row(const DualRows &rows, const unsigned int number);

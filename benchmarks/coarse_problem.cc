@@ -1,19 +1,24 @@
-// coarse_problem [--sizes N1,N2,...] [--repeats R] [--skip-replicated] [--skip-distributed]:
+// coarse_problem [--sizes N1,N2,...] [--repeats R] [--methods replicated,per-node,distributed]:
 // the cost of FETI's coarse problem GGᵀ for a cube of N × N × N cubic subdomains, G = RᵀBᵀ with
 // the six rigid modes of every subdomain and the rows of B of a coarse TFETI mesh: four gluing
 // points (three components each) on every face between two subdomains, one on every edge and
 // corner shared with a diagonal neighbour, and four Dirichlet points on every face on x = 0.
-// Two ways to factorize and solve it, side by side in one run (median of R):
+// Three ways to factorize and solve it, side by side in one run (median of R):
 //   replicated   every rank gathers G (CoarseProblem::initialize: all entries on every rank, GGᵀ
-//                assembled and factorized by CHOLMOD on every rank) and solves alone;
+//                assembled and factorized by CHOLMOD on every rank) and solves alone
+//                (FETI/Coarse factor = per rank);
+//   per-node     the same, but the first rank of the node alone assembles and factorizes GGᵀ and
+//                the node's ranks solve with the one factor in shared memory (per node);
 //   distributed  GGᵀ assembled in distributed form (each rank the rows of its block of
 //                subdomains, from the columns of B that touch them) into an Epetra matrix and
 //                factorized and solved by MUMPS through Trilinos Amesos.
 // Prints one CSV row per size and method: ranks, subdomains, coarse unknowns (6 N³), entries of
 // G, setup seconds (assembly and factorization), solve seconds (one solve), and the peak
 // resident memory of rank 0 [MiB] after that size (VmHWM: monotone over the run; give one method
-// and increasing sizes to read it per size), and ‖(GGᵀ)⁻¹b‖ for a fixed b (the same for both
-// methods). Run by benchmarks/coarse_problem.py (doc/performance.md).
+// and increasing sizes to read it per size), the largest peak of the other ranks without the
+// shared factor they map (VmHWM minus its bytes: what the rank holds of its own), and ‖(GGᵀ)⁻¹b‖
+// for a fixed b (the same for all methods). Run by benchmarks/coarse_problem.py
+// (doc/performance.md).
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
@@ -191,12 +196,27 @@ namespace
   {
     std::string  method;
     unsigned int ranks, subdomains, unknowns;
-    double       g_entries, setup, solve, peak, solution_norm;
+    double       g_entries, setup, solve, peak, peak_others, solution_norm;
   };
 
-  /** Every rank gathers G and factorizes GGᵀ by CHOLMOD (CoarseProblem). */
+  /** The largest VmHWM of ranks 1, 2, … less @p shared_bytes each maps [MiB] (0 on one rank). */
+  double
+  peak_of_others(const MPI_Comm comm, const std::size_t shared_bytes)
+  {
+    const std::vector<double> own =
+      Utilities::MPI::all_gather(comm, peak_mib() - shared_bytes / (1024.0 * 1024.0));
+    return own.size() > 1 ? *std::max_element(own.begin() + 1, own.end()) : 0.0;
+  }
+
+  /**
+   * Every rank gathers G, and GGᵀ is factorized by CHOLMOD (CoarseProblem) on every rank or once
+   * per node (@p storage).
+   */
   Row
-  replicated(const MPI_Comm comm, const unsigned int n, const unsigned int repeats)
+  replicated(const MPI_Comm                     comm,
+             const unsigned int                 n,
+             const unsigned int                 repeats,
+             const CoarseProblem::FactorStorage storage)
   {
     const unsigned int rank = Utilities::MPI::this_mpi_process(comm);
     const unsigned int size = Utilities::MPI::n_mpi_processes(comm);
@@ -225,9 +245,10 @@ namespace
     std::vector<double> setup, solve;
     double              norm      = 0;
     const double        g_entries = Utilities::MPI::sum(double(entries.size()), comm);
+    std::size_t         shared    = 0;
     for (unsigned int r = 0; r < repeats; ++r)
       {
-        CoarseProblem coarse;
+        CoarseProblem coarse(storage);
         MPI_Barrier(comm);
         auto start = Clock::now();
         coarse.initialize(comm, entries, 6 * N, total);
@@ -241,10 +262,19 @@ namespace
         coarse.solve_GGt(x);
         MPI_Barrier(comm);
         solve.push_back(seconds_since(start));
-        norm = x.l2_norm();
+        norm   = x.l2_norm();
+        shared = coarse.shared_factor_bytes();
       }
-    return {
-      "replicated", size, N, 6 * N, g_entries, median(setup), median(solve), peak_mib(), norm};
+    return {storage == CoarseProblem::FactorStorage::per_rank ? "replicated" : "per-node",
+            size,
+            N,
+            6 * N,
+            g_entries,
+            median(setup),
+            median(solve),
+            peak_mib(),
+            peak_of_others(comm, shared),
+            norm};
   }
 
   /** GGᵀ assembled by rows on the ranks, factorized and solved by MUMPS (Amesos). */
@@ -314,8 +344,16 @@ namespace
         solve.push_back(seconds_since(start));
         norm = x.l2_norm();
       }
-    return {
-      "distributed", size, N, 6 * N, g_entries, median(setup), median(solve), peak_mib(), norm};
+    return {"distributed",
+            size,
+            N,
+            6 * N,
+            g_entries,
+            median(setup),
+            median(solve),
+            peak_mib(),
+            peak_of_others(comm, 0),
+            norm};
   }
 } // namespace
 
@@ -325,9 +363,8 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                   comm = MPI_COMM_WORLD;
   std::vector<unsigned int>        sizes{4, 8, 12, 16};
-  unsigned int                     repeats          = 3;
-  bool                             skip_replicated  = false;
-  bool                             skip_distributed = false;
+  unsigned int                     repeats = 3;
+  std::vector<std::string>         methods{"replicated", "per-node", "distributed"};
   for (int i = 1; i < argc; ++i)
     {
       const std::string option = argv[i];
@@ -341,10 +378,14 @@ main(int argc, char **argv)
         }
       else if (option == "--repeats" && i + 1 < argc)
         repeats = std::stoi(argv[++i]);
-      else if (option == "--skip-replicated")
-        skip_replicated = true;
-      else if (option == "--skip-distributed")
-        skip_distributed = true;
+      else if (option == "--methods" && i + 1 < argc)
+        {
+          methods.clear();
+          std::istringstream list(argv[++i]);
+          std::string        item;
+          while (std::getline(list, item, ','))
+            methods.push_back(item);
+        }
       else
         {
           std::cerr << "unknown option " << option << std::endl;
@@ -354,18 +395,25 @@ main(int argc, char **argv)
   const bool rank_0 = Utilities::MPI::this_mpi_process(comm) == 0;
   if (rank_0)
     std::cout << "method,ranks,subdomains,coarse_unknowns,G_entries,setup_seconds,"
-                 "solve_seconds,peak_mib_rank0,solution_norm\n";
+                 "solve_seconds,peak_mib_rank0,peak_mib_others,solution_norm\n";
   const auto print = [&](const Row &r) {
     if (rank_0)
       std::cout << r.method << ',' << r.ranks << ',' << r.subdomains << ',' << r.unknowns << ','
                 << r.g_entries << ',' << r.setup << ',' << r.solve << ',' << r.peak << ','
-                << r.solution_norm << std::endl;
+                << r.peak_others << ',' << r.solution_norm << std::endl;
   };
-  if (!skip_replicated)
+  for (const std::string &method : methods)
     for (const unsigned int n : sizes)
-      print(replicated(comm, n, repeats));
-  if (!skip_distributed)
-    for (const unsigned int n : sizes)
-      print(distributed(comm, n, repeats));
+      if (method == "replicated")
+        print(replicated(comm, n, repeats, CoarseProblem::FactorStorage::per_rank));
+      else if (method == "per-node")
+        print(replicated(comm, n, repeats, CoarseProblem::FactorStorage::per_node));
+      else if (method == "distributed")
+        print(distributed(comm, n, repeats));
+      else
+        {
+          std::cerr << "unknown method " << method << std::endl;
+          return 1;
+        }
   return 0;
 }

@@ -466,7 +466,11 @@ namespace FetiContact
                                          rows,
                                          shared_work.get(),
                                          parameters.feti.dual_vectors ==
-                                           Parameters::Feti::DualVectors::distributed);
+                                           Parameters::Feti::DualVectors::distributed,
+                                         parameters.feti.coarse_factor ==
+                                             Parameters::Feti::CoarseFactor::per_rank ?
+                                           CoarseProblem::FactorStorage::per_rank :
+                                           CoarseProblem::FactorStorage::per_node);
   }
 
   void

@@ -27,6 +27,76 @@ namespace FetiContact
 
   using namespace dealii;
 
+  CoarseProblem::CoarseProblem(const FactorStorage storage)
+    : storage(storage)
+  {}
+
+  CoarseProblem::~CoarseProblem()
+  {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (finalized)
+      return;
+    for (MPI_Comm *c : {&node, &leaders})
+      if (*c != MPI_COMM_NULL)
+        MPI_Comm_free(c);
+  }
+
+  void
+  CoarseProblem::set_up_node(const MPI_Comm comm)
+  {
+    if (storage != FactorStorage::per_node || node != MPI_COMM_NULL)
+      return;
+    int rank = 0, node_rank = 0, node_size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+    MPI_Comm_rank(node, &node_rank);
+    MPI_Comm_size(node, &node_size);
+    // Collective on comm: every node decides alike only with the same answer everywhere.
+    if (Utilities::MPI::max(node_size, comm) == 1)
+      {
+        MPI_Comm_free(&node);
+        return;
+      }
+    MPI_Comm_split(comm, node_rank == 0 ? 0 : MPI_UNDEFINED, rank, &leaders);
+  }
+
+  bool
+  CoarseProblem::on_factorizing_rank(const std::function<bool()> &work) const
+  {
+    if (node == MPI_COMM_NULL)
+      return work();
+    // The first character: '0' work() returned false, '1' true, 'I' InputError, 'E' another
+    // exception, followed by its message.
+    std::string outcome = "0";
+    if (factorizes())
+      try
+        {
+          outcome = work() ? "1" : "0";
+        }
+      catch (const InputError &e)
+        {
+          outcome = std::string("I") + e.what();
+        }
+      catch (const std::exception &e)
+        {
+          outcome = std::string("E") + e.what();
+        }
+    outcome = Utilities::MPI::broadcast(node, outcome, 0);
+    if (outcome[0] == 'I')
+      throw InputError(outcome.substr(1));
+    if (outcome[0] == 'E')
+      throw std::runtime_error(outcome.substr(1));
+    return outcome[0] == '1';
+  }
+
+  void
+  CoarseProblem::share(CholmodSolver &solver) const
+  {
+    if (node != MPI_COMM_NULL)
+      solver.share_factor(node);
+  }
+
   void
   CoarseProblem::initialize(const MPI_Comm            comm,
                             const std::vector<Entry> &local_entries,
@@ -83,6 +153,7 @@ namespace FetiContact
     if (n_rows == 0)
       return;
 
+    set_up_node(comm);
     SparsityPattern      sp;
     SparseMatrix<double> M;
     assemble_GGt([](const unsigned int) { return true; }, sp, M);
@@ -92,23 +163,27 @@ namespace FetiContact
   void
   CoarseProblem::factorize_GGt(const SparseMatrix<double> &M)
   {
-    for (unsigned int r = 0; r < n_rows; ++r)
-      require(M.diag_element(r) > 0,
-              "The coarse problem is singular: rigid body mode " + std::to_string(r) +
-                " of a floating subdomain is restrained by no constraint. A body is not held.");
-    try
-      {
-        GGt.factorize(M);
-      }
-    catch (const InputError &)
-      {
-        throw InputError("The coarse problem GGᵀ is singular: some rigid motion of a floating "
-                         "subdomain is restrained by no constraint, so a body is not held.");
-      }
-    const double rcond = GGt.reciprocal_condition_estimate();
-    require(rcond > 1e-13,
-            "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
-              InputParsing::number_text(rcond) + "): a body is not held.");
+    on_factorizing_rank([&]() {
+      for (unsigned int r = 0; r < n_rows; ++r)
+        require(M.diag_element(r) > 0,
+                "The coarse problem is singular: rigid body mode " + std::to_string(r) +
+                  " of a floating subdomain is restrained by no constraint. A body is not held.");
+      try
+        {
+          GGt.factorize(M);
+        }
+      catch (const InputError &)
+        {
+          throw InputError("The coarse problem GGᵀ is singular: some rigid motion of a floating "
+                           "subdomain is restrained by no constraint, so a body is not held.");
+        }
+      const double rcond = GGt.reciprocal_condition_estimate();
+      require(rcond > 1e-13,
+              "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
+                InputParsing::number_text(rcond) + "): a body is not held.");
+      return true;
+    });
+    share(GGt);
   }
 
   void
@@ -168,6 +243,7 @@ namespace FetiContact
     distribute(d, first_mode, end_mode);
     if (n_rows == 0)
       return;
+    set_up_node(d.layout()->comm);
     SparsityPattern      sp;
     SparseMatrix<double> M;
     assemble_GGt_distributed([](const unsigned int) { return true; }, sp, M);
@@ -192,8 +268,18 @@ namespace FetiContact
     local.reserve(own.size());
     for (const auto &[ab, v] : own)
       local.push_back({ab.first, ab.second, v});
-    const std::vector<Entry> all = MPITools::all_gather(distribution->layout()->comm, local);
-    DynamicSparsityPattern   dsp(n_rows);
+    std::vector<Entry> all;
+    if (node == MPI_COMM_NULL)
+      all = MPITools::all_gather(distribution->layout()->comm, local);
+    else
+      {
+        // To the first rank of every node: M is assembled and factorized there only.
+        all = MPITools::gather(node, local, 0);
+        if (!factorizes())
+          return;
+        all = MPITools::all_gather(leaders, all);
+      }
+    DynamicSparsityPattern dsp(n_rows);
     for (unsigned int r = 0; r < n_rows; ++r)
       dsp.add(r, r);
     for (const Entry &e : all)
@@ -225,6 +311,8 @@ namespace FetiContact
                               SparsityPattern                         &sparsity,
                               SparseMatrix<double>                    &M) const
   {
+    if (!factorizes())
+      return;
     // (G_S G_Sᵀ)_ab = Σ_{d ∈ S} G_ad G_bd, from the columns of G.
     std::vector<std::vector<std::pair<unsigned int, double>>> by_column(n_cols);
     for (unsigned int r = 0; r < n_rows; ++r)
@@ -515,24 +603,26 @@ namespace FetiContact
           assemble_GGt_distributed(use_column, sp, M);
         else
           assemble_GGt(use_column, sp, M);
-        bool restrained = true;
-        for (unsigned int r = 0; r < n_rows && restrained; ++r)
-          restrained = M.diag_element(r) > 0;
-        if (!restrained)
-          continue;
         CholmodSolver factor;
-        try
-          {
-            factor.factorize(M);
-          }
-        catch (const InputError &)
-          {
-            continue;
-          }
-        // The same bound as for GGᵀ itself (initialize): a subset that restrains the modes only
-        // nearly would give a λ₀ far larger than the least-norm one.
-        if (!(factor.reciprocal_condition_estimate() > 1e-13))
+        const bool    usable = on_factorizing_rank([&]() {
+          for (unsigned int r = 0; r < n_rows; ++r)
+            if (!(M.diag_element(r) > 0))
+              return false;
+          try
+            {
+              factor.factorize(M);
+            }
+          catch (const InputError &)
+            {
+              return false;
+            }
+          // The same bound as for GGᵀ itself (initialize): a subset that restrains the modes
+          // only nearly would give a λ₀ far larger than the least-norm one.
+          return factor.reciprocal_condition_estimate() > 1e-13;
+        });
+        if (!usable)
           continue;
+        share(factor);
         // λ = G_tᵀ(G_t G_tᵀ)⁻¹ r, accumulated over one step of iterative refinement; every
         // column's terms by increasing mode.
         lambda = 0;

@@ -13,13 +13,15 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  DualProblem::DualProblem(const MPI_Comm                   comm,
-                           const std::vector<Subdomain *>  &owned,
-                           const std::vector<unsigned int> &mode_offset,
-                           const DualRows                  &rows,
-                           SharedLocalWork                 *shared,
-                           const bool                       distributed_coarse)
-    : comm(comm)
+  DualProblem::DualProblem(const MPI_Comm                     comm,
+                           const std::vector<Subdomain *>    &owned,
+                           const std::vector<unsigned int>   &mode_offset,
+                           const DualRows                    &rows,
+                           SharedLocalWork                   *shared,
+                           const bool                         distributed_coarse,
+                           const CoarseProblem::FactorStorage coarse_factor)
+    : coarse(coarse_factor)
+    , comm(comm)
     , owned(owned)
     , n_all_rows(rows.n_all)
     , replicated_products(!distributed_coarse || shared)

@@ -66,13 +66,24 @@ namespace FetiContact::Parameters
       "on all ranks. 'distributed': every rank holds the rows it adds up (those whose first "
       "subdomain is its own), gets the other rows of its subdomains from the neighbouring ranks, "
       "and the dot products and norms are the only global reductions; G is held by the columns "
-      "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor stays on every "
-      "rank); on several ranks the bodies' meshes are distributed too: rank 0 creates and "
+      "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor: 'Coarse "
+      "factor'); on several ranks the bodies' meshes are distributed too: rank 0 creates and "
       "partitions them and every rank keeps the cells of its own subdomains (the FCLIB export "
       "then needs 'replicated'), and, unless the ranks share local work, only the rows of B "
       "that touch them. Either way the iterates "
       "and iteration counts are the same on any number of ranks; between the two they differ "
       "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
+    prm.declare_entry(
+      "Coarse factor",
+      "per node",
+      Patterns::Selection("per node|per rank"),
+      "Where the factor of the coarse matrix GGᵀ is kept. 'per node' (the default): the first "
+      "MPI rank of every node assembles and factorizes GGᵀ, and the node's ranks solve with the "
+      "one factor in shared memory (POSIX shared memory, /dev/shm); 'per rank': every rank "
+      "assembles, factorizes and keeps its own. The results are the same to the last digit; "
+      "'per node' stores the factor once per node and factorizes it once per node "
+      "(doc/performance.md, \"The coarse problem past this machine\"). On one rank per node "
+      "the two are the same.");
     QP::ProjectedCGParameters::declare_parameters(prm);
     prm.declare_entry("Preconditioner",
                       "lumped",
@@ -97,6 +108,8 @@ namespace FetiContact::Parameters
     average_contact_rows = prm.get("Contact rows at interfaces") == "average";
     dual_vectors =
       prm.get("Dual vectors") == "distributed" ? DualVectors::distributed : DualVectors::replicated;
+    coarse_factor =
+      prm.get("Coarse factor") == "per rank" ? CoarseFactor::per_rank : CoarseFactor::per_node;
     projected_cg.parse_parameters(prm);
     lumped_preconditioner = prm.get("Preconditioner") == "lumped";
     prm.leave_subsection();

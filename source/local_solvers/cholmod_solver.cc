@@ -1,12 +1,19 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
+#include <fcntl.h>
 #include <stdexcept>
 #include <string>
+#include <sys/mman.h>
 #include <type_traits>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -164,6 +171,7 @@ namespace FetiContact
 
   CholmodSolver::~CholmodSolver()
   {
+    release_shared();
     for (cholmod_dense **d : {&x_work, &y_work, &e_work, &b_work})
       if (*d != nullptr)
         cholmod_free_dense(d, &common);
@@ -179,6 +187,7 @@ namespace FetiContact
     values_moved      = false;
     cholmod_sparse *S = upper_triangle<int>(A, common);
     supernodal.reset();
+    release_shared();
     if (factor != nullptr)
       cholmod_free_factor(&factor, &common);
     factor = cholmod_analyze(S, &common);
@@ -227,7 +236,8 @@ namespace FetiContact
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
-    cholmod_solve2(CHOLMOD_A, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
+    cholmod_solve2(
+      CHOLMOD_A, library_factor(), b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
     std::memcpy(v.begin(), x_work->x, n * sizeof(double));
   }
 
@@ -243,8 +253,10 @@ namespace FetiContact
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
     const int first  = transpose ? CHOLMOD_Lt : CHOLMOD_P;
     const int second = transpose ? CHOLMOD_Pt : CHOLMOD_L;
-    cholmod_solve2(first, factor, b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
-    cholmod_solve2(second, factor, x_work, nullptr, &b_work, nullptr, &y_work, &e_work, &common);
+    cholmod_solve2(
+      first, library_factor(), b_work, nullptr, &x_work, nullptr, &y_work, &e_work, &common);
+    cholmod_solve2(
+      second, library_factor(), x_work, nullptr, &b_work, nullptr, &y_work, &e_work, &common);
     std::memcpy(v.begin(), b_work->x, n * sizeof(double));
   }
 
@@ -268,6 +280,175 @@ namespace FetiContact
   {
     AssertThrow(!values_moved,
                 ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
-    return n == 0 ? 1.0 : cholmod_rcond(factor, &common);
+    return n == 0 ? 1.0 : cholmod_rcond(library_factor(), &common);
+  }
+
+  namespace
+  {
+    /**
+     * Copies @p bytes from @p source to @p destination in pieces and gives every whole page of
+     * @p source that has been copied back to the system (MADV_DONTNEED; @p source is freed right
+     * after), so that the move never holds the numbers twice: the peak of the rank that moves
+     * a factor stays that of a rank with its own factor.
+     */
+    void
+    move_bytes(char *destination, char *source, const std::size_t bytes)
+    {
+      const std::uintptr_t page  = sysconf(_SC_PAGESIZE);
+      const std::size_t    piece = std::size_t(16) << 20;
+      const auto           start = reinterpret_cast<std::uintptr_t>(source);
+      for (std::size_t done = 0; done < bytes; done += piece)
+        {
+          const std::size_t n = std::min(piece, bytes - done);
+          std::memcpy(destination + done, source + done, n);
+          // The whole pages of [source, source + done + n) not given back yet.
+          const std::uintptr_t begin =
+            done == 0 ? (start + page - 1) / page * page : (start + done) / page * page;
+          const std::uintptr_t end = (start + done + n) / page * page;
+          if (end > begin)
+            madvise(reinterpret_cast<void *>(begin), end - begin, MADV_DONTNEED);
+        }
+    }
+
+    /** Byte offsets of a supernodal factor's arrays in a shared segment. */
+    struct FactorLayout
+    {
+      explicit FactorLayout(const cholmod_factor &L)
+      {
+        std::size_t at    = 0;
+        const auto  place = [&](const std::size_t bytes) {
+          const std::size_t start = at;
+          at += (bytes + 63) / 64 * 64;
+          return start;
+        };
+        x        = place(sizeof(double) * L.xsize);
+        perm     = place(sizeof(int) * L.n);
+        colcount = place(sizeof(int) * L.n);
+        super    = place(sizeof(int) * (L.nsuper + 1));
+        pi       = place(sizeof(int) * (L.nsuper + 1));
+        px       = place(sizeof(int) * (L.nsuper + 1));
+        s        = place(sizeof(int) * L.ssize);
+        bytes    = std::max<std::size_t>(at, 64);
+      }
+      std::size_t x, perm, colcount, super, pi, px, s, bytes;
+    };
+  } // namespace
+
+  void
+  CholmodSolver::share_factor(const MPI_Comm node)
+  {
+    int rank = 0, n_ranks = 1;
+    MPI_Comm_rank(node, &rank);
+    MPI_Comm_size(node, &n_ranks);
+    if (n_ranks == 1)
+      return;
+    AssertThrow(solves == Solves::library,
+                ExcMessage("CholmodSolver: only a factor with CHOLMOD's solves is shared."));
+    // Rank 0's factor (supernodal: CHOLMOD_SUPERNODAL) without its pointers, and the name of the
+    // segment: the process and a count, unique on the node.
+    static std::atomic<unsigned long> n_segments{0};
+    cholmod_factor                    header{};
+    long long                         name_parts[2] = {0, 0};
+    if (rank == 0)
+      {
+        AssertThrow(factor != nullptr && factor->is_super && !values_moved,
+                    ExcMessage("CholmodSolver: share_factor() needs rank 0's supernodal factor."));
+        header        = *factor;
+        name_parts[0] = getpid();
+        name_parts[1] = n_segments++;
+      }
+    MPI_Bcast(&header, sizeof(header), MPI_BYTE, 0, node);
+    MPI_Bcast(name_parts, 2, MPI_LONG_LONG, 0, node);
+    const FactorLayout layout(header);
+    const std::string  name =
+      "/feticontact." + std::to_string(name_parts[0]) + ".factor." + std::to_string(name_parts[1]);
+    // Rank 0 makes the segment and reserves its pages (posix_fallocate: a full /dev/shm fails
+    // here, not with SIGBUS at the first write), copies the arrays and frees CHOLMOD's factor.
+    std::string error;
+    if (rank == 0)
+      {
+        const int fd       = shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR, 0600);
+        int       reserved = fd < 0 ? errno : posix_fallocate(fd, 0, layout.bytes);
+        if (reserved == 0)
+          {
+            segment = mmap(nullptr, layout.bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+            if (segment == MAP_FAILED)
+              {
+                reserved = errno;
+                segment  = nullptr;
+              }
+          }
+        if (fd >= 0)
+          close(fd);
+        if (reserved != 0)
+          {
+            shm_unlink(name.c_str());
+            error = std::strerror(reserved);
+          }
+        else
+          {
+            char *const base = static_cast<char *>(segment);
+            move_bytes(base + layout.x,
+                       static_cast<char *>(factor->x),
+                       sizeof(double) * header.xsize);
+            std::memcpy(base + layout.perm, factor->Perm, sizeof(int) * header.n);
+            std::memcpy(base + layout.colcount, factor->ColCount, sizeof(int) * header.n);
+            std::memcpy(base + layout.super, factor->super, sizeof(int) * (header.nsuper + 1));
+            std::memcpy(base + layout.pi, factor->pi, sizeof(int) * (header.nsuper + 1));
+            std::memcpy(base + layout.px, factor->px, sizeof(int) * (header.nsuper + 1));
+            std::memcpy(base + layout.s, factor->s, sizeof(int) * header.ssize);
+            cholmod_free_factor(&factor, &common);
+            segment_bytes = layout.bytes;
+          }
+      }
+    error = MPITools::first_error(node, error);
+    if (error.empty() && rank != 0)
+      {
+        const int fd = shm_open(name.c_str(), O_RDONLY, 0);
+        segment = fd < 0 ? MAP_FAILED : mmap(nullptr, layout.bytes, PROT_READ, MAP_SHARED, fd, 0);
+        if (segment == MAP_FAILED)
+          {
+            error   = std::strerror(errno);
+            segment = nullptr;
+          }
+        else
+          segment_bytes = layout.bytes;
+        if (fd >= 0)
+          close(fd);
+      }
+    error = MPITools::first_error(node, error);
+    if (rank == 0 && segment != nullptr)
+      shm_unlink(name.c_str());
+    if (!error.empty())
+      {
+        release_shared();
+        throw std::runtime_error("Shared memory of " +
+                                 std::to_string(layout.bytes / (1024 * 1024) + 1) +
+                                 " MiB for a factor of " + std::to_string(header.n) +
+                                 " rows shared by the ranks of a node (" + name + "): " + error +
+                                 ". Enlarge /dev/shm, or set FETI/Coarse factor = per rank.");
+      }
+    char *const base = static_cast<char *>(segment);
+    shared           = std::make_unique<cholmod_factor>(header);
+    shared->Perm     = base + layout.perm;
+    shared->ColCount = base + layout.colcount;
+    shared->IPerm    = nullptr;
+    shared->super    = base + layout.super;
+    shared->pi       = base + layout.pi;
+    shared->px       = base + layout.px;
+    shared->s        = base + layout.s;
+    shared->x        = base + layout.x;
+    shared->p = shared->i = shared->z = shared->nz = shared->next = shared->prev = nullptr;
+    n                                                                            = header.n;
+  }
+
+  void
+  CholmodSolver::release_shared()
+  {
+    if (segment != nullptr)
+      munmap(segment, segment_bytes);
+    segment       = nullptr;
+    segment_bytes = 0;
+    shared.reset();
   }
 } // namespace FetiContact

@@ -48,4 +48,34 @@ namespace FetiContact::MPITools
       local.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm);
     return all;
   }
+
+  /**
+   * The concatenation, in rank order, of every rank's @p local on rank @p root of @p comm (empty
+   * on the other ranks): all_gather() to one rank.
+   */
+  template <typename T>
+  std::vector<T>
+  gather(const MPI_Comm comm, const std::vector<T> &local, const int root)
+  {
+    static_assert(std::is_trivially_copyable_v<T>);
+    int n_ranks = 1, rank = 0;
+    MPI_Comm_size(comm, &n_ranks);
+    MPI_Comm_rank(comm, &rank);
+    const int        bytes = local.size() * sizeof(T);
+    std::vector<int> counts(n_ranks), offsets(n_ranks + 1, 0);
+    MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm);
+    for (int r = 0; r < n_ranks; ++r)
+      offsets[r + 1] = offsets[r] + counts[r];
+    std::vector<T> all(rank == root ? offsets[n_ranks] / sizeof(T) : 0);
+    MPI_Gatherv(local.data(),
+                bytes,
+                MPI_BYTE,
+                all.data(),
+                counts.data(),
+                offsets.data(),
+                MPI_BYTE,
+                root,
+                comm);
+    return all;
+  }
 } // namespace FetiContact::MPITools

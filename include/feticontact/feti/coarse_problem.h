@@ -40,6 +40,25 @@ namespace FetiContact
   class CoarseProblem
   {
   public:
+    /** Where the factor of GGᵀ is stored (FETI/Coarse factor). */
+    enum class FactorStorage
+    {
+      /**
+       * Once per node: rank 0 of each node's ranks assembles GGᵀ and factorizes it, and the
+       * factor goes to memory shared by the node's ranks, which all solve with it
+       * (CholmodSolver::share_factor(): the same numbers as a factor per rank).
+       */
+      per_node,
+      /** Every rank assembles and factorizes GGᵀ and keeps its own factor. */
+      per_rank
+    };
+
+    explicit CoarseProblem(const FactorStorage storage = FactorStorage::per_node);
+    ~CoarseProblem();
+    CoarseProblem(const CoarseProblem &) = delete;
+    CoarseProblem &
+    operator=(const CoarseProblem &) = delete;
+
     /** A coefficient of G: row (rigid mode), column (dual unknown), value. */
     struct Entry
     {
@@ -193,7 +212,40 @@ namespace FetiContact
     dealii::Vector<double>
     coarse_coefficients(const VectorType &x) const;
 
+    /**
+     * The bytes of the factor of GGᵀ in memory shared by the ranks of this rank's node (0 if the
+     * factor is the rank's own).
+     */
+    std::size_t
+    shared_factor_bytes() const
+    {
+      return GGt.shared_bytes();
+    }
+
   private:
+    /**
+     * With the factor stored per node (and more than one rank on the node): the ranks of this
+     * rank's node, and the communicator of the nodes' first ranks (MPI_COMM_NULL elsewhere).
+     * Collective on @p comm.
+     */
+    void
+    set_up_node(const MPI_Comm comm);
+    /** Whether this rank assembles and factorizes the matrices of the coarse problem. */
+    bool
+    factorizes() const
+    {
+      return node == MPI_COMM_NULL || leaders != MPI_COMM_NULL;
+    }
+    /**
+     * Runs @p work on the ranks that factorize and returns its result on every rank of the node;
+     * an exception thrown by @p work is thrown on every rank of the node (InputError stays
+     * InputError). Collective on the node.
+     */
+    bool
+    on_factorizing_rank(const std::function<bool()> &work) const;
+    /** Makes the factor of @p solver, made on the node's first rank, the node's (per_node). */
+    void
+    share(CholmodSolver &solver) const;
     /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
     void
     add_Gt(const dealii::Vector<double> &x, const bool add, dealii::Vector<double> &y) const;
@@ -201,7 +253,7 @@ namespace FetiContact
     add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
     /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
     /** The same from the relevant columns (initialize_distributed()): each rank its modes' rows,
-     *  gathered. Collective. */
+     *  gathered on the ranks that factorize. Collective. */
     void
     assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
                              dealii::SparsityPattern                 &sparsity,
@@ -234,6 +286,9 @@ namespace FetiContact
     std::vector<double>            block_column_value;
     CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
+    FactorStorage                  storage;
+    /** set_up_node(). */
+    MPI_Comm node = MPI_COMM_NULL, leaders = MPI_COMM_NULL;
 
     /** The distribution of the dual vectors (distribute()), or none. */
     const DualDistribution *distribution = nullptr;

@@ -58,14 +58,17 @@ namespace FetiContact
      * and must outlive this object) the ranks of the node share the reserves' part of the local
      * work of every multiplication by F; F x is the same either way. With @p distributed_coarse
      * a rank holds G only in the columns relevant to it (CoarseProblem::initialize_distributed())
-     * and only the products with distributed dual vectors exist.
+     * and only the products with distributed dual vectors exist. @p coarse_factor: where the
+     * factor of GGᵀ is kept (CoarseProblem::FactorStorage).
      */
-    DualProblem(const MPI_Comm                   comm,
-                const std::vector<Subdomain *>  &owned,
-                const std::vector<unsigned int> &mode_offset,
-                const DualRows                  &rows,
-                SharedLocalWork                 *shared             = nullptr,
-                const bool                       distributed_coarse = false);
+    DualProblem(
+      const MPI_Comm                     comm,
+      const std::vector<Subdomain *>    &owned,
+      const std::vector<unsigned int>   &mode_offset,
+      const DualRows                    &rows,
+      SharedLocalWork                   *shared             = nullptr,
+      const bool                         distributed_coarse = false,
+      const CoarseProblem::FactorStorage coarse_factor = CoarseProblem::FactorStorage::per_node);
 
     /** The number of dual unknowns m. */
     unsigned int

@@ -60,6 +60,19 @@ namespace FetiContact::Parameters
     };
     DualVectors dual_vectors = DualVectors::replicated;
 
+    /**
+     * Where the factor of the coarse matrix GGᵀ lives (CoarseProblem::FactorStorage): `per node`,
+     * the first rank of each node's ranks assembles and factorizes GGᵀ and the node's ranks
+     * solve with the one factor in shared memory; `per rank`, every rank has its own. The
+     * solves give the same numbers either way.
+     */
+    enum class CoarseFactor
+    {
+      per_node,
+      per_rank
+    };
+    CoarseFactor coarse_factor = CoarseFactor::per_node;
+
     /** Projected CG of problems without contact (its tolerance and iteration limit). */
     QP::ProjectedCGParameters projected_cg;
     /** Projected CG preconditioned by the lumped FETI preconditioner (DualProblem::apply_lumped).

@@ -6,6 +6,7 @@
 #include <cholmod.h>
 
 #include <memory>
+#include <mpi.h>
 #include <string>
 
 namespace FetiContact
@@ -85,7 +86,7 @@ namespace FetiContact
     const cholmod_factor &
     factor_of_library() const
     {
-      return *factor;
+      return *library_factor();
     }
     /** Each object has its own cholmod_common and work arrays. */
     bool
@@ -120,6 +121,26 @@ namespace FetiContact
     move_factor_values(double *destination);
 
     /**
+     * Makes the factor of rank 0 of @p node, which alone has factorized, the factor of every rank
+     * of @p node: rank 0 copies its arrays into a segment of memory shared by the ranks of the
+     * node (POSIX shared memory, /dev/shm) and frees CHOLMOD's; every rank maps the segment
+     * read-only and solves with it from then on by CHOLMOD's own solves. The node then holds one
+     * factor instead of one per rank, and every rank's solves give the numbers of a factor of its
+     * own. Only with library solves; the other ranks' factorize() must not have been called.
+     * Collective on @p node; nothing to do on a node of one rank. Throws std::runtime_error on
+     * every rank of the node if the segment cannot be made (/dev/shm full or too small).
+     */
+    void
+    share_factor(const MPI_Comm node);
+
+    /** The bytes of the shared segment this rank has mapped (share_factor()), or 0. */
+    std::size_t
+    shared_bytes() const
+    {
+      return segment_bytes;
+    }
+
+    /**
      * With the factorization P A Pᵀ = L Lᵀ (P the fill-reducing permutation): x ← L⁻¹ P x if
      * @p transpose is false, x ← Pᵀ L⁻ᵀ x if true. Then A⁻¹ = (L⁻¹P)ᵀ(L⁻¹P), and for A = GGᵀ the
      * rows of L⁻¹PG are orthonormal.
@@ -135,6 +156,17 @@ namespace FetiContact
     reciprocal_condition_estimate() const;
 
   private:
+    /** CHOLMOD's factor of this rank, or the view of the shared one (share_factor()). */
+    cholmod_factor *
+    library_factor() const
+    {
+      return shared ? shared.get() : factor;
+    }
+
+    /** Unmaps the shared segment, if any. */
+    void
+    release_shared();
+
     const Solves                     solves;
     mutable cholmod_common           common;
     cholmod_factor                  *factor = nullptr;
@@ -144,5 +176,12 @@ namespace FetiContact
     std::size_t                      n      = 0;
     /** Whether move_factor_values() has taken the numbers of L out of CHOLMOD's factor. */
     bool values_moved = false;
+    /**
+     * After share_factor(): a factor whose arrays point into the shared segment at @p segment
+     * (@p segment_bytes mapped). CHOLMOD only reads it; it is never passed to cholmod_free_*.
+     */
+    std::unique_ptr<cholmod_factor> shared;
+    void                           *segment       = nullptr;
+    std::size_t                     segment_bytes = 0;
   };
 } // namespace FetiContact

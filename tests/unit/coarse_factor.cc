@@ -1,0 +1,137 @@
+// The factor of the coarse matrix GGᵀ kept once per node (CoarseProblem::FactorStorage::per_node,
+// CholmodSolver::share_factor()) against a factor per rank, on 1 and on 3 ranks (one node):
+//  - the solves with GGᵀ, the halves L⁻¹P and PᵀL⁻ᵀ, the least-norm solution and the particular
+//    solution of a lower tier (a second shared factor) are the same bits;
+//  - they solve GGᵀ x = b;
+//  - per node, every rank of a node of several ranks maps the shared factor and no rank keeps
+//    one of its own size; per rank, none is shared;
+//  - a singular GGᵀ throws InputError on every rank, either way.
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/vector.h>
+
+#include <feticontact/base/input_parsing.h>
+#include <feticontact/feti/coarse_problem.h>
+
+#include "test_tools.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace dealii;
+using namespace FetiContact;
+
+namespace
+{
+  constexpr unsigned int n_modes = 30, n_columns = 120;
+
+  /**
+   * This rank's entries of a G with every mode in several columns (the columns c with
+   * c % n_ranks == rank); without mode @p unrestrained (if < n_modes).
+   */
+  std::vector<CoarseProblem::Entry>
+  entries_of_G(const MPI_Comm comm, const unsigned int unrestrained = n_modes)
+  {
+    const unsigned int                rank    = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int                n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<CoarseProblem::Entry> entries;
+    for (unsigned int c = rank; c < n_columns; c += n_ranks)
+      for (unsigned int m = 0; m < n_modes; ++m)
+        if ((m * 7 + c * 3) % 5 < 2 && m != unrestrained)
+          entries.push_back({m, c, 1.0 + ((m * 131 + c * 71 + m * c * 17) % 97) / 97.0});
+    return entries;
+  }
+
+  /** The numbers a coarse problem gives for fixed right-hand sides, in one vector. */
+  std::vector<double>
+  results(const CoarseProblem &coarse)
+  {
+    Vector<double> b(n_modes);
+    for (unsigned int i = 0; i < n_modes; ++i)
+      b[i] = 1.0 + (i % 7);
+    std::vector<double> all;
+    const auto append = [&](const Vector<double> &v) { all.insert(all.end(), v.begin(), v.end()); };
+    Vector<double> x(b);
+    coarse.solve_GGt(x);
+    append(x);
+    for (const bool transpose : {false, true})
+      {
+        Vector<double> half(b);
+        coarse.apply_orthonormalizing_factor(half, transpose);
+        append(half);
+      }
+    append(coarse.least_norm_solution(b));
+    // Tier 0: the even columns, which restrain every mode here: a factor of their G_t G_tᵀ.
+    append(coarse.particular_solution(b, [](const unsigned int c) { return c % 2; }));
+    return all;
+  }
+
+  /** ‖GGᵀ x − b‖ / ‖b‖ for the x of solve_GGt(). */
+  double
+  residual(const CoarseProblem &coarse)
+  {
+    Vector<double> b(n_modes), x, Gtx(n_columns), r;
+    for (unsigned int i = 0; i < n_modes; ++i)
+      b[i] = 1.0 + (i % 7);
+    x = b;
+    coarse.solve_GGt(x);
+    coarse.apply_Gt(x, Gtx);
+    coarse.apply_G(Gtx, r);
+    r -= b;
+    return r.l2_norm() / b.l2_norm();
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm                   comm    = MPI_COMM_WORLD;
+  const unsigned int               n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  const std::string                on      = " (" + std::to_string(n_ranks) + " ranks)";
+
+  CoarseProblem per_node(CoarseProblem::FactorStorage::per_node);
+  CoarseProblem per_rank(CoarseProblem::FactorStorage::per_rank);
+  per_node.initialize(comm, entries_of_G(comm), n_modes, n_columns);
+  per_rank.initialize(comm, entries_of_G(comm), n_modes, n_columns);
+
+  const std::vector<double> a = results(per_node), b = results(per_rank);
+  const bool same = a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * 8) == 0;
+  check(Utilities::MPI::min(same ? 1 : 0, comm) == 1,
+        "per node and per rank: the same bits of (GGᵀ)⁻¹b, L⁻¹Pb, PᵀL⁻ᵀb, the least-norm and "
+        "the lower tier's particular solution" +
+          on);
+  const double r = Utilities::MPI::max(residual(per_node), comm);
+  check(r < 1e-12, "GGᵀ x = b to " + sci(r) + on);
+
+  const bool shared_everywhere =
+    Utilities::MPI::min(per_node.shared_factor_bytes() > 0 ? 1 : 0, comm) == 1;
+  const bool shared_nowhere =
+    Utilities::MPI::max(per_node.shared_factor_bytes() > 0 ? 1 : 0, comm) == 0;
+  check(n_ranks > 1 ? shared_everywhere : shared_nowhere,
+        std::string("per node: ") +
+          (n_ranks > 1 ? "every rank maps the shared factor" : "nothing shared on one rank") + on);
+  check(Utilities::MPI::max(per_rank.shared_factor_bytes(), comm) == 0,
+        "per rank: nothing shared" + on);
+
+  for (const auto storage :
+       {CoarseProblem::FactorStorage::per_node, CoarseProblem::FactorStorage::per_rank})
+    {
+      CoarseProblem singular(storage);
+      bool          thrown = false;
+      try
+        {
+          singular.initialize(comm, entries_of_G(comm, 4), n_modes, n_columns);
+        }
+      catch (const InputError &)
+        {
+          thrown = true;
+        }
+      check(Utilities::MPI::min(thrown ? 1 : 0, comm) == 1,
+            std::string("an unrestrained mode: InputError on every rank, ") +
+              (storage == CoarseProblem::FactorStorage::per_node ? "per node" : "per rank") + on);
+    }
+  return n_failures;
+}

@@ -5,6 +5,7 @@ costs measured on this machine.
     /usr/bin/python3 benchmarks/parallel_model.py [--exe build/feticontact]
         [--mpi-costs build/benchmarks/mpi_costs] [--h 8,16] [--dofs-per-rank 100000]
         [--ranks 1,10,100,1000,10000] [--reductions 7.8] [--latency-factor 1,10]
+        [--ranks-per-node 32]
         [--communication doc/data/communication.csv] [--coarse doc/data/coarse_problem.csv]
         [--csv doc/data/parallel_model.csv] [--markdown doc/data/parallel_model.md]
         [--report-only]
@@ -39,7 +40,9 @@ reductions of one tree each, and two applications of the coarse projector per mu
 (PFP), each gathering the coarse vector (6 N_s values) on every rank and solving with the
 replicated factor. --latency-factor multiplies α and t_r (a network's latency is not measured
 here: shared memory is the fastest case). Memory per rank: s m_s plus the replicated coarse
-factor m_c(N_s). Standard library only.
+factor m_c(N_s); per node of --ranks-per-node ranks R: R s m_s + R m_c(N_s) with the factor per
+rank (FETI/Coarse factor = per rank), R s m_s + m_c(N_s) with the factor per node (the
+default). Standard library only.
 """
 import csv
 import math
@@ -52,7 +55,8 @@ from cli import arguments, option  # noqa: E402
 from runs import summary_of_run  # noqa: E402
 
 arguments(__doc__, ["--exe", "--mpi-costs", "--h", "--dofs-per-rank", "--ranks", "--reductions",
-                    "--latency-factor", "--communication", "--coarse", "--csv", "--markdown"],
+                    "--latency-factor", "--ranks-per-node", "--communication", "--coarse", "--csv",
+                    "--markdown"],
           ["--report-only"])
 
 EXE = option("--exe", "build/feticontact")
@@ -62,6 +66,7 @@ DOFS = float(option("--dofs-per-rank", "100000"))
 RANKS = [int(p) for p in option("--ranks", "1,10,100,1000,10000").split(",")]
 REDUCTIONS = float(option("--reductions", "7.8"))
 LATENCY = [float(f) for f in option("--latency-factor", "1,10").split(",")]
+PER_NODE = int(option("--ranks-per-node", "32"))
 COMMUNICATION = option("--communication", "doc/data/communication.csv")
 COARSE = option("--coarse", "doc/data/coarse_problem.csv")
 CSV = option("--csv", "doc/data/parallel_model.csv")
@@ -177,8 +182,9 @@ def report():
                   f"10⁹ unknowns at 10⁴ ranks):", "",
               "| H/h | latency × | ranks | subdomains N_s | local [ms] | exchange [ms] | "
               "reductions [ms] | coarse [ms] | total [ms] | largest part | memory per rank, "
-              "subdomains + coarse factor [MiB] |",
-              "|---|---|---|---|---|---|---|---|---|---|---|"]
+              f"subdomains + coarse factor [MiB] | memory per node of {PER_NODE} ranks, "
+              "coarse factor per rank / per node [GiB] |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     rows = []
     for h in H:
         per_subdomain = 3 * (h + 1) ** 3
@@ -200,11 +206,17 @@ def report():
                          "coarse": coarse}
                 largest = max(parts, key=parts.get)
                 memory = s * values[f"m_s_h{h}"] + mem_a * n_s ** mem_b
+                node_ranks = min(p, PER_NODE)
+
+                def node_gib(factors):
+                    return (node_ranks * s * values[f"m_s_h{h}"] +
+                            min(factors, node_ranks) * mem_a * n_s ** mem_b) / 1024
                 rows.append((h, factor, p, n_s, parts, total, largest, memory))
                 lines.append(f"| {h} | {factor:g} | {p:,} | {n_s:,.0f} | {local * 1e3:.3g} | "
                              f"{exchange * 1e3:.3g} | {reductions * 1e3:.3g} | "
                              f"{coarse * 1e3:.3g} | {total * 1e3:.3g} | {largest} | "
-                             f"{s * values[f'm_s_h{h}']:,.0f} + {mem_a * n_s ** mem_b:,.0f} |")
+                             f"{s * values[f'm_s_h{h}']:,.0f} + {mem_a * n_s ** mem_b:,.0f} | "
+                             f"{node_gib(PER_NODE):,.1f} / {node_gib(1):,.1f} |")
     with open(MARKDOWN, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

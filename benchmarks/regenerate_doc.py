@@ -131,7 +131,7 @@ def steps(exe):
            "--markdown", "doc/data/cattaneo_mindlin_pair.md"],
           [PY, b + "cattaneo_mindlin.py", "--prm", "prm/cattaneo_mindlin_pair.prm", "--plot",
            "doc/data/cattaneo_mindlin_pair.csv", "doc/cattaneo_mindlin_pair.png"]]),
-        ("coarse_problem", "15 min", "doc/data/coarse_problem.{csv,md}",
+        ("coarse_problem", "22 min", "doc/data/coarse_problem.{csv,md}",
          [[PY, b + "coarse_problem.py", "--binary", "build/benchmarks/coarse_problem",
            "--sizes", "4,8,12,16,20,24", "--np", "1,2,4", "--repeats", "3"]]),
         ("patch_test", "1 min", "doc/data/patch_test.md, doc/patch_test.png",

@@ -874,7 +874,8 @@ namespace FetiContact
   Simulator::summarize_memory() const
   {
     // Peak resident memory of every rank (the process's high-water mark: replicated meshes,
-    // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library).
+    // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library; the
+    // pages of the coarse factor shared by a node's ranks count on every rank that reads them).
     Utilities::System::MemoryStats stats;
     Utilities::System::get_memory_stats(stats);
     const std::vector<double> peak_mib =
@@ -888,7 +889,11 @@ namespace FetiContact
       .set("meshes_mib", meshes_mib())
       .set("contact_mib",
            static_cast<double>(memory_consumption(contact_nodes, contact_surfaces)) /
-             (1024.0 * 1024.0));
+             (1024.0 * 1024.0))
+      .set("coarse_shared_mib_per_rank",
+           Utilities::MPI::all_gather(comm,
+                                      static_cast<double>(dual->coarse.shared_factor_bytes()) /
+                                        (1024.0 * 1024.0)));
     pcout << "Peak resident memory per rank: ";
     for (const double p : peak_mib)
       pcout << std::fixed << std::setprecision(0) << p << " MiB " << std::defaultfloat;

@@ -404,8 +404,10 @@ namespace FetiContact
     error = MPITools::first_error(node, error);
     if (error.empty() && rank != 0)
       {
+        // MAP_POPULATE: the pages are mapped now, in the setup, not at the first solve.
         const int fd = shm_open(name.c_str(), O_RDONLY, 0);
-        segment = fd < 0 ? MAP_FAILED : mmap(nullptr, layout.bytes, PROT_READ, MAP_SHARED, fd, 0);
+        segment      = fd < 0 ? MAP_FAILED :
+                                mmap(nullptr, layout.bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, fd, 0);
         if (segment == MAP_FAILED)
           {
             error   = std::strerror(errno);

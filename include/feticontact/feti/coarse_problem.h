@@ -36,6 +36,11 @@ namespace FetiContact
    * increasing column as by initialize(), and the rows gathered to the replicated factorization
    * (the same bits, unless G has two entries of one mode in one column: see
    * initialize_distributed()). Then only the products with distributed dual vectors exist.
+   *
+   * The factor of GGᵀ (and those of the lower tiers in particular_solution()) is made and kept
+   * as FactorStorage says: by default once per node, by the node's first rank, in memory the
+   * node's ranks share. The matrices are then assembled on that rank only, and a failure found
+   * there (a singular GGᵀ) is thrown on every rank of the node.
    */
   class CoarseProblem
   {

@@ -16,7 +16,8 @@ Measured here (the CSV keeps them; --report-only rebuilds the tables from it):
   of the distributed dual vectors), the latency α and the time per value 1/β of a message
   between two ranks (a fit of the messages of 1 … 10⁵ doubles);
 - per subdomain of H/h cubes across (H/h in --h; the brick of prm/brick_contact.prm in 6 × 2 × 2
-  blocks, one rank, one MSA step): the local work of one application of F
+  blocks, one rank, one MSA step, FETI/Dual vectors = distributed: the setting the model is
+  about): the local work of one application of F
   (`times.hessian_local_slowest_rank` / `hessian_multiplications.F_applications` / subdomains)
   and the QP's vector work per multiplication (`times.qp_bookkeeping` / n_A / subdomains), and
   the peak memory per subdomain above the program's floor (the peak of the run minus that of
@@ -27,7 +28,9 @@ Measured here (the CSV keeps them; --report-only rebuilds the tables from it):
   more subdomains per rank (s subdomains per rank, scaled by their interface: × (H/h / 8)²);
 - from --coarse (benchmarks/coarse_problem.py): one solve with the factor of GGᵀ and the peak
   memory of rank 0 for the replicated factorization, fitted as a N_s^b on the three largest
-  sizes.
+  sizes;
+- the check: the same brick on 2 ranks (a core each), its time per multiplication
+  (`times.solve` / n_A) against the model's prediction for 2 ranks with its s and N_s.
 
 --reductions: global reductions per multiplication (unit.distributed_qp_mpi prints them for
 MPGP and SMALBE on distributed vectors: 6.5 and 7.7–7.8). The model at P ranks, each with
@@ -92,20 +95,23 @@ def mpi_costs():
     return costs
 
 
-def run_brick(h, cubes):
-    """One MSA step of the brick in 6 × 2 × 2 blocks of h cubes (cubes: cells per block edge)."""
+def run_brick(cubes, np=None):
+    """One MSA step of the brick in 6 × 2 × 2 blocks (cubes: cells per block edge), distributed
+    dual vectors, on one rank or under mpirun -np np."""
     return summary_of_run(EXE, "prm/brick_contact.prm",
                           [f"Body 1/Mesh/Subdivisions={6 * cubes}, {2 * cubes}, {2 * cubes}",
                            "Body 1/Decomposition/Method=blocks",
                            "Body 1/Decomposition/Blocks=6, 2, 2",
                            "Contact solver/Maximum MSA iterations=1",
+                           "FETI/Dual vectors=distributed",
                            "Output/Write vtu=false"],
-                          env={"OPENBLAS_NUM_THREADS": "1", "DEAL_II_NUM_THREADS": "1"})
+                          np=np, env={"OPENBLAS_NUM_THREADS": "1", "DEAL_II_NUM_THREADS": "1"})
 
 
 def subdomain_costs(h):
-    s = run_brick(h, h)
-    floor = run_brick(h, 1)
+    s = run_brick(h)
+    floor = run_brick(1)
+    two = run_brick(h, np=2)
     n_s = s["n_subdomains"]
     t = s["times"]
     n_A = s["hessian_multiplications"]["total"]
@@ -113,7 +119,9 @@ def subdomain_costs(h):
             / n_s,
             "t_QP": t["qp_bookkeeping"] / n_A / n_s,
             "m_s": (s["memory"]["peak_rss_mib_max"] - floor["memory"]["peak_rss_mib_max"]) / n_s,
-            "dofs": s["n_primal"] / n_s}
+            "dofs": s["n_primal"] / n_s,
+            "measured_2_ranks": two["times"]["solve"] / two["hessian_multiplications"]["total"],
+            "n_subdomains": n_s}
 
 
 def power_fit(points):
@@ -160,6 +168,21 @@ def measure():
             writer.writerow([key, v])
 
 
+PARTS = ("local", "exchange", "reductions", "coarse")
+
+
+def model_parts(values, h, p, s, alpha, t_r, c_volume, solve_a, solve_b):
+    """The model's time per multiplication at p ranks with s subdomains of H/h = h each, by part."""
+    n_s = p * s
+    log_p = math.ceil(math.log2(p)) if p > 1 else 0
+    volume = c_volume * s ** (2 / 3) * (h / 8) ** 2 if p > 1 else 0
+    return {"local": s * (values[f"t_F_h{h}"] + values[f"t_QP_h{h}"]),
+            "exchange": (min(p - 1, 26) * alpha + volume * values["per_value"]) if p > 1 else 0,
+            "reductions": REDUCTIONS * t_r * log_p,
+            "coarse": 2 * (log_p * alpha + 6 * n_s * values["per_value"] * (p > 1) +
+                           solve_a * n_s ** solve_b)}
+
+
 def report():
     with open(CSV) as f:
         values = {r["quantity"]: float(r["value"]) for r in csv.DictReader(f)}
@@ -178,6 +201,18 @@ def report():
     for h in H:
         lines.append(f"| {h} | {values[f'dofs_h{h}']:,.0f} | {values[f't_F_h{h}'] * 1e3:.3f} | "
                      f"{values[f't_QP_h{h}'] * 1e3:.3f} | {values[f'm_s_h{h}']:.2f} |")
+    lines += ["", "Check on 2 ranks (the brick in 6 × 2 × 2 blocks, a core per rank): time per "
+              "multiplication measured (`times.solve` / n_A) against the model with the run's s "
+              "and N_s:", "", "| H/h | subdomains per rank s | measured [ms] | model [ms] |",
+              "|---|---|---|---|"]
+    for h in H:
+        if f"measured_2_ranks_h{h}" not in values:
+            continue
+        s2 = values[f"n_subdomains_h{h}"] / 2
+        model = sum(model_parts(values, h, 2, s2, values["latency"], values["reduction"],
+                                c_volume, solve_a, solve_b).values())
+        lines.append(f"| {h} | {s2:g} | {values[f'measured_2_ranks_h{h}'] * 1e3:.3g} | "
+                     f"{model * 1e3:.3g} |")
     lines += ["", f"Per multiplication at {DOFS:,.0f} unknowns per rank (weak scaling; "
                   f"10⁹ unknowns at 10⁴ ranks):", "",
               "| H/h | latency × | ranks | subdomains N_s | local [ms] | exchange [ms] | "
@@ -194,16 +229,9 @@ def report():
             t_r = values["reduction"] * factor
             for p in RANKS:
                 n_s = p * s
-                log_p = math.ceil(math.log2(p)) if p > 1 else 0
-                local = s * (values[f"t_F_h{h}"] + values[f"t_QP_h{h}"])
-                volume = c_volume * s ** (2 / 3) * (h / 8) ** 2 if p > 1 else 0
-                exchange = (min(p - 1, 26) * alpha + volume * values["per_value"]) if p > 1 else 0
-                reductions = REDUCTIONS * t_r * log_p
-                coarse = 2 * (log_p * alpha + 6 * n_s * values["per_value"] * (p > 1) +
-                              solve_a * n_s ** solve_b)
-                total = local + exchange + reductions + coarse
-                parts = {"local": local, "exchange": exchange, "reductions": reductions,
-                         "coarse": coarse}
+                parts = model_parts(values, h, p, s, alpha, t_r, c_volume, solve_a, solve_b)
+                local, exchange, reductions, coarse = (parts[k] for k in PARTS)
+                total = sum(parts.values())
                 largest = max(parts, key=parts.get)
                 memory = s * values[f"m_s_h{h}"] + mem_a * n_s ** mem_b
                 node_ranks = min(p, PER_NODE)

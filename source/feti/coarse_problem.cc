@@ -622,14 +622,18 @@ namespace FetiContact
         });
         if (!usable)
           continue;
-        share(factor);
         // λ = G_tᵀ(G_t G_tᵀ)⁻¹ r, accumulated over one step of iterative refinement; every
         // column's terms by increasing mode.
         lambda = 0;
         Vector<double> r(e), G_lambda;
         for (unsigned int step = 0; step < 2; ++step)
           {
-            factor.solve(r);
+            // Two solves with a factor made for them: on the factorizing rank, then sent to the
+            // node's other ranks (cheaper than sharing the factor).
+            if (factorizes())
+              factor.solve(r);
+            if (node != MPI_COMM_NULL)
+              MPI_Bcast(r.begin(), r.size(), MPI_DOUBLE, 0, node);
             if constexpr (distributed_vector)
               {
                 for (unsigned int i = 0; i < lambda.locally_owned_size(); ++i)

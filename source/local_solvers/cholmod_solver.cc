@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fcntl.h>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <sys/mman.h>
@@ -233,6 +234,8 @@ namespace FetiContact
       return;
     AssertThrow(!values_moved,
                 ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
+    AssertThrow(library_factor() != nullptr,
+                ExcMessage("CholmodSolver: no factor (sharing it failed)."));
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -248,6 +251,8 @@ namespace FetiContact
       return;
     AssertThrow(!values_moved,
                 ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
+    AssertThrow(library_factor() != nullptr,
+                ExcMessage("CholmodSolver: no factor (sharing it failed)."));
     if (b_work == nullptr)
       b_work = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
     std::memcpy(b_work->x, v.begin(), n * sizeof(double));
@@ -283,16 +288,51 @@ namespace FetiContact
     return n == 0 ? 1.0 : cholmod_rcond(library_factor(), &common);
   }
 
+  /**
+   * Byte offsets of a supernodal factor's arrays in a shared segment: the numbers first (at
+   * 0), then the index arrays, each on a cache line.
+   */
+  struct CholmodSolver::FactorLayout
+  {
+    explicit FactorLayout(const cholmod_factor &L)
+    {
+      std::size_t at    = 0;
+      const auto  place = [&](const std::size_t bytes) {
+        const std::size_t start = at;
+        at += (bytes + 63) / 64 * 64;
+        return start;
+      };
+      x        = place(sizeof(double) * L.xsize);
+      perm     = place(sizeof(int) * L.n);
+      colcount = place(sizeof(int) * L.n);
+      super    = place(sizeof(int) * (L.nsuper + 1));
+      pi       = place(sizeof(int) * (L.nsuper + 1));
+      px       = place(sizeof(int) * (L.nsuper + 1));
+      s        = place(sizeof(int) * L.ssize);
+      bytes    = std::max<std::size_t>(at, 64);
+    }
+    /** The offsets of L.x, Perm, ColCount, super, pi, px, s. */
+    std::size_t x, perm, colcount, super, pi, px, s;
+    /** The size of the segment. */
+    std::size_t bytes;
+  };
+
   namespace
   {
     /**
-     * Copies @p bytes from @p source to @p destination in pieces and gives every whole page of
-     * @p source that has been copied back to the system (MADV_DONTNEED; @p source is freed right
-     * after), so that the move never holds the numbers twice: the peak of the rank that moves
-     * a factor stays that of a rank with its own factor.
+     * Moves @p bytes from @p source to the segment @p fd, mapped at @p destination, from its
+     * offset @p offset on, in pieces: each piece's pages of the segment are reserved
+     * (posix_fallocate: a full /dev/shm fails here, not with SIGBUS at the first write), the
+     * piece copied, and the whole pages of @p source copied so far given back to the system
+     * (MADV_DONTNEED; @p source is freed right after). So neither the process nor the node ever
+     * holds the numbers twice, beyond one piece. Returns the error, or an empty string.
      */
-    void
-    move_bytes(char *destination, char *source, const std::size_t bytes)
+    std::string
+    move_to_segment(const int         fd,
+                    char *const       destination,
+                    const std::size_t offset,
+                    char *const       source,
+                    const std::size_t bytes)
     {
       const std::uintptr_t page  = sysconf(_SC_PAGESIZE);
       const std::size_t    piece = std::size_t(16) << 20;
@@ -300,7 +340,9 @@ namespace FetiContact
       for (std::size_t done = 0; done < bytes; done += piece)
         {
           const std::size_t n = std::min(piece, bytes - done);
-          std::memcpy(destination + done, source + done, n);
+          if (const int reserved = posix_fallocate(fd, offset + done, n); reserved != 0)
+            return std::strerror(reserved);
+          std::memcpy(destination + offset + done, source + done, n);
           // The whole pages of [source, source + done + n) not given back yet.
           const std::uintptr_t begin =
             done == 0 ? (start + page - 1) / page * page : (start + done) / page * page;
@@ -308,30 +350,18 @@ namespace FetiContact
           if (end > begin)
             madvise(reinterpret_cast<void *>(begin), end - begin, MADV_DONTNEED);
         }
+      return {};
     }
 
-    /** Byte offsets of a supernodal factor's arrays in a shared segment. */
-    struct FactorLayout
+    /** A name for a new segment on the node: the process, a random number and a count. */
+    std::string
+    new_segment_name()
     {
-      explicit FactorLayout(const cholmod_factor &L)
-      {
-        std::size_t at    = 0;
-        const auto  place = [&](const std::size_t bytes) {
-          const std::size_t start = at;
-          at += (bytes + 63) / 64 * 64;
-          return start;
-        };
-        x        = place(sizeof(double) * L.xsize);
-        perm     = place(sizeof(int) * L.n);
-        colcount = place(sizeof(int) * L.n);
-        super    = place(sizeof(int) * (L.nsuper + 1));
-        pi       = place(sizeof(int) * (L.nsuper + 1));
-        px       = place(sizeof(int) * (L.nsuper + 1));
-        s        = place(sizeof(int) * L.ssize);
-        bytes    = std::max<std::size_t>(at, 64);
-      }
-      std::size_t x, perm, colcount, super, pi, px, s, bytes;
-    };
+      static std::atomic<unsigned long> n_segments{0};
+      static const unsigned long long   tag = std::random_device()();
+      return "/feticontact." + std::to_string(getpid()) + "." + std::to_string(tag) + ".factor." +
+             std::to_string(n_segments++);
+    }
   } // namespace
 
   void
@@ -344,92 +374,97 @@ namespace FetiContact
       return;
     AssertThrow(solves == Solves::library,
                 ExcMessage("CholmodSolver: only a factor with CHOLMOD's solves is shared."));
-    // Rank 0's factor (supernodal: CHOLMOD_SUPERNODAL) without its pointers, and the name of the
-    // segment: the process and a count, unique on the node.
-    static std::atomic<unsigned long> n_segments{0};
-    cholmod_factor                    header{};
-    long long                         name_parts[2] = {0, 0};
+    // Rank 0's factor (supernodal: CHOLMOD_SUPERNODAL) without its pointers, and the name.
+    const bool has_factor = rank != 0 || (factor != nullptr && factor->is_super && !values_moved);
+    AssertThrow(Utilities::MPI::min(has_factor ? 1 : 0, node) == 1,
+                ExcMessage("CholmodSolver: share_factor() needs rank 0's supernodal factor."));
+    cholmod_factor header{};
     if (rank == 0)
-      {
-        AssertThrow(factor != nullptr && factor->is_super && !values_moved,
-                    ExcMessage("CholmodSolver: share_factor() needs rank 0's supernodal factor."));
-        header        = *factor;
-        name_parts[0] = getpid();
-        name_parts[1] = n_segments++;
-      }
+      header = *factor;
     MPI_Bcast(&header, sizeof(header), MPI_BYTE, 0, node);
-    MPI_Bcast(name_parts, 2, MPI_LONG_LONG, 0, node);
+    n = header.n;
     const FactorLayout layout(header);
-    const std::string  name =
-      "/feticontact." + std::to_string(name_parts[0]) + ".factor." + std::to_string(name_parts[1]);
-    // Rank 0 makes the segment and reserves its pages (posix_fallocate: a full /dev/shm fails
-    // here, not with SIGBUS at the first write), copies the arrays and frees CHOLMOD's factor.
+    const std::string  name = Utilities::MPI::broadcast(node, new_segment_name(), 0);
+    // The name exists only until the other ranks have opened the segment: rank 0 creates it,
+    // the others open it, rank 0 removes the name. Then rank 0 moves its factor in, and the
+    // others map it.
+    int         fd = -1;
     std::string error;
     if (rank == 0)
       {
-        const int fd       = shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR, 0600);
-        int       reserved = fd < 0 ? errno : posix_fallocate(fd, 0, layout.bytes);
-        if (reserved == 0)
-          {
-            segment = mmap(nullptr, layout.bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-            if (segment == MAP_FAILED)
-              {
-                reserved = errno;
-                segment  = nullptr;
-              }
-          }
-        if (fd >= 0)
-          close(fd);
-        if (reserved != 0)
-          {
-            shm_unlink(name.c_str());
-            error = std::strerror(reserved);
-          }
-        else
-          {
-            char *const base = static_cast<char *>(segment);
-            move_bytes(base + layout.x,
-                       static_cast<char *>(factor->x),
-                       sizeof(double) * header.xsize);
-            std::memcpy(base + layout.perm, factor->Perm, sizeof(int) * header.n);
-            std::memcpy(base + layout.colcount, factor->ColCount, sizeof(int) * header.n);
-            std::memcpy(base + layout.super, factor->super, sizeof(int) * (header.nsuper + 1));
-            std::memcpy(base + layout.pi, factor->pi, sizeof(int) * (header.nsuper + 1));
-            std::memcpy(base + layout.px, factor->px, sizeof(int) * (header.nsuper + 1));
-            std::memcpy(base + layout.s, factor->s, sizeof(int) * header.ssize);
-            cholmod_free_factor(&factor, &common);
-            segment_bytes = layout.bytes;
-          }
+        fd = shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR, 0600);
+        if (fd < 0 || ftruncate(fd, layout.bytes) != 0)
+          error = std::strerror(errno);
       }
+    error = MPITools::first_error(node, error);
+    if (error.empty() && rank != 0 && (fd = shm_open(name.c_str(), O_RDONLY, 0)) < 0)
+      error = std::strerror(errno);
+    error = MPITools::first_error(node, error);
+    if (rank == 0 && fd >= 0)
+      shm_unlink(name.c_str());
+    if (error.empty() && rank == 0)
+      error = move_factor_to_segment(fd, layout);
     error = MPITools::first_error(node, error);
     if (error.empty() && rank != 0)
-      {
-        // MAP_POPULATE: the pages are mapped now, in the setup, not at the first solve.
-        const int fd = shm_open(name.c_str(), O_RDONLY, 0);
-        segment      = fd < 0 ? MAP_FAILED :
-                                mmap(nullptr, layout.bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, fd, 0);
-        if (segment == MAP_FAILED)
-          {
-            error   = std::strerror(errno);
-            segment = nullptr;
-          }
-        else
-          segment_bytes = layout.bytes;
-        if (fd >= 0)
-          close(fd);
-      }
+      error = map_segment(fd, layout.bytes);
+    if (fd >= 0)
+      close(fd);
     error = MPITools::first_error(node, error);
-    if (rank == 0 && segment != nullptr)
-      shm_unlink(name.c_str());
     if (!error.empty())
       {
+        // No rank keeps a factor: the solves refuse from now on.
         release_shared();
+        if (factor != nullptr)
+          cholmod_free_factor(&factor, &common);
         throw std::runtime_error("Shared memory of " +
                                  std::to_string(layout.bytes / (1024 * 1024) + 1) +
                                  " MiB for a factor of " + std::to_string(header.n) +
                                  " rows shared by the ranks of a node (" + name + "): " + error +
                                  ". Enlarge /dev/shm, or set FETI/Coarse factor = per rank.");
       }
+    view_segment(header, layout);
+  }
+
+  std::string
+  CholmodSolver::move_factor_to_segment(const int fd, const FactorLayout &layout)
+  {
+    void *address = mmap(nullptr, layout.bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (address == MAP_FAILED)
+      return std::strerror(errno);
+    segment          = address;
+    segment_bytes    = layout.bytes;
+    char *const base = static_cast<char *>(segment);
+    // The index arrays (after the numbers), then the numbers piece by piece.
+    if (const int reserved = posix_fallocate(fd, layout.perm, layout.bytes - layout.perm);
+        reserved != 0)
+      return std::strerror(reserved);
+    std::memcpy(base + layout.perm, factor->Perm, sizeof(int) * factor->n);
+    std::memcpy(base + layout.colcount, factor->ColCount, sizeof(int) * factor->n);
+    std::memcpy(base + layout.super, factor->super, sizeof(int) * (factor->nsuper + 1));
+    std::memcpy(base + layout.pi, factor->pi, sizeof(int) * (factor->nsuper + 1));
+    std::memcpy(base + layout.px, factor->px, sizeof(int) * (factor->nsuper + 1));
+    std::memcpy(base + layout.s, factor->s, sizeof(int) * factor->ssize);
+    const std::string error = move_to_segment(
+      fd, base, layout.x, static_cast<char *>(factor->x), sizeof(double) * factor->xsize);
+    cholmod_free_factor(&factor, &common);
+    return error;
+  }
+
+  std::string
+  CholmodSolver::map_segment(const int fd, const std::size_t bytes)
+  {
+    // MAP_POPULATE: the pages are mapped now, in the setup, not at the first solve.
+    void *address = mmap(nullptr, bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, fd, 0);
+    if (address == MAP_FAILED)
+      return std::strerror(errno);
+    segment       = address;
+    segment_bytes = bytes;
+    return {};
+  }
+
+  void
+  CholmodSolver::view_segment(const cholmod_factor &header, const FactorLayout &layout)
+  {
     char *const base = static_cast<char *>(segment);
     shared           = std::make_unique<cholmod_factor>(header);
     shared->Perm     = base + layout.perm;
@@ -441,7 +476,6 @@ namespace FetiContact
     shared->s        = base + layout.s;
     shared->x        = base + layout.x;
     shared->p = shared->i = shared->z = shared->nz = shared->next = shared->prev = nullptr;
-    n                                                                            = header.n;
   }
 
   void

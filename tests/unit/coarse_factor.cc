@@ -1,7 +1,8 @@
 // The factor of the coarse matrix GGᵀ kept once per node (CoarseProblem::FactorStorage::per_node,
 // CholmodSolver::share_factor()) against a factor per rank, on 1 and on 3 ranks (one node):
 //  - the solves with GGᵀ, the halves L⁻¹P and PᵀL⁻ᵀ, the least-norm solution and the particular
-//    solution of a lower tier (a second shared factor) are the same bits;
+//    solution of a lower tier (its factor made on the node's first rank, which sends the
+//    solutions) are the same bits;
 //  - they solve GGᵀ x = b;
 //  - per node, every rank of a node of several ranks maps the shared factor and no rank keeps
 //    one of its own size; per rank, none is shared;
@@ -98,7 +99,8 @@ main(int argc, char **argv)
   per_rank.initialize(comm, entries_of_G(comm), n_modes, n_columns);
 
   const std::vector<double> a = results(per_node), b = results(per_rank);
-  const bool same = a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * 8) == 0;
+  const bool                same =
+    a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
   check(Utilities::MPI::min(same ? 1 : 0, comm) == 1,
         "per node and per rank: the same bits of (GGᵀ)⁻¹b, L⁻¹Pb, PᵀL⁻ᵀb, the least-norm and "
         "the lower tier's particular solution" +

@@ -37,10 +37,11 @@ namespace FetiContact
    * (the same bits, unless G has two entries of one mode in one column: see
    * initialize_distributed()). Then only the products with distributed dual vectors exist.
    *
-   * The factor of GGᵀ (and those of the lower tiers in particular_solution()) is made and kept
-   * as FactorStorage says: by default once per node, by the node's first rank, in memory the
-   * node's ranks share. The matrices are then assembled on that rank only, and a failure found
-   * there (a singular GGᵀ) is thrown on every rank of the node.
+   * The factor of GGᵀ is made and kept as FactorStorage says: by default once per node, by the
+   * node's first rank, in memory the node's ranks share. The matrices (GGᵀ, and those of the
+   * lower tiers in particular_solution(), whose two solves that rank makes and sends to the
+   * node) are then assembled on that rank only, and a failure found there (a singular GGᵀ) is
+   * thrown on every rank of the node.
    */
   class CoarseProblem
   {
@@ -58,7 +59,9 @@ namespace FetiContact
       per_rank
     };
 
+    /** An empty coarse problem whose factor will be kept as @p storage says. */
     explicit CoarseProblem(const FactorStorage storage = FactorStorage::per_node);
+    /** Frees the communicators of set_up_node() (not collective). */
     ~CoarseProblem();
     CoarseProblem(const CoarseProblem &) = delete;
     CoarseProblem &
@@ -256,14 +259,17 @@ namespace FetiContact
     add_Gt(const dealii::Vector<double> &x, const bool add, dealii::Vector<double> &y) const;
     void
     add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
-    /** M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity. */
-    /** The same from the relevant columns (initialize_distributed()): each rank its modes' rows,
-     *  gathered on the ranks that factorize. Collective. */
+    /**
+     * The same as assemble_GGt() from the relevant columns (initialize_distributed()): each rank
+     * its modes' rows, gathered on the ranks that factorize. Collective.
+     */
     void
     assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
                              dealii::SparsityPattern                 &sparsity,
                              dealii::SparseMatrix<double>            &M) const;
-    /** Checks GGᵀ = @p M (every mode restrained, nonsingular, well conditioned) and factorizes it.
+    /**
+     * Checks GGᵀ = @p M (every mode restrained, nonsingular, well conditioned) and factorizes it,
+     * on the ranks that factorize (@p M is empty elsewhere); then shares the factor (per node).
      */
     void
     factorize_GGt(const dealii::SparseMatrix<double> &M);
@@ -276,6 +282,10 @@ namespace FetiContact
     /** The tiers of the columns (a bit per tier, over all ranks). */
     unsigned int
     tiers_present(const std::function<unsigned int(unsigned int)> &tier) const;
+    /**
+     * M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity, on the
+     * ranks that factorize (nothing elsewhere).
+     */
     void
     assemble_GGt(const std::function<bool(unsigned int)> &use_column,
                  dealii::SparsityPattern                 &sparsity,
@@ -291,8 +301,12 @@ namespace FetiContact
     std::vector<double>            block_column_value;
     CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
-    FactorStorage                  storage;
-    /** set_up_node(). */
+    /** Where the factor of GGᵀ is kept. */
+    FactorStorage storage;
+    /**
+     * The ranks of this rank's node and the nodes' first ranks (set_up_node()); MPI_COMM_NULL
+     * with the factor per rank or one rank per node.
+     */
     MPI_Comm node = MPI_COMM_NULL, leaders = MPI_COMM_NULL;
 
     /** The distribution of the dual vectors (distribute()), or none. */

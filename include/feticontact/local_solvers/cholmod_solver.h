@@ -163,9 +163,24 @@ namespace FetiContact
       return shared ? shared.get() : factor;
     }
 
+    /** Where a factor's arrays lie in a shared segment (cholmod_solver.cc). */
+    struct FactorLayout;
+
     /** Unmaps the shared segment, if any. */
     void
     release_shared();
+    /**
+     * share_factor() on rank 0: maps the segment @p fd, moves this factor's arrays into it at
+     * the offsets of @p layout and frees CHOLMOD's factor. Returns the error, or "".
+     */
+    std::string
+    move_factor_to_segment(const int fd, const FactorLayout &layout);
+    /** share_factor() on the other ranks: maps @p bytes of the segment @p fd read-only. */
+    std::string
+    map_segment(const int fd, const std::size_t bytes);
+    /** Points the view of the shared factor (@p header's sizes) into the mapped segment. */
+    void
+    view_segment(const cholmod_factor &header, const FactorLayout &layout);
 
     const Solves                     solves;
     mutable cholmod_common           common;

@@ -5,20 +5,22 @@ costs measured on this machine.
     /usr/bin/python3 benchmarks/parallel_model.py [--exe build/feticontact]
         [--mpi-costs build/benchmarks/mpi_costs] [--h 8,16] [--dofs-per-rank 100000]
         [--ranks 1,10,100,1000,10000] [--reductions 7.8] [--latency-factor 1,10]
-        [--ranks-per-node 32]
+        [--ranks-per-node 32] [--repeats 3]
         [--communication doc/data/communication.csv] [--coarse doc/data/coarse_problem.csv]
         [--csv doc/data/parallel_model.csv] [--markdown doc/data/parallel_model.md]
         [--report-only]
 
-Measured here (the CSV keeps them; --report-only rebuilds the tables from it):
+Measured here, each the median of --repeats rounds (the CSV keeps them; --report-only rebuilds
+the tables from it):
 
 - `mpi_costs` on 2 ranks: the time of a global reduction t_r (ExactSum::sum_over_ranks, the sums
   of the distributed dual vectors), the latency α and the time per value 1/β of a message
   between two ranks (a fit of the messages of 1 … 10⁵ doubles);
 - per subdomain of H/h cubes across (H/h in --h; the brick of prm/brick_contact.prm in 6 × 2 × 2
   blocks, one rank, one MSA step, FETI/Dual vectors = distributed: the setting the model is
-  about): the local work of one application of F
-  (`times.hessian_local_slowest_rank` / `hessian_multiplications.F_applications` / subdomains)
+  about): the local work of the applications of F per multiplication
+  (`times.hessian_local_slowest_rank` / n_A / subdomains; a multiplication applies F
+  f_F = `hessian_multiplications.F_applications` / n_A times)
   and the QP's vector work per multiplication (`times.qp_bookkeeping` / n_A / subdomains), and
   the peak memory per subdomain above the program's floor (the peak of the run minus that of
   the same run with 1 × 1 × 1 cubes, divided by the subdomains);
@@ -36,7 +38,7 @@ Measured here (the CSV keeps them; --report-only rebuilds the tables from it):
 MPGP and SMALBE on distributed vectors: 6.5 and 7.7–7.8). The model at P ranks, each with
 --dofs-per-rank unknowns in s = dofs / (3 (H/h + 1)³) subdomains (weak scaling; N_s = P s):
 
-  t = s (t_F + t_QP) + (n_nb α + V/β) + r t_r ⌈log₂ P⌉ + 2 (⌈log₂ P⌉ α + 6 N_s/β + t_c(N_s))
+  t = s (t_F + t_QP) + f_F (n_nb α + V/β) + r t_r ⌈log₂ P⌉ + 2 (⌈log₂ P⌉ α + 6 N_s/β + t_c(N_s))
 
 with n_nb = min(P − 1, 26) neighbours, one exchange of interface values per application of F, r
 reductions of one tree each, and two applications of the coarse projector per multiplication
@@ -49,6 +51,7 @@ default). Standard library only.
 """
 import csv
 import math
+import statistics
 import os
 import subprocess
 import sys
@@ -58,7 +61,7 @@ from cli import arguments, option  # noqa: E402
 from runs import summary_of_run  # noqa: E402
 
 arguments(__doc__, ["--exe", "--mpi-costs", "--h", "--dofs-per-rank", "--ranks", "--reductions",
-                    "--latency-factor", "--ranks-per-node", "--communication", "--coarse", "--csv",
+                    "--latency-factor", "--ranks-per-node", "--repeats", "--communication", "--coarse", "--csv",
                     "--markdown"],
           ["--report-only"])
 
@@ -70,6 +73,7 @@ RANKS = [int(p) for p in option("--ranks", "1,10,100,1000,10000").split(",")]
 REDUCTIONS = float(option("--reductions", "7.8"))
 LATENCY = [float(f) for f in option("--latency-factor", "1,10").split(",")]
 PER_NODE = int(option("--ranks-per-node", "32"))
+REPEATS = int(option("--repeats", "3"))
 COMMUNICATION = option("--communication", "doc/data/communication.csv")
 COARSE = option("--coarse", "doc/data/coarse_problem.csv")
 CSV = option("--csv", "doc/data/parallel_model.csv")
@@ -115,8 +119,8 @@ def subdomain_costs(h):
     n_s = s["n_subdomains"]
     t = s["times"]
     n_A = s["hessian_multiplications"]["total"]
-    return {"t_F": t["hessian_local_slowest_rank"] / s["hessian_multiplications"]["F_applications"]
-            / n_s,
+    return {"t_F": t["hessian_local_slowest_rank"] / n_A / n_s,
+            "f_F": s["hessian_multiplications"]["F_applications"] / n_A,
             "t_QP": t["qp_bookkeeping"] / n_A / n_s,
             "m_s": (s["memory"]["peak_rss_mib_max"] - floor["memory"]["peak_rss_mib_max"]) / n_s,
             "dofs": s["n_primal"] / n_s,
@@ -155,12 +159,18 @@ def volume_fit():
 
 
 def measure():
-    values = {}
-    values.update(mpi_costs())
-    for h in H:
-        for key, v in subdomain_costs(h).items():
-            values[f"{key}_h{h}"] = v
+    """Every quantity the median of --repeats rounds (this machine's speed varies by 15 % and
+    more between runs)."""
+    rounds = []
+    for _ in range(REPEATS):
+        values = {}
+        values.update(mpi_costs())
+        for h in H:
+            for key, v in subdomain_costs(h).items():
+                values[f"{key}_h{h}"] = v
         print(values, flush=True)
+        rounds.append(values)
+    values = {key: statistics.median(r[key] for r in rounds) for key in rounds[0]}
     with open(CSV, "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["quantity", "value"])
@@ -177,7 +187,8 @@ def model_parts(values, h, p, s, alpha, t_r, c_volume, solve_a, solve_b):
     log_p = math.ceil(math.log2(p)) if p > 1 else 0
     volume = c_volume * s ** (2 / 3) * (h / 8) ** 2 if p > 1 else 0
     return {"local": s * (values[f"t_F_h{h}"] + values[f"t_QP_h{h}"]),
-            "exchange": (min(p - 1, 26) * alpha + volume * values["per_value"]) if p > 1 else 0,
+            "exchange": values.get(f"f_F_h{h}", 1.0) *
+            (min(p - 1, 26) * alpha + volume * values["per_value"]) if p > 1 else 0,
             "reductions": REDUCTIONS * t_r * log_p,
             "coarse": 2 * (log_p * alpha + 6 * n_s * values["per_value"] * (p > 1) +
                            solve_a * n_s ** solve_b)}
@@ -196,11 +207,13 @@ def report():
              f"m_c = {mem_a:.3g} N_s^{mem_b:.2f} MiB (doc/data/coarse_problem.csv); interface "
              f"values per application of F V = {c_volume:.0f} s^(2/3) × (H/h / 8)²; "
              f"{REDUCTIONS:g} reductions per multiplication.", "",
-             "| H/h | DoFs per subdomain | local F per subdomain [ms] | QP work per subdomain [ms]"
-             " | memory per subdomain [MiB] |", "|---|---|---|---|---|"]
+             "| H/h | DoFs per subdomain | applications of F per multiplication f_F "
+             "| local F per subdomain and multiplication [ms] | QP work per subdomain [ms] "
+             "| memory per subdomain [MiB] |", "|---|---|---|---|---|---|"]
     for h in H:
-        lines.append(f"| {h} | {values[f'dofs_h{h}']:,.0f} | {values[f't_F_h{h}'] * 1e3:.3f} | "
-                     f"{values[f't_QP_h{h}'] * 1e3:.3f} | {values[f'm_s_h{h}']:.2f} |")
+        lines.append(f"| {h} | {values[f'dofs_h{h}']:,.0f} | {values.get(f'f_F_h{h}', 1):.2f} | "
+                     f"{values[f't_F_h{h}'] * 1e3:.3f} | {values[f't_QP_h{h}'] * 1e3:.3f} | "
+                     f"{values[f'm_s_h{h}']:.2f} |")
     lines += ["", "Check on 2 ranks (the brick in 6 × 2 × 2 blocks, a core per rank): time per "
               "multiplication measured (`times.solve` / n_A) against the model with the run's s "
               "and N_s:", "", "| H/h | subdomains per rank s | measured [ms] | model [ms] |",

@@ -90,7 +90,7 @@ def steps(exe):
            "--markdown", "doc/data/weak_scaling_distributed.md"]]),
         ("dual_vectors", "6 min", "doc/data/dual_vectors.{csv,md}",
          [[PY, b + "dual_vectors.py", "--exe", exe]]),
-        ("parallel_model", "1 min", "doc/data/parallel_model.{csv,md}",
+        ("parallel_model", "5 min", "doc/data/parallel_model.{csv,md}",
          [[PY, b + "parallel_model.py", "--exe", exe,
            "--mpi-costs", "build/benchmarks/mpi_costs"]]),
         ("scaling_k48", "5 min", "doc/data/scaling_k48.{csv,md}",

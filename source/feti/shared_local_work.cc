@@ -124,10 +124,15 @@ namespace FetiContact
                            std::to_string(subdomain.global_index) + " (" + name +
                            "): " + std::strerror(errno) +
                            ". Set FETI/Shared local work = 0 to run without it."));
+    // posix_fallocate reserves the pages: a full /dev/shm fails here, not with SIGBUS at the
+    // first write.
     void *address = MAP_FAILED;
-    if (ftruncate(fd, bytes) == 0)
-      address = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    const int error = errno;
+    int   error   = ftruncate(fd, bytes) == 0 ? posix_fallocate(fd, 0, bytes) : errno;
+    if (error == 0)
+      {
+        address = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+        error   = errno;
+      }
     close(fd);
     if (address == MAP_FAILED)
       shm_unlink(name.c_str());

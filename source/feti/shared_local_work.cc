@@ -69,6 +69,67 @@ namespace FetiContact
       if (count > 0)
         std::memcpy(base + offset, from, count * sizeof(T));
     }
+
+    /**
+     * The sizes of the records of the subdomains @p owned[i], i in @p in_reserve, of rank
+     * @p rank, one after the other from offset 0.
+     */
+    std::vector<TaskSizes>
+    record_sizes(const std::vector<Subdomain *>  &owned,
+                 const std::vector<BlockOfB>     &B,
+                 const std::vector<unsigned int> &in_reserve,
+                 const int                        rank)
+    {
+      std::vector<TaskSizes> sizes(in_reserve.size());
+      std::size_t            bytes = 0;
+      for (unsigned int j = 0; j < in_reserve.size(); ++j)
+        {
+          const unsigned int      i = in_reserve[j];
+          const SupernodalFactor &L = *cholmod_of(*owned[i])->supernodal_factor();
+          sizes[j]                  = {owned[i]->global_index,
+                                       rank,
+                                       static_cast<long long>(bytes),
+                                       static_cast<long long>(L.n),
+                                       static_cast<long long>(L.n_supernodes),
+                      L.n_supernodes == 0 ? 0 : L.pi[L.n_supernodes],
+                                       static_cast<long long>(L.n_values()),
+                                       static_cast<long long>(owned[i]->kernel_fixing_dofs.size()),
+                                       static_cast<long long>(B[i].row.size())};
+          bytes += Layout(sizes[j]).bytes;
+        }
+      return sizes;
+    }
+
+    /**
+     * Writes the record of @p subdomain (sizes @p sizes) with its block @p b of B at @p record:
+     * the factor's structure, the DoFs fixed to zero and B_i (the numbers of the factor have
+     * their own segment).
+     */
+    void
+    write_record(char *const      record,
+                 const TaskSizes &sizes,
+                 Subdomain       &subdomain,
+                 const BlockOfB  &b)
+    {
+      const Layout            layout(sizes);
+      const SupernodalFactor &L     = *cholmod_of(subdomain)->supernodal_factor();
+      const auto              ns    = L.n_supernodes + 1;
+      const auto             &fixed = subdomain.kernel_fixing_dofs;
+      copy_to(record, layout.value, b.value.data(), b.value.size());
+      copy_to(record, layout.super, L.super, ns);
+      copy_to(record, layout.pi, L.pi, ns);
+      copy_to(record, layout.px, L.px, ns);
+      copy_to(record, layout.s, L.s, sizes.n_row_indices);
+      copy_to(record, layout.perm, L.perm, L.n);
+      std::vector<int> as_int(fixed.begin(), fixed.end());
+      copy_to(record, layout.fixed, as_int.data(), as_int.size());
+      as_int.assign(b.row.begin(), b.row.end());
+      copy_to(record, layout.row, as_int.data(), as_int.size());
+      as_int.assign(b.dof.begin(), b.dof.end());
+      copy_to(record, layout.dof, as_int.data(), as_int.size());
+      as_int.assign(b.slot.begin(), b.slot.end());
+      copy_to(record, layout.slot, as_int.data(), as_int.size());
+    }
   } // namespace
 
   bool
@@ -95,6 +156,27 @@ namespace FetiContact
     // The segments' names carry the process id of rank 0: unique on the node while it runs.
     job = getpid();
     MPI_Bcast(&job, 1, MPI_LONG_LONG, 0, comm);
+  }
+
+  const double *
+  SharedLocalWork::factor_values(const unsigned int subdomain, const std::size_t n_values)
+  {
+    for (const Segment &segment : own_segments)
+      if (segment.subdomain == subdomain)
+        return static_cast<const double *>(segment.address);
+    const std::string name    = segment_name(subdomain);
+    const int         fd      = shm_open(name.c_str(), O_RDONLY, 0);
+    const std::size_t n_bytes = std::max<std::size_t>(n_values * sizeof(double), 1);
+    void     *address = fd < 0 ? MAP_FAILED : mmap(nullptr, n_bytes, PROT_READ, MAP_SHARED, fd, 0);
+    const int error   = errno;
+    if (fd >= 0)
+      close(fd);
+    AssertThrow(address != MAP_FAILED,
+                ExcMessage("Shared memory of the factor of subdomain " + std::to_string(subdomain) +
+                           " (" + name + "): " + std::strerror(error) +
+                           ". Set FETI/Shared local work = 0 to run without it."));
+    mapped_segments.push_back({subdomain, address, n_bytes});
+    return static_cast<const double *>(address);
   }
 
   std::string
@@ -169,23 +251,8 @@ namespace FetiContact
     AssertThrow(in_reserve.size() == own_segments.size(),
                 ExcMessage("SharedLocalWork: a factor in shared memory belongs to no owned "
                            "subdomain."));
-    std::vector<TaskSizes> own(in_reserve.size());
-    std::size_t            bytes = 0;
-    for (unsigned int j = 0; j < in_reserve.size(); ++j)
-      {
-        const unsigned int      i = in_reserve[j];
-        const SupernodalFactor &L = *cholmod_of(*owned[i])->supernodal_factor();
-        own[j]                    = {owned[i]->global_index,
-                                     this_rank,
-                                     static_cast<long long>(bytes),
-                                     static_cast<long long>(L.n),
-                                     static_cast<long long>(L.n_supernodes),
-                  L.n_supernodes == 0 ? 0 : L.pi[L.n_supernodes],
-                                     static_cast<long long>(L.n_values()),
-                                     static_cast<long long>(owned[i]->kernel_fixing_dofs.size()),
-                                     static_cast<long long>(B[i].row.size())};
-        bytes += Layout(own[j]).bytes;
-      }
+    const std::vector<TaskSizes> own = record_sizes(owned, B, in_reserve, this_rank);
+    const std::size_t bytes = own.empty() ? 0 : own.back().offset + Layout(own.back()).bytes;
     // Rank 0's window: one counter per rank, each on a cache line of its own, then the slots.
     const std::size_t slot_bytes = this_rank == 0 ? 64 * n_ranks + sizeof(double) * n_slots : 0;
     own_bytes += bytes + slot_bytes;
@@ -202,29 +269,7 @@ namespace FetiContact
     MPI_Win_lock_all(MPI_MODE_NOCHECK, slot_window);
 
     for (unsigned int j = 0; j < in_reserve.size(); ++j)
-      {
-        const unsigned int      i = in_reserve[j];
-        const Layout            layout(own[j]);
-        char                   *record = base + own[j].offset;
-        const SupernodalFactor &L      = *cholmod_of(*owned[i])->supernodal_factor();
-        const auto              ns     = L.n_supernodes + 1;
-        const auto             &b      = B[i];
-        const auto             &fixed  = owned[i]->kernel_fixing_dofs;
-        copy_to(record, layout.value, b.value.data(), b.value.size());
-        copy_to(record, layout.super, L.super, ns);
-        copy_to(record, layout.pi, L.pi, ns);
-        copy_to(record, layout.px, L.px, ns);
-        copy_to(record, layout.s, L.s, own[j].n_row_indices);
-        copy_to(record, layout.perm, L.perm, L.n);
-        std::vector<int> as_int(fixed.begin(), fixed.end());
-        copy_to(record, layout.fixed, as_int.data(), as_int.size());
-        as_int.assign(b.row.begin(), b.row.end());
-        copy_to(record, layout.row, as_int.data(), as_int.size());
-        as_int.assign(b.dof.begin(), b.dof.end());
-        copy_to(record, layout.dof, as_int.data(), as_int.size());
-        as_int.assign(b.slot.begin(), b.slot.end());
-        copy_to(record, layout.slot, as_int.data(), as_int.size());
-      }
+      write_record(base + own[j].offset, own[j], *owned[in_reserve[j]], B[in_reserve[j]]);
 
     // Every rank's records, rank by rank in the order of the subdomains, and the other ranks'
     // factors.
@@ -263,46 +308,23 @@ namespace FetiContact
         const auto   ints   = [&](const std::size_t offset) {
           return reinterpret_cast<const int *>(record + offset);
         };
-        const double *values = nullptr;
-        if (all[t].rank == this_rank)
-          for (const Segment &segment : own_segments)
-            if (segment.subdomain == all[t].subdomain)
-              values = static_cast<const double *>(segment.address);
-        if (values == nullptr)
-          {
-            const std::string name    = segment_name(all[t].subdomain);
-            const int         fd      = shm_open(name.c_str(), O_RDONLY, 0);
-            const std::size_t n_bytes = std::max<std::size_t>(all[t].n_values * sizeof(double), 1);
-            void             *address =
-              fd < 0 ? MAP_FAILED : mmap(nullptr, n_bytes, PROT_READ, MAP_SHARED, fd, 0);
-            const int error = errno;
-            if (fd >= 0)
-              close(fd);
-            AssertThrow(address != MAP_FAILED,
-                        ExcMessage("Shared memory of the factor of subdomain " +
-                                   std::to_string(all[t].subdomain) + " (" + name +
-                                   "): " + std::strerror(error) +
-                                   ". Set FETI/Shared local work = 0 to run without it."));
-            mapped_segments.push_back(
-              {static_cast<unsigned int>(all[t].subdomain), address, n_bytes});
-            values = static_cast<const double *>(address);
-          }
-        Task &task          = tasks[t];
-        task.L.n            = all[t].n;
-        task.L.n_supernodes = all[t].n_supernodes;
-        task.L.super        = ints(layout.super);
-        task.L.pi           = ints(layout.pi);
-        task.L.px           = ints(layout.px);
-        task.L.s            = ints(layout.s);
-        task.L.perm         = ints(layout.perm);
-        task.L.x            = values;
-        task.n_fixed        = all[t].n_fixed;
-        task.n_entries      = all[t].n_entries;
-        task.fixed          = ints(layout.fixed);
-        task.row            = ints(layout.row);
-        task.dof            = ints(layout.dof);
-        task.slot           = ints(layout.slot);
-        task.value          = reinterpret_cast<const double *>(record + layout.value);
+        const double *values = factor_values(all[t].subdomain, all[t].n_values);
+        Task         &task   = tasks[t];
+        task.L.n             = all[t].n;
+        task.L.n_supernodes  = all[t].n_supernodes;
+        task.L.super         = ints(layout.super);
+        task.L.pi            = ints(layout.pi);
+        task.L.px            = ints(layout.px);
+        task.L.s             = ints(layout.s);
+        task.L.perm          = ints(layout.perm);
+        task.L.x             = values;
+        task.n_fixed         = all[t].n_fixed;
+        task.n_entries       = all[t].n_entries;
+        task.fixed           = ints(layout.fixed);
+        task.row             = ints(layout.row);
+        task.dof             = ints(layout.dof);
+        task.slot            = ints(layout.slot);
+        task.value           = reinterpret_cast<const double *>(record + layout.value);
       }
     if (this_rank == 0)
       reset_counter();

@@ -150,6 +150,13 @@ namespace FetiContact
       std::size_t  bytes     = 0;
     };
 
+    /**
+     * The numbers of the factor of subdomain @p s (@p n_values of them): this rank's own
+     * segment, or the other rank's segment mapped read-only (kept in mapped_segments).
+     */
+    const double *
+    factor_values(const unsigned int s, const std::size_t n_values);
+
     /** The name of the segment of subdomain @p s ("/feticontact.<job>.<s>"). */
     std::string
     segment_name(const unsigned int s) const;

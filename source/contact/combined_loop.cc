@@ -1,6 +1,5 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/combined_loop.h>
-#include <feticontact/contact/friction_law.h>
 
 namespace FetiContact
 {
@@ -39,7 +38,7 @@ namespace FetiContact
     std::vector<double>        g(g_old.size());
     for (unsigned int k = 0; k < g.size(); ++k)
       g[k] = (1 - parameters.relaxation) * g_old[k] + parameters.relaxation * target[k];
-    change = relative_change(g_old, g);
+    change = tresca.relative_change(g_old, g);
     ++radius_updates;
     tresca.set_slip_bounds(g);
   }
@@ -62,7 +61,7 @@ namespace FetiContact
             return outcome;
           }
         const auto target = slip_bound_of(lambda);
-        change            = relative_change(tresca.slip_bounds(), target);
+        change            = tresca.relative_change(tresca.slip_bounds(), target);
         if (report.converged && change <= msa_tolerance)
           {
             outcome.converged = true;

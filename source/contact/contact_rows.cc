@@ -3,11 +3,39 @@
 #include <feticontact/contact/contact_rows.h>
 
 #include <cmath>
+#include <map>
 #include <optional>
 
 namespace FetiContact
 {
   using namespace dealii;
+
+  namespace
+  {
+    /**
+     * One set of @p rows held together (DualRows::held_together) per vertex whose nodes have
+     * more than one row: a node's rows are the blocks of its constraint set, and the nodes of a
+     * vertex add up their slip bounds at its keeper.
+     */
+    void
+    hold_rows_together(const std::vector<ContactNode> &nodes,
+                       const DualLayout               &layout,
+                       DualRows                       &rows)
+    {
+      std::map<std::pair<unsigned int, unsigned int>, std::vector<unsigned int>> of_vertex;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        {
+          auto &set = of_vertex[{nodes[k].body, nodes[k].vertex}];
+          set.push_back(layout.normal_row[k]);
+          if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+            for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+              set.push_back(layout.tangential_row[k] + j);
+        }
+      for (auto &[vertex, set] : of_vertex)
+        if (set.size() > 1)
+          rows.held_together.push_back(std::move(set));
+    }
+  } // namespace
 
   DualRows
   build_contact_rows(const std::vector<ContactNode>  &nodes,
@@ -110,16 +138,39 @@ namespace FetiContact
       {
         layout.normal_row[k] = rows.n_rows();
         add_row(rows, nodes[k], nodes[k].n, nodes[k].gap);
-        // A node's rows (the blocks of its constraint set) stay on one rank.
-        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
-          {
-            std::vector<unsigned int> node_rows{layout.normal_row[k]};
-            for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
-              node_rows.push_back(layout.tangential_row[k] + j);
-            rows.held_together.push_back(std::move(node_rows));
-          }
       }
     layout.n_normal = nodes.size();
+    hold_rows_together(nodes, layout, rows);
     return rows;
+  }
+
+  HeldContactNodes
+  hold_contact_nodes(const std::vector<ContactNode>                &nodes,
+                     const DualLayout                              &layout,
+                     const std::function<bool(const unsigned int)> &holds_row)
+  {
+    HeldContactNodes held;
+    held.layout = layout;
+    held.layout.normal_row.clear();
+    held.layout.tangential_row.clear();
+    held.layout.node_scale.clear();
+    std::vector<unsigned int> held_index(nodes.size(), numbers::invalid_unsigned_int);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (holds_row(layout.normal_row[k]))
+        {
+          held_index[k] = held.nodes.size();
+          held.nodes.push_back(nodes[k]);
+          held.layout.normal_row.push_back(layout.normal_row[k]);
+          held.layout.tangential_row.push_back(layout.tangential_row[k]);
+          held.layout.node_scale.push_back(layout.scale_of_node(k));
+        }
+    for (ContactNode &node : held.nodes)
+      if (node.keeper)
+        {
+          AssertThrow(held_index[*node.keeper] != numbers::invalid_unsigned_int,
+                      ExcMessage("hold_contact_nodes: the keeper of a held node is not held."));
+          node.keeper = held_index[*node.keeper];
+        }
+    return held;
   }
 } // namespace FetiContact

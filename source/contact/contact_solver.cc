@@ -107,14 +107,18 @@ namespace FetiContact
         parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2)
       return false;
     // In the units of the forces: the multipliers of a node are its forces / scale_of_node.
+    // Unbounded discs (the first MSA step) hold whatever friction needs: nothing to test. Every
+    // rank decides alike, since the test is collective.
     const std::vector<double> &slip_bound = tresca.slip_bounds();
     std::vector<double>        g(nodes.size());
+    bool                       bounded = true;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        if (!std::isfinite(slip_bound[k]))
-          return false;
-        g[k] = slip_bound[k] * layout.scale_of_node(k);
+        bounded = bounded && std::isfinite(slip_bound[k]);
+        g[k]    = slip_bound[k] * layout.scale_of_node(k);
       }
+    if (tresca.local_rows().max_over_ranks(bounded ? 0. : 1.) > 0)
+      return false;
     const LoadBalance balance = equilibrium_test(g);
     if (balance.outcome != LoadBalance::Outcome::impossible)
       return false;
@@ -319,7 +323,7 @@ namespace FetiContact
                 return;
               }
             g                = relax(previous->g, previous->omega);
-            last_change      = relative_change(previous->g, g);
+            last_change      = tresca.relative_change(previous->g, g);
             previous_change  = last_change;
             previous->final  = true;
             previous->lambda = result.lambda;
@@ -340,7 +344,7 @@ namespace FetiContact
         const double omega       = msa_iteration == first + 1 ? 1.0 : parameters.relaxation;
         previous                 = Step{result.lambda, result.mu, g, omega, final_precision};
         std::vector<double> next = relax(g, omega);
-        last_change              = relative_change(g, next);
+        last_change              = tresca.relative_change(g, next);
         g.swap(next);
         previous_change         = last_change;
         result.outer_iterations = msa_iteration;

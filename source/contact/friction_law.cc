@@ -52,19 +52,3 @@ namespace FetiContact
                           "the friction cones ‖λ_T‖ ≤ μ λ_N";
   }
 } // namespace FetiContact
-
-namespace FetiContact
-{
-  double
-  relative_change(const std::vector<double> &previous, const std::vector<double> &next)
-  {
-    double d2 = 0, n2 = 0;
-    for (unsigned int k = 0; k < next.size(); ++k)
-      {
-        const double d = std::isfinite(previous[k]) ? next[k] - previous[k] : next[k];
-        d2 += d * d;
-        n2 += next[k] * next[k];
-      }
-    return n2 > 0 ? std::sqrt(d2 / n2) : 0.0;
-  }
-} // namespace FetiContact

@@ -50,19 +50,18 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = rows.local_index(layout.normal_row[k]);
-        if (r == numbers::invalid_unsigned_int)
-          continue;
         const unsigned int t = layout.tangential_row[k];
-        local_node.push_back(k);
         local_normal_row.push_back(r);
         local_tangential_row.push_back(t == numbers::invalid_unsigned_int ? t :
                                                                             rows.local_index(t));
-        AssertThrow(t == numbers::invalid_unsigned_int ||
-                      local_tangential_row.back() != numbers::invalid_unsigned_int,
-                    ExcMessage("The rows of contact node " + std::to_string(k) +
-                               " are held by different ranks."));
+        AssertThrow(r != numbers::invalid_unsigned_int &&
+                      (t == numbers::invalid_unsigned_int ||
+                       local_tangential_row.back() != numbers::invalid_unsigned_int),
+                    ExcMessage("TrescaProblem: this rank does not hold the rows of contact node " +
+                               std::to_string(layout.node_number(k)) +
+                               " (pass the nodes of hold_contact_nodes())."));
       }
-    disc_of_node.assign(local_node.size(), numbers::invalid_unsigned_int);
+    disc_of_node.assign(nodes.size(), numbers::invalid_unsigned_int);
     build_problems();
     build_constraint_sets();
     set_slip_bounds(slip_bound);
@@ -138,7 +137,7 @@ namespace FetiContact
   void
   TrescaProblem<VectorType>::build_constraint_sets()
   {
-    for (unsigned int j = 0; j < local_node.size(); ++j)
+    for (unsigned int j = 0; j < nodes.size(); ++j)
       {
         const unsigned int r = local_normal_row[j];
         set.set_lower_bound(r, -lambda0[r]);
@@ -240,17 +239,18 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       if (std::isfinite(g[k]))
         largest = std::max(largest, g[k] * layout.scale_of_node(k));
+    largest           = rows.max_over_ranks(largest);
     const auto radius = [&](const unsigned int k) {
       return g[k] * layout.scale_of_node(k) < negligible_slip_bound * largest ? 0. : g[k];
     };
     const unsigned int s      = layout.tangential_per_node;
     const double       shrink = std::sin(numbers::PI / (2.0 * s));
-    for (unsigned int n = 0; n < local_node.size(); ++n)
+    for (unsigned int n = 0; n < nodes.size(); ++n)
       {
         const unsigned int t = local_tangential_row[n];
         if (t == numbers::invalid_unsigned_int)
           continue;
-        const double r = radius(local_node[n]);
+        const double r = radius(n);
         if (layout.polygonal)
           for (unsigned int j = 0; j < s; ++j)
             {
@@ -302,13 +302,28 @@ namespace FetiContact
   {
     // A node's multipliers are its forces / scale_of_node.
     std::vector<double> normal_force(nodes.size(), 0.0);
-    for (unsigned int n = 0; n < local_node.size(); ++n)
+    for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const unsigned int k = local_node[n], r = local_normal_row[n];
-        normal_force[k] = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
+        const unsigned int r = local_normal_row[k];
+        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
       }
-    rows.sum_over_ranks(normal_force);
     return normal_force;
+  }
+
+  template <typename VectorType>
+  double
+  TrescaProblem<VectorType>::relative_change(const std::vector<double> &previous,
+                                             const std::vector<double> &next) const
+  {
+    ExactSum d2, n2;
+    for (unsigned int k = 0; k < next.size(); ++k)
+      {
+        const double d = std::isfinite(previous[k]) ? next[k] - previous[k] : next[k];
+        d2.add_product(d, d);
+        n2.add_product(next[k], next[k]);
+      }
+    const double difference = rows.sum_over_ranks(d2), norm = rows.sum_over_ranks(n2);
+    return norm > 0 ? std::sqrt(difference / norm) : 0.0;
   }
 
   template <typename VectorType>
@@ -513,15 +528,13 @@ namespace FetiContact
     // The normal force σ_k λ_N (σ_k ≠ 1 only with averaged contact rows) against the largest;
     // slip and stick compare multipliers of the same node.
     double lambda_max = 0;
-    for (unsigned int n = 0; n < local_node.size(); ++n)
-      lambda_max =
-        std::max(lambda_max, layout.scale_of_node(local_node[n]) * lambda[local_normal_row[n]]);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda[local_normal_row[k]]);
     lambda_max = rows.max_over_ranks(lambda_max);
-    for (unsigned int n = 0; n < local_node.size(); ++n)
+    for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const unsigned int k  = local_node[n];
-        const double       lN = layout.scale_of_node(k) * lambda[local_normal_row[n]];
-        const unsigned int t  = local_tangential_row[n];
+        const double       lN = layout.scale_of_node(k) * lambda[local_normal_row[k]];
+        const unsigned int t  = local_tangential_row[k];
         double             lT = 0;
         if (t != numbers::invalid_unsigned_int)
           for (unsigned int j = 0; j < layout.tangential_per_node; ++j)

@@ -5,6 +5,7 @@
 
 #include <feticontact/base/block_partition.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
@@ -551,12 +552,37 @@ namespace FetiContact
   void
   Simulator::solve_contact()
   {
-    TimerOutput::Scope        scope(timer, "solve");
+    TimerOutput::Scope scope(timer, "solve");
+    // The solver works on the nodes whose rows this rank holds.
+    const LocalDualRows<VectorType> rows_here(*dual);
+    const HeldContactNodes          held =
+      hold_contact_nodes(contact_nodes, layout, [&rows_here](const unsigned int r) {
+        return rows_here.local_index(r) != numbers::invalid_unsigned_int;
+      });
     ContactSolver<VectorType> solver(
-      *dual, layout, contact_nodes, parameters.contact_solver, pcout.get_stream());
+      *dual, held.layout, held.nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
-      solver.set_equilibrium_test(
-        [this](const std::vector<double> &g) { return load_balance_test->tresca(g); });
+      solver.set_equilibrium_test([this, &held](const std::vector<double> &g) {
+        // The test takes the slip bounds of all nodes: with distributed vectors each rank
+        // holds its own nodes' bounds, gathered here by node number.
+        if constexpr (!LocalDualRows<VectorType>::distributed)
+          return load_balance_test->tresca(g);
+        else
+          {
+            struct NodeBound
+            {
+              unsigned int number;
+              double       bound;
+            };
+            std::vector<NodeBound> mine;
+            for (unsigned int k = 0; k < g.size(); ++k)
+              mine.push_back({held.layout.node_number(k), g[k]});
+            std::vector<double> all(contact_nodes.size(), 0.0);
+            for (const NodeBound &b : MPITools::all_gather(comm, mine))
+              all[b.number] = b.bound;
+            return load_balance_test->tresca(all);
+          }
+      });
     const auto result = solver.solve();
     // The iteration history, also when the solver proved that no equilibrium exists.
     on_all_ranks([&]() {

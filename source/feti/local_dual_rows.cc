@@ -193,6 +193,18 @@ namespace FetiContact
     return local;
   }
 
+  template <typename VectorType>
+  double
+  LocalDualRows<VectorType>::sum_over_ranks(ExactSum local) const
+  {
+    if constexpr (distributed)
+      {
+        ++layout->n_reductions;
+        local.sum_over_ranks(layout->comm);
+      }
+    return local.value();
+  }
+
   template class LocalDualRows<Vector<double>>;
   template class LocalDualRows<DistributedVector>;
 } // namespace FetiContact

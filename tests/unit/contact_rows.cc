@@ -8,6 +8,12 @@
 //    the product 1/√2 (> 0.5) — the defect the averaged rows remove;
 //  - on a continuous field u the averaged row gives σ_k times the lowest copy's row (1e-14), and
 //    the right-hand sides are c_avg = σ_k c_low (the same constraint, scaled).
+// With a second plane at y = ymin, the nodes of the edge where the planes meet (a keeper and a
+// node whose friction acts through it):
+//  - the rows of all nodes at one vertex are one set held together;
+//  - hold_contact_nodes() on a rank holding the vertices of even number keeps exactly their
+//    nodes, in order, with their numbers and rows, and every keeper renumbered to a held node of
+//    the same vertex.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -20,6 +26,7 @@
 
 #include "test_tools.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -38,6 +45,85 @@ namespace
       s += rows.entries[k].value *
            std::sin(1.0 + 0.37 * rows.entries[k].body_vertex + 7.0 * rows.entries[k].component);
     return s;
+  }
+} // namespace
+
+namespace
+{
+  /** The checks of the nodes at the edge of two planes (see the top of the file). */
+  void
+  check_vertex_groups()
+  {
+    ParameterHandler prm;
+    Parameters::Scene::declare_parameters(prm, 1, 2);
+    std::string zones = "subsection Contact\n set Number of zones = 2\n";
+    for (const std::string axis : {"z", "y"})
+      zones += " subsection Zone " + std::string(axis == "z" ? "1" : "2") +
+               "\n"
+               "  set Type                 = rigid plane\n"
+               "  set Body                 = 1\n"
+               "  set Surface              = " +
+               axis + " = " + axis +
+               "min\n"
+               "  set Friction coefficient = 0.3\n"
+               "  set Plane point          = 0, 0, 0\n"
+               "  set Plane normal         = " +
+               (axis == "z" ? "0, 0, 1" : "0, 1, 0") + "\n end\n";
+    prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") + zones +
+                                "end\n");
+    Parameters::Scene scene;
+    scene.parse_parameters(prm, "");
+    std::vector<std::unique_ptr<Body>> bodies;
+    bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
+    bodies[0]->setup();
+    const auto     nodes = find_contact_nodes(bodies, scene.contact);
+    DualLayout     layout;
+    const DualRows rows =
+      build_contact_rows(nodes, {0, bodies[0]->partition.n_parts}, layout, 0, false);
+
+    unsigned int n_followers = 0, n_split = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (nodes[k].keeper)
+        {
+          ++n_followers;
+          const unsigned int a = layout.normal_row[k], b = layout.normal_row[*nodes[k].keeper];
+          bool               together = false;
+          for (const auto &set : rows.held_together)
+            together = together || (std::count(set.begin(), set.end(), a) == 1 &&
+                                    std::count(set.begin(), set.end(), b) == 1);
+          n_split += !together;
+        }
+    check(n_followers > 0 && n_split == 0,
+          std::to_string(n_followers) + " nodes at the edge, each held together with its keeper");
+
+    const auto vertex_of_row = [&](const unsigned int r) {
+      return nodes[r - layout.n_tangential].vertex;
+    };
+    const HeldContactNodes held   = hold_contact_nodes(nodes, layout, [&](const unsigned int r) {
+      return vertex_of_row(r) % 2 == 0;
+    });
+    unsigned int           n_even = 0, n_wrong = 0, n_held_followers = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (nodes[k].vertex % 2 == 0)
+        {
+          const unsigned int n = n_even++;
+          n_wrong += n >= held.nodes.size() || held.layout.node_number(n) != k ||
+                     held.nodes[n].vertex != nodes[k].vertex ||
+                     held.layout.tangential_row[n] != layout.tangential_row[k];
+          if (n < held.nodes.size() && held.nodes[n].keeper)
+            {
+              ++n_held_followers;
+              const unsigned int keeper = *held.nodes[n].keeper;
+              n_wrong += keeper >= held.nodes.size() ||
+                         held.nodes[keeper].vertex != nodes[k].vertex ||
+                         held.layout.node_number(keeper) != *nodes[k].keeper;
+            }
+        }
+    check(n_even == held.nodes.size() && n_wrong == 0 && n_held_followers > 0 &&
+            held.layout.n_normal == layout.n_normal,
+          "hold_contact_nodes: " + std::to_string(held.nodes.size()) + " of " +
+            std::to_string(nodes.size()) + " nodes held, " + std::to_string(n_held_followers) +
+            " keepers renumbered, " + std::to_string(n_wrong) + " wrong");
   }
 } // namespace
 
@@ -143,5 +229,6 @@ main(int argc, char **argv)
   check(rhs_size > 0 && rhs_mismatch <= 1e-14 * rhs_size,
         "c_avg = σ_k c_low: " + sci(rhs_mismatch) + " (largest gap " + sci(rhs_size) + ")");
 
+  check_vertex_groups();
   return n_failures;
 }

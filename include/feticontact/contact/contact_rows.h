@@ -3,6 +3,7 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/feti/equality_constraints.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -41,6 +42,13 @@ namespace FetiContact
       return node_scale.empty() ? 1.0 : node_scale[k];
     }
 
+    /** The number of contact node @p k among the nodes of all ranks (its normal row's place). */
+    unsigned int
+    node_number(const unsigned int k) const
+    {
+      return normal_row[k] - n_tangential;
+    }
+
     unsigned int
     first_normal() const
     {
@@ -70,6 +78,10 @@ namespace FetiContact
    * With @p polygon_directions = s > 0 (the polygonal baseline of the paper's Table 3) a node
    * with friction gets s tangential rows along d_j = cos(πj/s) t1 + sin(πj/s) t2, j = 0 … s−1,
    * instead of the two rows along t1 and t2.
+   *
+   * A node's rows are held together (DualRows::held_together), and so are the rows of all nodes
+   * at one vertex (the nodes of several zones, combine_shared_vertices in contact_geometry.cc):
+   * one rank holds them, and adds up the slip bound of the vertex's keeper (slip_bounds()).
    */
   DualRows
   build_contact_rows(const std::vector<ContactNode>  &nodes,
@@ -77,4 +89,23 @@ namespace FetiContact
                      DualLayout                      &layout,
                      const unsigned int               polygon_directions = 0,
                      const bool                       average            = false);
+
+  /** Contact nodes with their layout (DualLayout's per-node arrays in the order of the nodes). */
+  struct HeldContactNodes
+  {
+    std::vector<ContactNode> nodes;
+    DualLayout               layout;
+  };
+
+  /**
+   * The nodes of @p nodes (of all ranks, laid out by @p layout) whose rows this rank holds
+   * (@p holds_row: whether it holds row r of λ, given the normal row of each node), in the
+   * same order, with the per-node arrays of the layout and the keepers (ContactNode::keeper)
+   * renumbered to them; the counts of @p layout (rows of all ranks) are kept. The rows of the
+   * nodes at one vertex are held together, so a held node's keeper is held too.
+   */
+  HeldContactNodes
+  hold_contact_nodes(const std::vector<ContactNode>                &nodes,
+                     const DualLayout                              &layout,
+                     const std::function<bool(const unsigned int)> &holds_row);
 } // namespace FetiContact

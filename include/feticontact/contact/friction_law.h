@@ -52,13 +52,3 @@ namespace FetiContact
     std::optional<double> tresca_bound;
   };
 } // namespace FetiContact
-
-namespace FetiContact
-{
-  /**
-   * ‖next − previous‖ / ‖next‖ of two slip bounds (an infinite previous entry, the unbounded
-   * discs of the first MSA step, counts as 0); 0 if next = 0.
-   */
-  double
-  relative_change(const std::vector<double> &previous, const std::vector<double> &next);
-} // namespace FetiContact

@@ -39,8 +39,9 @@ namespace FetiContact
    *
    * @p VectorType is the type of the dual vectors: dealii::Vector<double> (every rank holds all
    * rows) or DistributedVector (every rank holds the rows it adds up in F x, LocalDualRows). The
-   * slip bounds and the per-node results are given and returned for all contact nodes on every
-   * rank; a rank sets the constraints of the nodes whose rows it holds.
+   * contact nodes are those whose rows this rank holds (hold_contact_nodes(): all nodes with
+   * replicated vectors, each node on one rank with distributed ones), and the slip bounds and
+   * per-node results are theirs: no per-node array of all nodes is exchanged.
    */
   template <typename VectorType>
   class TrescaProblem
@@ -121,7 +122,7 @@ namespace FetiContact
     VectorType
     total(const VectorType &lambda_tilde) const;
 
-    /** The normal force (N) of every contact node at λ̃. */
+    /** The normal force (N) of every contact node (of this rank) at λ̃. */
     std::vector<double>
     normal_forces(const VectorType &lambda_tilde) const;
 
@@ -132,6 +133,14 @@ namespace FetiContact
      */
     void
     recover(VectorType &lambda, dealii::Vector<double> &nu) const;
+
+    /**
+     * ‖next − previous‖ / ‖next‖ of two slip bounds of the nodes of all ranks (an infinite
+     * previous entry, the unbounded discs of the first MSA step, counts as 0; 0 if next = 0),
+     * from exact sums: the same bits on any number of ranks.
+     */
+    double
+    relative_change(const std::vector<double> &previous, const std::vector<double> &next) const;
 
     /** Open, stick and slip nodes at λ̃ for the current slip bounds (contact_status()). */
     std::array<unsigned int, 3>
@@ -219,16 +228,16 @@ namespace FetiContact
     /** The rows of λ_T = [0, n_T) and of λ_c = [λ_N; λ_E] = [n_T, m). */
     typename LocalDualRows<VectorType>::Block block_t, block_c;
     /**
-     * The contact nodes whose rows this rank holds, with the local indices of their normal row
-     * and of their first tangential row (invalid without one).
+     * Per contact node: the local indices of its normal row and of its first tangential row
+     * (invalid without one).
      */
-    std::vector<unsigned int> local_node, local_normal_row, local_tangential_row;
+    std::vector<unsigned int> local_normal_row, local_tangential_row;
     /** h on this rank's rows. */
     VectorType       h;
     QP::SeparableSet set;   ///< Ω for all of λ̃
     QP::SeparableSet set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
     QP::SeparableSet set_t; ///< tangential part λ_T
-    /** The disc of every local node (local_node's order) in set and set_t. */
+    /** The disc of every contact node in set and set_t. */
     std::vector<unsigned int> disc_of_node;
     std::vector<double>       slip_bound;
     /** Whether SMALBE uses the projector variant (then λ₀ ≠ 0 and e = 0). */

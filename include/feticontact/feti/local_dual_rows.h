@@ -3,6 +3,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/feti/dual_problem.h>
 
 #include <memory>
@@ -97,6 +98,13 @@ namespace FetiContact
     /** The maximum of @p local over the ranks. */
     double
     max_over_ranks(const double local) const;
+
+    /**
+     * The exact sum of the terms of @p local on all ranks, rounded once: the same bits on any
+     * number of ranks (one reduction with distributed vectors; @p local's value otherwise).
+     */
+    double
+    sum_over_ranks(ExactSum local) const;
 
   private:
     /** @p values ← their sums over the ranks (one reduction; nothing on replicated vectors). */

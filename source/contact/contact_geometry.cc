@@ -78,9 +78,13 @@ namespace FetiContact
       {
         for (unsigned int t = 0; t < triangles.size(); ++t)
           {
-            ContactTriangle triangle{zone, body, triangles[t], {}, outward[t], part[t]};
+            ContactTriangle triangle{zone, body, triangles[t], {}, outward[t], part[t], {}};
             for (unsigned int v = 0; v < 3; ++v)
-              triangle.points[v] = vertex.at(triangles[t][v]).x;
+              {
+                const SurfaceVertex &corner = vertex.at(triangles[t][v]);
+                triangle.points[v]          = corner.x;
+                triangle.home[v]            = corner.copies.parts.front();
+              }
             list.push_back(triangle);
           }
       }

@@ -1,10 +1,13 @@
 #include <deal.II/base/bounding_box.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/numerics/rtree.h>
 
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/contact/contact_results.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -48,6 +51,42 @@ namespace FetiContact
           status[k]          = contact_status(pressed[k], force, bound[rows], slack);
         }
       return status;
+    }
+  } // namespace
+
+  namespace
+  {
+    /** The check of the nodes of all ranks of @p comm from those of this rank. */
+    void
+    reduce_over_ranks(ContactCheck &check, std::array<ExactSum, 6> &resultant, const MPI_Comm comm)
+    {
+      for (ExactSum &sum : resultant)
+        sum.sum_over_ranks(comm);
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          check.normal_force[c]     = resultant[c].value();
+          check.tangential_force[c] = resultant[3 + c].value();
+        }
+      double maxima[] = {check.penetration,
+                         check.cone_violation,
+                         check.complementarity,
+                         check.negative_normal,
+                         check.pressed_slip,
+                         check.slip_angle};
+      Utilities::MPI::max(ArrayView<const double>(maxima, 6), comm, ArrayView<double>(maxima, 6));
+      check.penetration     = maxima[0];
+      check.cone_violation  = maxima[1];
+      check.complementarity = maxima[2];
+      check.negative_normal = maxima[3];
+      check.pressed_slip    = maxima[4];
+      check.slip_angle      = maxima[5];
+      unsigned int counts[] = {check.n_open, check.n_stick, check.n_slip};
+      Utilities::MPI::sum(ArrayView<const unsigned int>(counts, 3),
+                          comm,
+                          ArrayView<unsigned int>(counts, 3));
+      check.n_open  = counts[0];
+      check.n_stick = counts[1];
+      check.n_slip  = counts[2];
     }
   } // namespace
 
@@ -244,13 +283,14 @@ namespace FetiContact
   }
 
   std::vector<ContactNodeResult>
-  evaluate_contact(const std::vector<ContactNode> &nodes,
-                   const DualLayout               &layout,
-                   const Vector<double>           &lambda,
-                   const VertexDisplacements      &u,
-                   const double                    u_max,
-                   ContactCheck                   &check,
-                   const std::optional<double>     tresca_slip_bound)
+  evaluate_contact(const std::vector<ContactNode>                  &nodes,
+                   const DualLayout                                &layout,
+                   const std::function<double(const unsigned int)> &lambda,
+                   const VertexDisplacements                       &u,
+                   const double                                     u_max,
+                   ContactCheck                                    &check,
+                   const std::optional<double>                      tresca_slip_bound,
+                   const MPI_Comm                                   comm)
   {
     std::vector<ContactNodeResult> results(nodes.size());
     double                         lambda_max = 0, bound_max = 0;
@@ -260,21 +300,21 @@ namespace FetiContact
         auto       &r    = results[k];
         // The node's multipliers times σ_k are the contact force (σ_k ≠ 1 for averaged rows).
         const double sigma = layout.scale_of_node(k);
-        r.lambda_N         = sigma * lambda[layout.normal_row[k]];
+        r.lambda_N         = sigma * lambda(layout.normal_row[k]);
         if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
           {
             const unsigned int first = layout.tangential_row[k];
             if (!layout.polygonal)
               {
-                r.lambda_T[0] = sigma * lambda[first];
-                r.lambda_T[1] = sigma * lambda[first + 1];
+                r.lambda_T[0] = sigma * lambda(first);
+                r.lambda_T[1] = sigma * lambda(first + 1);
               }
             else
               for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
                 {
                   const double angle = numbers::PI * j / layout.tangential_per_node;
-                  r.lambda_T[0] += sigma * std::cos(angle) * lambda[first + j];
-                  r.lambda_T[1] += sigma * std::sin(angle) * lambda[first + j];
+                  r.lambda_T[0] += sigma * std::cos(angle) * lambda(first + j);
+                  r.lambda_T[1] += sigma * std::sin(angle) * lambda(first + j);
                 }
           }
         const Tensor<1, 3> relative = relative_displacement(node, u);
@@ -297,9 +337,13 @@ namespace FetiContact
           bounds[k] = *tresca_slip_bound;
         bound_max = std::max(bound_max, bounds[k]);
       }
+    lambda_max        = Utilities::MPI::max(lambda_max, comm);
+    bound_max         = Utilities::MPI::max(bound_max, comm);
     const auto status = node_statuses(nodes, results, bounds, lambda_max, bound_max, u_max);
 
     check = ContactCheck();
+    // The resultants of the ranks' nodes as exact sums: the same bits on any number of ranks.
+    std::array<ExactSum, 6> resultant;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const auto  &node       = nodes[k];
@@ -329,8 +373,13 @@ namespace FetiContact
             check.slip_angle = std::max(check.slip_angle, std::acos(std::clamp(cosine, -1.0, 1.0)));
           }
         // Forces on the slave body: −(λ_N n + λ_T1 t1 + λ_T2 t2).
-        check.normal_force -= r.lambda_N * node.n;
-        check.tangential_force -= r.lambda_T[0] * node.t1 + r.lambda_T[1] * node.t2;
+        const Tensor<1, 3> on_slave_n = -r.lambda_N * node.n,
+                           on_slave_t = -(r.lambda_T[0] * node.t1 + r.lambda_T[1] * node.t2);
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            resultant[c].add(on_slave_n[c]);
+            resultant[3 + c].add(on_slave_t[c]);
+          }
         if (r.status == ContactStatus::open)
           ++check.n_open;
         else if (r.status == ContactStatus::stick)
@@ -338,6 +387,7 @@ namespace FetiContact
         else
           ++check.n_slip;
       }
+    reduce_over_ranks(check, resultant, comm);
     return results;
   }
 

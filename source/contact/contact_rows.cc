@@ -13,27 +13,35 @@ namespace FetiContact
   namespace
   {
     /**
-     * One set of @p rows held together (DualRows::held_together) per vertex whose nodes have
-     * more than one row: a node's rows are the blocks of its constraint set, and the nodes of a
-     * vertex add up their slip bounds at its keeper.
+     * One set of @p rows held together (DualRows::held_together) per slave vertex: the rows of
+     * its nodes, held by the vertex's home subdomain (the lowest of its copies, first_subdomain
+     * of the body added). A node's rows are the blocks of its constraint set, the nodes of a
+     * vertex add up their slip bounds at its keeper, and the home subdomain's rank holds the
+     * slave vertex, whatever the master side.
      */
     void
-    hold_rows_together(const std::vector<ContactNode> &nodes,
-                       const DualLayout               &layout,
-                       DualRows                       &rows)
+    hold_rows_together(const std::vector<ContactNode>  &nodes,
+                       const std::vector<unsigned int> &first_subdomain,
+                       const DualLayout                &layout,
+                       DualRows                        &rows)
     {
       std::map<std::pair<unsigned int, unsigned int>, std::vector<unsigned int>> of_vertex;
+      std::map<std::pair<unsigned int, unsigned int>, unsigned int>              home;
       for (unsigned int k = 0; k < nodes.size(); ++k)
         {
-          auto &set = of_vertex[{nodes[k].body, nodes[k].vertex}];
+          const std::pair<unsigned int, unsigned int> vertex{nodes[k].body, nodes[k].vertex};
+          auto                                       &set = of_vertex[vertex];
           set.push_back(layout.normal_row[k]);
           if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
             for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
               set.push_back(layout.tangential_row[k] + j);
+          home[vertex] = first_subdomain[nodes[k].body] + nodes[k].copies.parts.front();
         }
       for (auto &[vertex, set] : of_vertex)
-        if (set.size() > 1)
+        {
           rows.held_together.push_back(std::move(set));
+          rows.held_by.push_back(home[vertex]);
+        }
     }
   } // namespace
 
@@ -140,7 +148,7 @@ namespace FetiContact
         add_row(rows, nodes[k], nodes[k].n, nodes[k].gap);
       }
     layout.n_normal = nodes.size();
-    hold_rows_together(nodes, layout, rows);
+    hold_rows_together(nodes, first_subdomain, layout, rows);
     return rows;
   }
 

@@ -4,6 +4,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <feticontact/base/block_partition.h>
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
@@ -40,21 +41,31 @@ namespace FetiContact
     std::vector<Tensor<1, 3>>
     contact_forces_on_bodies(const std::vector<ContactNode>           &nodes,
                              const std::vector<ContactNodeResult>     &results,
-                             const std::vector<std::unique_ptr<Body>> &bodies)
+                             const std::vector<std::unique_ptr<Body>> &bodies,
+                             const MPI_Comm                            comm)
     {
-      std::vector<Tensor<1, 3>> forces(bodies.size());
+      // Exact sums over the nodes of all ranks: the same bits on any number of ranks.
+      std::vector<ExactSum> sum(3 * bodies.size());
       for (unsigned int k = 0; k < nodes.size(); ++k)
         {
           const auto        &node = nodes[k];
           const Tensor<1, 3> force =
             -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
               results[k].lambda_T[1] * node.t2);
-          forces[node.body] += force;
+          for (unsigned int c = 0; c < 3; ++c)
+            sum[3 * node.body + c].add(force[c]);
           for (const auto &m : node.master)
             for (unsigned int c = 0; c < 3; ++c)
               if (!m.copies.prescribed[c])
-                forces[m.body][c] -= m.weight * force[c];
+                sum[3 * m.body + c].add(-m.weight * force[c]);
         }
+      std::vector<Tensor<1, 3>> forces(bodies.size());
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            sum[3 * b + c].sum_over_ranks(comm);
+            forces[b][c] = sum[3 * b + c].value();
+          }
       return forces;
     }
   } // namespace
@@ -414,6 +425,7 @@ namespace FetiContact
   {
     factorize_subdomains();
     build_dual_problem();
+    hold_contact_nodes_here();
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
           << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
           << " rigid body modes, " << dual->size() << " dual unknowns ("
@@ -554,11 +566,7 @@ namespace FetiContact
   {
     TimerOutput::Scope scope(timer, "solve");
     // The solver works on the nodes whose rows this rank holds.
-    const LocalDualRows<VectorType> rows_here(*dual);
-    const HeldContactNodes          held =
-      hold_contact_nodes(contact_nodes, layout, [&rows_here](const unsigned int r) {
-        return rows_here.local_index(r) != numbers::invalid_unsigned_int;
-      });
+    const HeldContactNodes   &held = held_contact;
     ContactSolver<VectorType> solver(
       *dual, held.layout, held.nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
@@ -636,14 +644,16 @@ namespace FetiContact
                                       parameters,
                                       bodies,
                                       first_subdomain,
+                                      owner,
                                       owned,
                                       u,
-                                      evaluation.contact_lambda,
                                       evaluation.lambda_not_finite,
                                       evaluation.u_not_finite,
                                       evaluation.u_max,
                                       evaluation.interface_jump,
-                                      contact_nodes,
+                                      held_contact.nodes,
+                                      held_contact.layout,
+                                      contact_comm,
                                       contact_surfaces,
                                       evaluation.contact_results,
                                       evaluation.contact_check,
@@ -681,25 +691,24 @@ namespace FetiContact
       u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
   }
 
-  Vector<double>
-  Simulator::contact_multipliers() const
+  void
+  Simulator::hold_contact_nodes_here()
   {
-    const unsigned int n = layout.first_equality();
-    Vector<double>     contact(n);
-    if (!lambda_distributed)
+    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
       {
-        for (unsigned int r = 0; r < n; ++r)
-          contact[r] = lambda[r];
-        return contact;
+        distributed_rows.emplace(*dual);
+        contact_comm = comm;
       }
-    // Every row is held by one rank: a sum over the ranks per row (LocalDualRows).
-    std::vector<double> rows(n, 0.);
-    for (unsigned int i = 0; i < lambda_distributed->locally_owned_size(); ++i)
-      if (lambda_distributed->global_index(i) < n)
-        rows[lambda_distributed->global_index(i)] = (*lambda_distributed)[i];
-    LocalDualRows<DistributedVector>(*dual).sum_over_ranks(rows);
-    std::copy(rows.begin(), rows.end(), contact.begin());
-    return contact;
+    held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int r) {
+      return !distributed_rows || distributed_rows->local_index(r) != numbers::invalid_unsigned_int;
+    });
+  }
+
+  double
+  Simulator::contact_multiplier(const unsigned int row) const
+  {
+    return lambda_distributed ? (*lambda_distributed)[distributed_rows->local_index(row)] :
+                                lambda[row];
   }
 
   unsigned int
@@ -765,7 +774,6 @@ namespace FetiContact
     // Dirichlet misfit in TFETI), relative to the largest displacement. Only the equality rows:
     // the contact rows of B u − c are the gaps and the slips.
     const double jump            = largest_equality_residual();
-    evaluation.contact_lambda    = contact_multipliers();
     evaluation.lambda_not_finite = multipliers_not_finite();
     evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
     evaluation.contact_forces.resize(bodies.size());
@@ -781,16 +789,15 @@ namespace FetiContact
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
     evaluation.surface_u =
       gather_surface_displacements(comm, bodies.size(), owned, u, contact_surfaces);
-    evaluation.contact_results =
-      FetiContact::evaluate_contact(contact_nodes,
-                                    layout,
-                                    evaluation.contact_lambda,
-                                    evaluation.surface_u,
-                                    evaluation.u_max,
-                                    evaluation.contact_check,
-                                    tresca ?
-                                      std::optional<double>(parameters.contact_solver.slip_bound) :
-                                      std::nullopt);
+    evaluation.contact_results = FetiContact::evaluate_contact(
+      held_contact.nodes,
+      held_contact.layout,
+      [this](const unsigned int row) { return contact_multiplier(row); },
+      evaluation.surface_u,
+      evaluation.u_max,
+      evaluation.contact_check,
+      tresca ? std::optional<double>(parameters.contact_solver.slip_bound) : std::nullopt,
+      contact_comm);
     // The independent check counts every vertex of the bodies in front of a rigid plane too.
     double largest_cell = 0;
     for (const Subdomain *s : owned)
@@ -807,8 +814,10 @@ namespace FetiContact
       std::max({evaluation.contact_check.penetration,
                 on_surface,
                 u_max > 0 ? evaluation.vertex_penetration / u_max : evaluation.vertex_penetration});
-    evaluation.contact_forces =
-      contact_forces_on_bodies(contact_nodes, evaluation.contact_results, bodies);
+    evaluation.contact_forces = contact_forces_on_bodies(held_contact.nodes,
+                                                         evaluation.contact_results,
+                                                         bodies,
+                                                         contact_comm);
   }
 
   bool

@@ -283,8 +283,9 @@ namespace FetiContact
     if (n_subdomains > 0)
       MPI_Allreduce(
         MPI_IN_PLACE, owners.subdomain_rank.data(), n_subdomains, MPI_INT, MPI_MAX, comm);
-    // The first subdomain of every row (the lowest of a set of rows held together), its rank
-    // and its chunk of the dual vectors' sums: a chunk is the same rows on any number of ranks,
+    // The first subdomain of every row (of a set of rows held together: the lowest of its rows,
+    // or the subdomain the set names, DualRows::held_by), its rank and its chunk of the dual
+    // vectors' sums: a chunk is the same rows on any number of ranks,
     // and all on one rank (the subdomains of a rank are a contiguous range). Which rank adds up
     // a row does not change its sum. Every rank that holds a row holds its whole set, and so
     // gives it the same rank.
@@ -296,15 +297,28 @@ namespace FetiContact
           owners.first_subdomain[r] = rows.entries[slot_order[slot_start[r]]].subdomain;
           owners.row_rank[r]        = owners.rank_of_entry(rows, slot_order[slot_start[r]]);
         }
-    for (const auto &set : rows.held_together)
+    AssertThrow(rows.held_by.size() == rows.held_together.size(),
+                ExcMessage("DualProblem: DualRows::held_by must name one subdomain (or none) per "
+                           "set of rows held together."));
+    for (unsigned int i = 0; i < rows.held_together.size(); ++i)
       {
+        const auto  &set   = rows.held_together[i];
         unsigned int first = numbers::invalid_unsigned_int;
         int          rank  = n_ranks;
-        for (const unsigned int r : set)
+        if (rows.held_by[i] != numbers::invalid_unsigned_int)
           {
-            first = std::min(first, owners.first_subdomain[r]);
-            rank  = std::min(rank, owners.row_rank[r]);
+            first = rows.held_by[i];
+            rank  = owners.subdomain_rank.at(first);
+            AssertThrow(rank >= 0,
+                        ExcMessage("DualProblem: rows are held by subdomain " +
+                                   std::to_string(first) + ", which no rank owns."));
           }
+        else
+          for (const unsigned int r : set)
+            {
+              first = std::min(first, owners.first_subdomain[r]);
+              rank  = std::min(rank, owners.row_rank[r]);
+            }
         for (const unsigned int r : set)
           {
             owners.first_subdomain[r] = first;

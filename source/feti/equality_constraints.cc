@@ -47,6 +47,7 @@ namespace FetiContact
           r += n_rows();
         held_together.push_back(std::move(set));
       }
+    held_by.insert(held_by.end(), other.held_by.begin(), other.held_by.end());
     for (unsigned int r = 0; r < other.n_rows(); ++r)
       add_row_of(other, r, n_all + other.number[r]);
     n_all += other.n_all;
@@ -83,12 +84,13 @@ namespace FetiContact
           kept.add_row_of(*this, r, number[r]);
         }
     kept.n_all = n_all;
-    for (const auto &set : held_together)
-      if (!set.empty() && keep[set.front()])
+    for (unsigned int i = 0; i < held_together.size(); ++i)
+      if (!held_together[i].empty() && keep[held_together[i].front()])
         {
           kept.held_together.emplace_back();
-          for (const unsigned int r : set)
+          for (const unsigned int r : held_together[i])
             kept.held_together.back().push_back(index[r]);
+          kept.held_by.push_back(held_by[i]);
         }
     return kept;
   }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace FetiContact
@@ -76,6 +77,8 @@ namespace FetiContact
     }
 
     using PointKey = std::array<unsigned int, 3>; // zone, body, vertex
+    /** The values at points of a piece whose contact nodes other ranks hold. */
+    using PointValues = std::map<PointKey, std::vector<double>>;
 
     // Written by hand, not by DataOut on a Triangulation<2,3> of the contact faces: DataOut writes
     // every cell's vertices as points of their own (a contact node would be up to six points
@@ -86,6 +89,7 @@ namespace FetiContact
     // contact.csv; a node on the faces of two subdomains is a point of both pieces.
     std::string
     piece_vtu(const std::map<PointKey, unsigned int> &node_at,
+              const PointValues                      &elsewhere,
               const std::vector<ContactNode>         &nodes,
               const std::vector<ContactNodeResult>   &results,
               const std::vector<ContactTriangle>     &triangles,
@@ -138,9 +142,11 @@ namespace FetiContact
       std::vector<std::vector<double>> values(points.size());
       for (unsigned int p = 0; p < points.size(); ++p)
         {
-          const auto it = node_at.find(points[p]);
+          const auto it    = node_at.find(points[p]);
+          const auto other = elsewhere.find(points[p]);
           values[p] = it != node_at.end() ? node_values(nodes[it->second], results[it->second]) :
-                                            no_node_values();
+                      other != elsewhere.end() ? other->second :
+                                                 no_node_values();
         }
       unsigned int first = 0;
       for (const Field &field : fields)
@@ -162,6 +168,99 @@ namespace FetiContact
       out << "</DataArray>\n";
       out << "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
       return out.str();
+    }
+
+    /**
+     * The values of the points of this rank's pieces (@p share) whose contact nodes other ranks
+     * hold: each point is asked of the rank of its home subdomain, which answers with the values
+     * of its node there or no_node_values(). One exchange of counts, then point to point between
+     * the ranks that share surface vertices. Collective over @p node_comm.
+     */
+    PointValues
+    values_held_elsewhere(const ContactOutputShare               &share,
+                          const std::vector<ContactTriangle>     &triangles,
+                          const std::map<PointKey, unsigned int> &node_at,
+                          const std::vector<ContactNode>         &nodes,
+                          const std::vector<ContactNodeResult>   &results,
+                          const std::vector<unsigned int>        &first_subdomain,
+                          const std::vector<unsigned int>        &subdomain_owner,
+                          const MPI_Comm                          node_comm)
+    {
+      const int n_ranks = Utilities::MPI::n_mpi_processes(node_comm);
+      const int rank    = Utilities::MPI::this_mpi_process(node_comm);
+      if (n_ranks == 1)
+        return {}; // every node here
+      std::vector<std::set<PointKey>> wanted(n_ranks);
+      for (const auto &list : share.triangles)
+        for (const unsigned int t : list)
+          for (unsigned int i = 0; i < 3; ++i)
+            {
+              const ContactTriangle &c = triangles[t];
+              const PointKey         key{{c.zone, c.body, c.vertices[i]}};
+              const int              home = subdomain_owner[first_subdomain[c.body] + c.home[i]];
+              if (home != rank && node_at.count(key) == 0)
+                wanted[home].insert(key);
+            }
+      // The keys asked of each rank and asked by each rank, then the values back.
+      std::vector<std::vector<unsigned int>> asking(n_ranks), asked(n_ranks);
+      std::vector<int>                       n_asking(n_ranks), n_asked(n_ranks);
+      for (int r = 0; r < n_ranks; ++r)
+        {
+          for (const PointKey &key : wanted[r])
+            asking[r].insert(asking[r].end(), key.begin(), key.end());
+          n_asking[r] = asking[r].size();
+        }
+      MPI_Alltoall(n_asking.data(), 1, MPI_INT, n_asked.data(), 1, MPI_INT, node_comm);
+      const unsigned int               n_values = no_node_values().size();
+      std::vector<std::vector<double>> answer(n_ranks), answered(n_ranks);
+      std::vector<MPI_Request>         requests;
+      const auto exchange = [&](auto &send, auto &receive, const auto type, const int tag) {
+        requests.clear();
+        for (int r = 0; r < n_ranks; ++r)
+          {
+            if (!receive[r].empty())
+              {
+                requests.emplace_back();
+                MPI_Irecv(
+                  receive[r].data(), receive[r].size(), type, r, tag, node_comm, &requests.back());
+              }
+            if (!send[r].empty())
+              {
+                requests.emplace_back();
+                MPI_Isend(
+                  send[r].data(), send[r].size(), type, r, tag, node_comm, &requests.back());
+              }
+          }
+        MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
+      };
+      for (int r = 0; r < n_ranks; ++r)
+        asked[r].resize(n_asked[r]);
+      exchange(asking, asked, MPI_UNSIGNED, 41);
+      for (int r = 0; r < n_ranks; ++r)
+        {
+          for (unsigned int j = 0; j + 2 < asked[r].size(); j += 3)
+            {
+              const auto it =
+                node_at.find(PointKey{{asked[r][j], asked[r][j + 1], asked[r][j + 2]}});
+              const std::vector<double> v = it != node_at.end() ?
+                                              node_values(nodes[it->second], results[it->second]) :
+                                              no_node_values();
+              answer[r].insert(answer[r].end(), v.begin(), v.end());
+            }
+          answered[r].resize(wanted[r].size() * n_values);
+        }
+      exchange(answer, answered, MPI_DOUBLE, 42);
+      PointValues values;
+      for (int r = 0; r < n_ranks; ++r)
+        {
+          unsigned int j = 0;
+          for (const PointKey &key : wanted[r])
+            {
+              values[key].assign(answered[r].begin() + j, answered[r].begin() + j + n_values);
+              j += n_values;
+            }
+        }
+      return values;
     }
 
     /** The parallel record: the fields of the pieces and the pieces' file names. */
@@ -259,11 +358,16 @@ namespace FetiContact
                             const ContactOutputShare             &share,
                             const std::vector<ContactNode>       &nodes,
                             const std::vector<ContactNodeResult> &results,
-                            const std::vector<ContactTriangle>   &triangles)
+                            const std::vector<ContactTriangle>   &triangles,
+                            const std::vector<unsigned int>      &first_subdomain,
+                            const std::vector<unsigned int>      &subdomain_owner,
+                            const MPI_Comm                        node_comm)
   {
     std::map<PointKey, unsigned int> node_at;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       node_at.emplace(PointKey{{nodes[k].zone, nodes[k].body, nodes[k].vertex}}, k);
+    const PointValues elsewhere = values_held_elsewhere(
+      share, triangles, node_at, nodes, results, first_subdomain, subdomain_owner, node_comm);
     const auto                pieces = Utilities::MPI::gather(comm, share.subdomains, 0);
     std::vector<unsigned int> all;
     for (const auto &p : pieces)
@@ -274,6 +378,7 @@ namespace FetiContact
       for (unsigned int i = 0; i < share.subdomains.size(); ++i)
         {
           const std::string text = piece_vtu(node_at,
+                                             elsewhere,
                                              nodes,
                                              results,
                                              triangles,

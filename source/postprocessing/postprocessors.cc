@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/postprocessors.h>
@@ -118,6 +119,54 @@ namespace FetiContact::Postprocessing
                 << ", slip angle " << check.slip_angle << std::endl;
   }
 
+  namespace
+  {
+    /**
+     * The contact nodes of zone 1 of all ranks, in the order of the nodes, with their results:
+     * what the Hertz comparison reads of them (position, normal, gap, D_kk, λ_N), one zone's
+     * worth, gathered from the ranks among which the nodes are split.
+     */
+    std::pair<std::vector<ContactNode>, std::vector<ContactNodeResult>>
+    zone_one_on_every_rank(const Input &input)
+    {
+      struct Record
+      {
+        unsigned int number;
+        double       x[3], n[3], gap, pressure_area, lambda_N;
+      };
+      std::vector<Record> mine;
+      for (unsigned int k = 0; k < input.contact_nodes.size(); ++k)
+        {
+          const ContactNode &node = input.contact_nodes[k];
+          if (node.zone != 0)
+            continue;
+          Record r{input.contact_layout.node_number(k),
+                   {node.x[0], node.x[1], node.x[2]},
+                   {node.n[0], node.n[1], node.n[2]},
+                   node.gap,
+                   node.pressure_area,
+                   input.contact_results[k].lambda_N};
+          mine.push_back(r);
+        }
+      std::vector<Record> all = MPITools::all_gather(input.contact_comm, mine);
+      std::sort(all.begin(), all.end(), [](const Record &a, const Record &b) {
+        return a.number < b.number;
+      });
+      std::vector<ContactNode>       nodes(all.size());
+      std::vector<ContactNodeResult> results(all.size());
+      for (unsigned int k = 0; k < all.size(); ++k)
+        {
+          nodes[k].zone          = 0;
+          nodes[k].x             = Point<3>(all[k].x[0], all[k].x[1], all[k].x[2]);
+          nodes[k].n             = Tensor<1, 3>({all[k].n[0], all[k].n[1], all[k].n[2]});
+          nodes[k].gap           = all[k].gap;
+          nodes[k].pressure_area = all[k].pressure_area;
+          results[k].lambda_N    = all[k].lambda_N;
+        }
+      return {std::move(nodes), std::move(results)};
+    }
+  } // namespace
+
   std::string
   HertzComparison::name() const
   {
@@ -134,7 +183,13 @@ namespace FetiContact::Postprocessing
         input.pcout << "Hertz comparison skipped: the solution failed a check." << std::endl;
         return;
       }
-    hertz = compare_with_hertz(input.parameters, input.contact_nodes, input.contact_results);
+    if (Utilities::MPI::n_mpi_processes(input.contact_comm) == 1)
+      hertz = compare_with_hertz(input.parameters, input.contact_nodes, input.contact_results);
+    else
+      {
+        const auto [nodes, results] = zone_one_on_every_rank(input);
+        hertz                       = compare_with_hertz(input.parameters, nodes, results);
+      }
     if (input.pcout.is_active())
       hertz->print(input.pcout.get_stream());
     input.summary.set("hertz", hertz->json());
@@ -194,7 +249,7 @@ namespace FetiContact::Postprocessing
   void
   MonolithicComparison::execute(const Input &input)
   {
-    if (!input.contact_nodes.empty())
+    if (input.contact_layout.n_normal > 0)
       {
         input.pcout << "Comparison with a monolithic solve skipped: it is a linear solve and the "
                        "scene has contact."
@@ -279,7 +334,10 @@ namespace FetiContact::Postprocessing
                                 share,
                                 input.contact_nodes,
                                 input.contact_results,
-                                input.contact_surfaces.slave);
+                                input.contact_surfaces.slave,
+                                input.first_subdomain,
+                                input.subdomain_owner,
+                                input.contact_comm);
   }
 
   std::string

@@ -10,7 +10,8 @@
 //    the right-hand sides are c_avg = σ_k c_low (the same constraint, scaled).
 // With a second plane at y = ymin, the nodes of the edge where the planes meet (a keeper and a
 // node whose friction acts through it):
-//  - the rows of all nodes at one vertex are one set held together;
+//  - the rows of all nodes at one vertex are one set held together, by the lowest copy of the
+//    vertex (its home subdomain);
 //  - hold_contact_nodes() on a rank holding the vertices of even number keeps exactly their
 //    nodes, in order, with their numbers and rows, and every keeper renumbered to a held node of
 //    the same vertex.
@@ -95,6 +96,16 @@ namespace
         }
     check(n_followers > 0 && n_split == 0,
           std::to_string(n_followers) + " nodes at the edge, each held together with its keeper");
+    // Every node's rows are in one set, held by the lowest copy of its slave vertex.
+    std::vector<unsigned int> held_by_of_row(layout.size(), numbers::invalid_unsigned_int);
+    for (unsigned int i = 0; i < rows.held_together.size(); ++i)
+      for (const unsigned int r : rows.held_together[i])
+        held_by_of_row[r] = rows.held_by[i];
+    unsigned int n_not_home = 0;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      n_not_home += held_by_of_row[layout.normal_row[k]] != nodes[k].copies.parts.front();
+    check(rows.held_by.size() == rows.held_together.size() && n_not_home == 0,
+          "every node's rows held by its home subdomain: " + std::to_string(n_not_home) + " not");
 
     const auto vertex_of_row = [&](const unsigned int r) {
       return nodes[r - layout.n_tangential].vertex;

@@ -221,6 +221,7 @@ main(int argc, char **argv)
   for (unsigned int r = 0; r < rows.n_rows(); r += 5)
     {
       contact.held_together.push_back({contact.n_rows(), contact.n_rows() + 1});
+      contact.held_by.push_back(numbers::invalid_unsigned_int);
       contact.add_row_of(rows, r, contact.n_all++);
       contact.add_row({}, 0.0);
     }

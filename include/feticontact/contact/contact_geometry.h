@@ -165,6 +165,11 @@ namespace FetiContact
     dealii::Tensor<1, 3> outward;
     /** The part of the body's partition whose cell has the triangle as a face. */
     unsigned int part;
+    /**
+     * Per vertex: its home part, the lowest part of the body's partition that holds a copy of
+     * it (the part whose rank holds the vertex's contact nodes, build_contact_rows()).
+     */
+    std::array<unsigned int, 3> home;
   };
 
   /**

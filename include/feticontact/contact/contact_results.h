@@ -7,6 +7,8 @@
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 
+#include <functional>
+#include <mpi.h>
 #include <optional>
 #include <string>
 #include <vector>
@@ -130,22 +132,25 @@ namespace FetiContact
                      const dealii::Tensor<1, 3> &u);
 
   /**
-   * Evaluates every contact node. @p u: the displacements of the nodes' vertices, @p u_max the
-   * largest displacement of the bodies; @p lambda in the
+   * Evaluates every contact node of @p nodes. @p u: the displacements of the nodes' vertices,
+   * @p u_max the largest displacement of the bodies; @p lambda: the multiplier of a row in the
    * layout of @p layout (disc form: two tangential multipliers; polygonal: s multipliers whose
-   * force is Σ λ_j d_j). Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) μ λ_N
+   * force is Σ λ_j d_j). The nodes are those of this rank and @p check is that of the nodes of
+   * all ranks of @p comm, each node on one rank (hold_contact_nodes()); with MPI_COMM_SELF,
+   * @p nodes are all nodes. Status: open if λ_N ≤ 1e-8 max λ_N, slip if ‖λ_T‖ ≥ (1 − 1e-4) μ λ_N
    * (a margin well above the MSA tolerance, which leaves λ_T on the previous slip bound),
    * else stick. With a @p tresca_slip_bound (Tresca friction) the bound of nodes with μ > 0 is
    * that given slip bound g instead of μ λ_N (Coulomb friction, no value).
    */
   std::vector<ContactNodeResult>
-  evaluate_contact(const std::vector<ContactNode> &nodes,
-                   const DualLayout               &layout,
-                   const dealii::Vector<double>   &lambda,
-                   const VertexDisplacements      &u,
-                   const double                    u_max,
-                   ContactCheck                   &check,
-                   const std::optional<double>     tresca_slip_bound = std::nullopt);
+  evaluate_contact(const std::vector<ContactNode>                  &nodes,
+                   const DualLayout                                &layout,
+                   const std::function<double(const unsigned int)> &lambda,
+                   const VertexDisplacements                       &u,
+                   const double                                     u_max,
+                   ContactCheck                                    &check,
+                   const std::optional<double>                      tresca_slip_bound,
+                   const MPI_Comm                                   comm);
 
   /**
    * Writes the rows of contact.csv for the nodes @p which (indices into @p nodes, in that order),

@@ -79,9 +79,11 @@ namespace FetiContact
    * with friction gets s tangential rows along d_j = cos(πj/s) t1 + sin(πj/s) t2, j = 0 … s−1,
    * instead of the two rows along t1 and t2.
    *
-   * A node's rows are held together (DualRows::held_together), and so are the rows of all nodes
-   * at one vertex (the nodes of several zones, combine_shared_vertices in contact_geometry.cc):
-   * one rank holds them, and adds up the slip bound of the vertex's keeper (slip_bounds()).
+   * The rows of all nodes at one slave vertex (of several zones at an edge or corner,
+   * combine_shared_vertices in contact_geometry.cc) are held together (DualRows::held_together)
+   * by the vertex's home subdomain, the lowest of its copies (DualRows::held_by): the rank of
+   * that subdomain holds them, sets the node's constraints and adds up the slip bound of the
+   * vertex's keeper (slip_bounds()).
    */
   DualRows
   build_contact_rows(const std::vector<ContactNode>  &nodes,

@@ -14,6 +14,7 @@
 #include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
+#include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
@@ -178,11 +179,14 @@ namespace FetiContact
     void
     recover_primal();
     /**
-     * λ on the contact rows [λ_T; λ_N] (the first DualLayout::first_equality() rows), on every
-     * rank: what the contact results read.
+     * The contact nodes whose rows this rank holds (held_contact, contact_comm), after the dual
+     * problem is built.
      */
-    dealii::Vector<double>
-    contact_multipliers() const;
+    void
+    hold_contact_nodes_here();
+    /** λ of row @p row of a contact node this rank holds. */
+    double
+    contact_multiplier(const unsigned int row) const;
     /** The number of entries of λ that are not finite numbers, over all rows and ranks. */
     unsigned int
     multipliers_not_finite() const;
@@ -202,8 +206,7 @@ namespace FetiContact
       unsigned int u_not_finite = 0;
       /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
       double vertex_penetration = 0;
-      /** λ on the contact rows (contact_multipliers()), and the entries of λ not finite. */
-      dealii::Vector<double>            contact_lambda;
+      /** The entries of λ not finite. */
       unsigned int                      lambda_not_finite = 0;
       std::vector<ContactNodeResult>    contact_results;
       ContactCheck                      contact_check;
@@ -289,6 +292,15 @@ namespace FetiContact
     ContactSurfaces                  contact_surfaces;
     DualLayout                       layout;
     std::unique_ptr<DualProblem>     dual;
+    /**
+     * The contact nodes whose rows this rank holds (hold_contact_nodes()): all of them with
+     * replicated dual vectors; with distributed ones each node on the rank of its home
+     * subdomain, and contact_comm (else MPI_COMM_SELF) the ranks among which they are split.
+     */
+    HeldContactNodes held_contact;
+    MPI_Comm         contact_comm = MPI_COMM_SELF;
+    /** The rows this rank holds of the distributed dual vectors (empty: replicated vectors). */
+    std::optional<LocalDualRows<DistributedVector>> distributed_rows;
 
     /**
      * The solution λ: all rows on every rank (`FETI/Dual vectors = replicated`), or this rank's

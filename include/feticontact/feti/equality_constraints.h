@@ -47,6 +47,12 @@ namespace FetiContact
      * contact node's normal and tangential rows); rows in no set are placed one by one.
      */
     std::vector<std::vector<unsigned int>> held_together;
+    /**
+     * Per set of held_together: the subdomain whose rank holds the set and adds up its rows (the
+     * rows' chunk, DualProblem), or numbers::invalid_unsigned_int: the first subdomain of the
+     * set's rows in their summation order.
+     */
+    std::vector<unsigned int> held_by;
 
     /** The number of rows here. */
     unsigned int
@@ -84,7 +90,7 @@ namespace FetiContact
     void
     serialize(Archive &archive, const unsigned int /*version*/)
     {
-      archive &row_start &entries &c &number &n_all &held_together;
+      archive &row_start &entries &c &number &n_all &held_together &held_by;
     }
   };
 

@@ -64,6 +64,11 @@ namespace FetiContact
    * vtkGhostType marks a point that another piece holds as its own, ContactOutputShare::
    * point_owner), and rank 0 the records `contact_surface.pvtu` (the pieces of all ranks) and
    * `contact_surface.pvd` pointing to it, into @p directory through @p files. Collective.
+   *
+   * @p nodes are this rank's contact nodes. If they are split among the ranks of @p node_comm
+   * (else MPI_COMM_SELF), each on the rank of its home subdomain (@p subdomain_owner of
+   * @p first_subdomain of its body plus ContactTriangle::home), the values of a piece's points
+   * whose nodes another rank holds are asked of that rank, point to point.
    */
   void
   write_contact_surface_vtu(ResultFiles                          &files,
@@ -72,5 +77,8 @@ namespace FetiContact
                             const ContactOutputShare             &share,
                             const std::vector<ContactNode>       &nodes,
                             const std::vector<ContactNodeResult> &results,
-                            const std::vector<ContactTriangle>   &triangles);
+                            const std::vector<ContactTriangle>   &triangles,
+                            const std::vector<unsigned int>      &first_subdomain,
+                            const std::vector<unsigned int>      &subdomain_owner,
+                            const MPI_Comm                        node_comm);
 } // namespace FetiContact

@@ -37,25 +37,33 @@ namespace FetiContact::Postprocessing
     const std::vector<std::unique_ptr<Body>> &bodies;
     /** The number of the first subdomain of each body, and the total at the end. */
     const std::vector<unsigned int> &first_subdomain;
+    /** The rank of every subdomain. */
+    const std::vector<unsigned int> &subdomain_owner;
     /** This rank's subdomains and their displacements (by the subdomains' DoFs). */
     const std::vector<Subdomain *>            &owned;
     const std::vector<dealii::Vector<double>> &u;
     /**
-     * The multipliers λ on the contact rows [λ_T; λ_N] (DualLayout: the first first_equality()
-     * rows), on every rank; the number of entries of all of λ and of the displacements of all
-     * vertices that are not finite numbers; and max |u| over all vertices.
+     * The number of entries of all of λ and of the displacements of all vertices that are not
+     * finite numbers; and max |u| over all vertices.
      */
-    const dealii::Vector<double> &lambda;
-    unsigned int                  lambda_not_finite, u_not_finite;
-    double                        u_max;
+    unsigned int lambda_not_finite, u_not_finite;
+    double       u_max;
     /**
      * max |B_E u − c| over the equality rows (the jump across the subdomain interfaces and, with
      * TFETI, the Dirichlet misfit), relative to u_max.
      */
-    double                          interface_jump;
+    double interface_jump;
+    /**
+     * The contact nodes of this rank, with their rows (hold_contact_nodes()): all nodes with
+     * replicated dual vectors; with distributed ones each node on one rank, that of its home
+     * subdomain (the lowest copy of its slave vertex). contact_comm: the ranks among which the
+     * nodes are split (MPI_COMM_SELF when every rank has all).
+     */
     const std::vector<ContactNode> &contact_nodes;
+    const DualLayout               &contact_layout;
+    MPI_Comm                        contact_comm;
     const ContactSurfaces          &contact_surfaces;
-    /** Per contact node: the forces, the gap, the slip and the status. */
+    /** Per contact node (of contact_nodes): the forces, the gap, the slip and the status. */
     const std::vector<ContactNodeResult> &contact_results;
     /** The contact conditions checked from u and the forces (the penetration of every vertex). */
     const ContactCheck &contact_check;

@@ -61,6 +61,28 @@ namespace FetiContact
     std::copy(all.begin() + n_digits, all.end(), n_special.begin());
   }
 
+  void
+  ExactSum::sum_over_ranks(std::vector<ExactSum> &sums, const MPI_Comm comm)
+  {
+    constexpr unsigned int    n = n_digits + 3;
+    std::vector<std::int64_t> all(n * sums.size());
+    for (unsigned int i = 0; i < sums.size(); ++i)
+      {
+        ExactSum &s = sums[i];
+        s.normalize();
+        std::copy(s.digit.begin(), s.digit.begin() + n_digits, all.begin() + n * i);
+        std::copy(s.n_special.begin(), s.n_special.end(), all.begin() + n * i + n_digits);
+      }
+    MPI_Allreduce(MPI_IN_PLACE, all.data(), all.size(), MPI_INT64_T, MPI_SUM, comm);
+    for (unsigned int i = 0; i < sums.size(); ++i)
+      {
+        ExactSum &s = sums[i];
+        std::copy(all.begin() + n * i, all.begin() + n * i + n_digits, s.digit.begin());
+        std::copy(all.begin() + n * i + n_digits, all.begin() + n * (i + 1), s.n_special.begin());
+        s.n_terms = 0;
+      }
+  }
+
   double
   ExactSum::value() const
   {

@@ -155,8 +155,9 @@ namespace FetiContact
   HeldContactNodes
   hold_contact_nodes(const std::vector<ContactNode>                &nodes,
                      const DualLayout                              &layout,
-                     const std::function<bool(const unsigned int)> &holds_row)
+                     const std::function<bool(const unsigned int)> &holds_node)
   {
+    const bool       laid_out = layout.normal_row.size() == nodes.size();
     HeldContactNodes held;
     held.layout = layout;
     held.layout.normal_row.clear();
@@ -164,10 +165,12 @@ namespace FetiContact
     held.layout.node_scale.clear();
     std::vector<unsigned int> held_index(nodes.size(), numbers::invalid_unsigned_int);
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      if (holds_row(layout.normal_row[k]))
+      if (holds_node(k))
         {
           held_index[k] = held.nodes.size();
           held.nodes.push_back(nodes[k]);
+          if (!laid_out)
+            continue;
           held.layout.normal_row.push_back(layout.normal_row[k]);
           held.layout.tangential_row.push_back(layout.tangential_row[k]);
           held.layout.node_scale.push_back(layout.scale_of_node(k));

@@ -1,5 +1,7 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/contact/load_balance.h>
 
@@ -7,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 namespace FetiContact
@@ -39,16 +42,25 @@ namespace FetiContact
       bool has_keeper = false;
     };
 
-    /** The test's data: W by node, e, and the admissible set of every node. */
+    /**
+     * The test's data: W by node, e, and the admissible set of every node. The nodes are this
+     * rank's, and the sums over them (W p, dot products, the certificate's sum) are over the
+     * nodes of all ranks of comm: per chunk (the nodes of one home subdomain, all on one rank)
+     * in the order of the nodes, the chunks' sums exactly (ExactSum), so that every sum is the
+     * same bits on any number of ranks.
+     */
     struct BalanceProblem
     {
       std::vector<NodeColumns>      columns;
-      std::vector<unsigned int>     node_of_column; ///< the contact node of every column
-      unsigned int                  n_nodes = 0;    ///< all contact nodes, floating or not
+      std::vector<unsigned int>     node_of_column;  ///< the contact node of every column
+      std::vector<unsigned int>     chunk_of_column; ///< its chunk, numbered on this rank
+      unsigned int                  n_chunks = 0;
+      unsigned int                  n_nodes  = 0; ///< this rank's contact nodes, floating or not
       Vector<double>                e;
       std::vector<FreeRigidMotions> motions; ///< by body
       std::vector<unsigned int>     offset;  ///< of each body's motions in e
       std::vector<std::string>      names;   ///< by body
+      MPI_Comm                      comm = MPI_COMM_SELF;
 
       unsigned int
       n_unknowns() const
@@ -56,16 +68,50 @@ namespace FetiContact
         return 3 * columns.size();
       }
 
+      /**
+       * Σ_k term(k, sums) over the columns of all ranks, per entry of the result (@p n
+       * entries): @p term adds column k's terms to the chunk's partial sums.
+       */
+      template <typename Term>
+      std::vector<double>
+      sum_over_columns(const unsigned int n, const Term &term) const
+      {
+        std::vector<double> partial(n_chunks * n, 0.);
+        for (unsigned int k = 0; k < columns.size(); ++k)
+          term(k, &partial[n * chunk_of_column[k]]);
+        std::vector<ExactSum> sum(n);
+        for (unsigned int c = 0; c < n_chunks; ++c)
+          for (unsigned int i = 0; i < n; ++i)
+            sum[i].add(partial[n * c + i]);
+        ExactSum::sum_over_ranks(sum, comm);
+        std::vector<double> total(n);
+        for (unsigned int i = 0; i < n; ++i)
+          total[i] = sum[i].value();
+        return total;
+      }
+
+      /** xᵀy over the unknowns of all ranks. */
+      double
+      dot(const Vector<double> &x, const Vector<double> &y) const
+      {
+        return sum_over_columns(1, [&](const unsigned int k, double *s) {
+          for (unsigned int c = 0; c < 3; ++c)
+            s[0] += x[3 * k + c] * y[3 * k + c];
+        })[0];
+      }
+
       /** r = W p. */
       void
       apply_W(const Vector<double> &p, Vector<double> &r) const
       {
-        r = 0;
-        for (unsigned int k = 0; k < columns.size(); ++k)
-          for (const auto &side : columns[k].sides)
-            for (unsigned int j = 0; j < side.count; ++j)
-              for (unsigned int c = 0; c < 3; ++c)
-                r[side.offset + j] += side.work[3 * j + c] * p[3 * k + c];
+        const std::vector<double> total =
+          sum_over_columns(r.size(), [&](const unsigned int k, double *s) {
+            for (const auto &side : columns[k].sides)
+              for (unsigned int j = 0; j < side.count; ++j)
+                for (unsigned int c = 0; c < 3; ++c)
+                  s[side.offset + j] += side.work[3 * j + c] * p[3 * k + c];
+          });
+        std::copy(total.begin(), total.end(), r.begin());
       }
 
       /** y = Wᵀ α. */
@@ -124,15 +170,12 @@ namespace FetiContact
       force_bound(const Vector<double> &alpha, Vector<double> &y) const
       {
         apply_Wt(alpha, y);
-        double s_max = 0, c_sum = 0;
+        double s_max = 0;
         for (unsigned int k = 0; k < columns.size(); ++k)
           {
             const double *yk = &y[3 * k];
             if (columns[k].g >= 0)
-              {
-                s_max = std::max(s_max, std::max(yk[0], 0.0));
-                c_sum += columns[k].g * std::hypot(yk[1], yk[2]);
-              }
+              s_max = std::max(s_max, std::max(yk[0], 0.0));
             else
               {
                 std::array<double, 3> projected{{yk[0], yk[1], yk[2]}};
@@ -143,6 +186,11 @@ namespace FetiContact
                                      projected[2] * projected[2]));
               }
           }
+        s_max               = Utilities::MPI::max(s_max, comm);
+        const double c_sum  = sum_over_columns(1, [&](const unsigned int k, double *s) {
+          if (columns[k].g >= 0)
+            s[0] += columns[k].g * std::hypot(y[3 * k + 1], y[3 * k + 2]);
+        })[0];
         const double margin = alpha * e - c_sum;
         if (margin <= 0)
           return 0;
@@ -152,10 +200,13 @@ namespace FetiContact
 
     BalanceProblem
     build_problem(const std::vector<std::unique_ptr<Body>> &bodies,
-                  const std::vector<ContactNode>           &nodes)
+                  const std::vector<ContactNode>           &nodes,
+                  const MPI_Comm                            comm)
     {
       BalanceProblem problem;
-      unsigned int   n_motions = 0;
+      problem.comm = comm;
+      std::map<std::pair<unsigned int, unsigned int>, unsigned int> chunk; // (body, home part)
+      unsigned int                                                  n_motions = 0;
       for (const auto &body : bodies)
         {
           problem.motions.push_back(body->free_rigid_motions());
@@ -202,8 +253,12 @@ namespace FetiContact
             {
               problem.columns.push_back(columns);
               problem.node_of_column.push_back(k);
+              const auto home =
+                chunk.emplace(std::make_pair(node.body, node.copies.parts.front()), chunk.size());
+              problem.chunk_of_column.push_back(home.first->second);
             }
         }
+      problem.n_chunks = chunk.size();
       return problem;
     }
 
@@ -268,10 +323,11 @@ namespace FetiContact
   {};
 
   LoadBalanceTest::LoadBalanceTest(const std::vector<std::unique_ptr<Body>> &bodies,
-                                   const std::vector<ContactNode>           &nodes)
+                                   const std::vector<ContactNode>           &nodes,
+                                   const MPI_Comm                            comm)
     : problem(std::make_unique<Problem>())
   {
-    static_cast<BalanceProblem &>(*problem) = build_problem(bodies, nodes);
+    static_cast<BalanceProblem &>(*problem) = build_problem(bodies, nodes, comm);
   }
 
   LoadBalanceTest::~LoadBalanceTest() = default;
@@ -349,7 +405,7 @@ namespace FetiContact
             Vector<double> d(p_new);
             d -= z;
             f_new = residual(p_new, r_new);
-            if (f_new <= f_z + gradient * d + 0.5 * L * (d * d) * (1 + 1e-12))
+            if (f_new <= f_z + problem.dot(gradient, d) + 0.5 * L * problem.dot(d, d) * (1 + 1e-12))
               break;
             L *= 2;
           }
@@ -383,7 +439,7 @@ namespace FetiContact
                     const double                              tresca_slip_bound,
                     const unsigned int                        max_iterations)
   {
-    LoadBalanceTest test(bodies, nodes);
+    LoadBalanceTest test(bodies, nodes, MPI_COMM_SELF);
     if (tresca_slip_bound < 0)
       return test.coulomb(max_iterations);
     return test.tresca(std::vector<double>(nodes.size(), tresca_slip_bound), max_iterations);

@@ -6,7 +6,6 @@
 #include <feticontact/base/block_partition.h>
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
-#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
@@ -223,6 +222,8 @@ namespace FetiContact
     std::vector<ZoneReport> reports;
     Timer                   search_timer;
     contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports);
+    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
+      contact_comm = comm;
     contact_rows_time += search_timer.wall_time();
     for (unsigned int z = 0; z < reports.size(); ++z)
       {
@@ -264,10 +265,15 @@ namespace FetiContact
     TimerOutput::Scope scope(timer, "setup");
     const bool         tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes);
+    // The test of this rank's nodes, those the contact solver will hold.
+    const HeldContactNodes home =
+      hold_contact_nodes(contact_nodes, DualLayout(), [this](const unsigned int k) {
+        return holds_contact_node(contact_nodes[k]);
+      });
+    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, home.nodes, contact_comm);
     const LoadBalance balance =
       tresca ? load_balance_test->tresca(
-                 std::vector<double>(contact_nodes.size(), parameters.contact_solver.slip_bound)) :
+                 std::vector<double>(home.nodes.size(), parameters.contact_solver.slip_bound)) :
                load_balance_test->coulomb();
     const char *outcome[] = {"balanced", "impossible", "undecided"};
     summary.set("load_balance",
@@ -570,27 +576,8 @@ namespace FetiContact
     ContactSolver<VectorType> solver(
       *dual, held.layout, held.nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
-      solver.set_equilibrium_test([this, &held](const std::vector<double> &g) {
-        // The test takes the slip bounds of all nodes: with distributed vectors each rank
-        // holds its own nodes' bounds, gathered here by node number.
-        if constexpr (!LocalDualRows<VectorType>::distributed)
-          return load_balance_test->tresca(g);
-        else
-          {
-            struct NodeBound
-            {
-              unsigned int number;
-              double       bound;
-            };
-            std::vector<NodeBound> mine;
-            for (unsigned int k = 0; k < g.size(); ++k)
-              mine.push_back({held.layout.node_number(k), g[k]});
-            std::vector<double> all(contact_nodes.size(), 0.0);
-            for (const NodeBound &b : MPITools::all_gather(comm, mine))
-              all[b.number] = b.bound;
-            return load_balance_test->tresca(all);
-          }
-      });
+      solver.set_equilibrium_test(
+        [this](const std::vector<double> &g) { return load_balance_test->tresca(g); });
     const auto result = solver.solve();
     // The iteration history, also when the solver proved that no equilibrium exists.
     on_all_ranks([&]() {
@@ -695,13 +682,24 @@ namespace FetiContact
   Simulator::hold_contact_nodes_here()
   {
     if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
-      {
-        distributed_rows.emplace(*dual);
-        contact_comm = comm;
-      }
-    held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int r) {
-      return !distributed_rows || distributed_rows->local_index(r) != numbers::invalid_unsigned_int;
+      distributed_rows.emplace(*dual);
+    held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int k) {
+      return holds_contact_node(contact_nodes[k]);
     });
+    // The rows of a node belong to its home subdomain (DualRows::held_by).
+    for (unsigned int k = 0; k < held_contact.nodes.size() && distributed_rows; ++k)
+      AssertThrow(distributed_rows->local_index(held_contact.layout.normal_row[k]) !=
+                    numbers::invalid_unsigned_int,
+                  ExcMessage("The rows of contact node " +
+                             std::to_string(held_contact.layout.node_number(k)) +
+                             " are not held by the rank of its home subdomain."));
+  }
+
+  bool
+  Simulator::holds_contact_node(const ContactNode &node) const
+  {
+    return contact_comm == MPI_COMM_SELF ||
+           owner[first_subdomain[node.body] + node.copies.parts.front()] == rank;
   }
 
   double

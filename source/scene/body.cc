@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/tria_description.h>
 
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/mesh_generation.h>
@@ -401,11 +402,13 @@ namespace FetiContact
   FreeRigidMotions
   Body::free_rigid_motions() const
   {
-    // Every vertex of the body once, by the rank that reports it.
-    FreeRigidMotions motions;
-    const auto       reported = reported_vertices();
-    const double     inf      = std::numeric_limits<double>::infinity();
-    Point<3>         lower(inf, inf, inf), upper(-inf, -inf, -inf);
+    // Every vertex of the body once, by the rank that reports it. The sums are exact
+    // (ExactSum), so that the motions are the same bits however the cells are distributed.
+    FreeRigidMotions      motions;
+    const auto            reported = reported_vertices();
+    const double          inf      = std::numeric_limits<double>::infinity();
+    Point<3>              lower(inf, inf, inf), upper(-inf, -inf, -inf);
+    std::vector<ExactSum> centre(3);
     for (const unsigned int v : reported)
       {
         const Point<3> &x = mesh.get_vertices()[v];
@@ -413,14 +416,15 @@ namespace FetiContact
           {
             lower[d] = std::min(lower[d], x[d]);
             upper[d] = std::max(upper[d], x[d]);
+            centre[d].add(x[d]);
           }
-        motions.centre += x;
       }
     const MPI_Comm     mc = mesh_comm();
     const unsigned int n  = Utilities::MPI::sum<unsigned int>(reported.size(), mc);
+    ExactSum::sum_over_ranks(centre, mc);
     for (unsigned int d = 0; d < 3; ++d)
       {
-        motions.centre[d] = Utilities::MPI::sum(motions.centre[d], mc);
+        motions.centre[d] = centre[d].value();
         lower[d]          = Utilities::MPI::min(lower[d], mc);
         upper[d]          = Utilities::MPI::max(upper[d], mc);
       }
@@ -436,6 +440,7 @@ namespace FetiContact
     unit.centre       = motions.centre;
     unit.length       = motions.length;
     unit.coefficients = IdentityMatrix(6);
+    std::vector<ExactSum> entries(2 * 36); // M, then P
     for (const unsigned int v : reported)
       {
         std::array<Tensor<1, 3>, 6> phi;
@@ -446,16 +451,21 @@ namespace FetiContact
           {
             const bool fixed = it != prescribed.end() && it->second[c].has_value();
             for (unsigned int i = 0; i < 6; ++i)
-              for (unsigned int j = 0; j < 6; ++j)
+              for (unsigned int j = i; j < 6; ++j)
                 {
-                  M(i, j) += phi[i][c] * phi[j][c];
+                  entries[6 * i + j].add(phi[i][c] * phi[j][c]);
                   if (fixed)
-                    P(i, j) += phi[i][c] * phi[j][c];
+                    entries[36 + 6 * i + j].add(phi[i][c] * phi[j][c]);
                 }
           }
       }
-    for (auto *matrix : {&M, &P})
-      Utilities::MPI::sum(*matrix, mc, *matrix);
+    ExactSum::sum_over_ranks(entries, mc);
+    for (unsigned int i = 0; i < 6; ++i)
+      for (unsigned int j = i; j < 6; ++j)
+        {
+          M(i, j) = M(j, i) = entries[6 * i + j].value();
+          P(i, j) = P(j, i) = entries[36 + 6 * i + j].value();
+        }
     std::vector<double> w;
     FullMatrix<double>  V;
     symmetric_eigen(M, w, V);
@@ -491,15 +501,16 @@ namespace FetiContact
   Vector<double>
   Body::load_work(const FreeRigidMotions &motions) const
   {
-    Vector<double> work(motions.n());
-    const auto    &bc = parameters.boundary_conditions;
+    // Exact sums (ExactSum): the same bits however the cells are distributed.
+    std::vector<ExactSum> work(motions.n());
+    const auto           &bc = parameters.boundary_conditions;
     // The motions are linear: the integral of a constant load times v_j over a simplex is the
     // load times v_j at its centroid times its measure.
     for (const auto &cell : mesh.active_cell_iterators())
       {
         if (bc.volume_force.norm() > 0)
           for (unsigned int j = 0; j < motions.n(); ++j)
-            work[j] += bc.volume_force * motions.value(j, cell->center()) * cell->measure();
+            work[j].add(bc.volume_force * motions.value(j, cell->center()) * cell->measure());
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary())
             for (const auto &traction : bc.tractions)
@@ -509,11 +520,14 @@ namespace FetiContact
                                                              face->vertex(2) - face->vertex(0))
                                               .norm();
                   for (unsigned int j = 0; j < motions.n(); ++j)
-                    work[j] += traction.value * motions.value(j, face->center()) * area;
+                    work[j].add(traction.value * motions.value(j, face->center()) * area);
                 }
       }
-    Utilities::MPI::sum(work, mesh_comm(), work);
-    return work;
+    ExactSum::sum_over_ranks(work, mesh_comm());
+    Vector<double> total(motions.n());
+    for (unsigned int j = 0; j < motions.n(); ++j)
+      total[j] = work[j].value();
+    return total;
   }
 
   void

@@ -107,11 +107,8 @@ namespace
     check(rows.held_by.size() == rows.held_together.size() && n_not_home == 0,
           "every node's rows held by its home subdomain: " + std::to_string(n_not_home) + " not");
 
-    const auto vertex_of_row = [&](const unsigned int r) {
-      return nodes[r - layout.n_tangential].vertex;
-    };
-    const HeldContactNodes held   = hold_contact_nodes(nodes, layout, [&](const unsigned int r) {
-      return vertex_of_row(r) % 2 == 0;
+    const HeldContactNodes held   = hold_contact_nodes(nodes, layout, [&](const unsigned int k) {
+      return nodes[k].vertex % 2 == 0;
     });
     unsigned int           n_even = 0, n_wrong = 0, n_held_followers = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <mpi.h>
+#include <vector>
 
 namespace FetiContact
 {
@@ -74,6 +75,10 @@ namespace FetiContact
     /** Makes this the exact sum of the terms of all ranks of @p comm. Collective. */
     void
     sum_over_ranks(const MPI_Comm comm);
+
+    /** sum_over_ranks() of every sum of @p sums, in one reduction. Collective. */
+    static void
+    sum_over_ranks(std::vector<ExactSum> &sums, const MPI_Comm comm);
 
     /** The sum rounded to the nearest double. */
     double

@@ -100,14 +100,15 @@ namespace FetiContact
   };
 
   /**
-   * The nodes of @p nodes (of all ranks, laid out by @p layout) whose rows this rank holds
-   * (@p holds_row: whether it holds row r of λ, given the normal row of each node), in the
-   * same order, with the per-node arrays of the layout and the keepers (ContactNode::keeper)
-   * renumbered to them; the counts of @p layout (rows of all ranks) are kept. The rows of the
-   * nodes at one vertex are held together, so a held node's keeper is held too.
+   * The nodes k of @p nodes (of all ranks) for which @p holds_node(k) is true, in the same
+   * order, with the keepers (ContactNode::keeper) renumbered to them and, if @p layout lays out
+   * @p nodes (its per-node arrays are theirs), the per-node arrays of the layout; the counts of
+   * @p layout (rows of all ranks) are kept. A rank holds the nodes of its home subdomains, whose
+   * rows it holds (build_contact_rows()): the nodes at one vertex together, so a held node's
+   * keeper is held too.
    */
   HeldContactNodes
   hold_contact_nodes(const std::vector<ContactNode>                &nodes,
                      const DualLayout                              &layout,
-                     const std::function<bool(const unsigned int)> &holds_row);
+                     const std::function<bool(const unsigned int)> &holds_node);
 } // namespace FetiContact

@@ -4,6 +4,7 @@
 #include <feticontact/scene/body.h>
 
 #include <memory>
+#include <mpi.h>
 #include <string>
 #include <vector>
 
@@ -67,8 +68,15 @@ namespace FetiContact
   class LoadBalanceTest
   {
   public:
+    /**
+     * The test of the contact nodes @p nodes: all nodes (@p comm = MPI_COMM_SELF), or this
+     * rank's, each node on one rank of @p comm (a node's chunk, its home part, on one rank).
+     * Then the tests are collective and give the same result, to the bit, on every rank and on
+     * any number of ranks.
+     */
     LoadBalanceTest(const std::vector<std::unique_ptr<Body>> &bodies,
-                    const std::vector<ContactNode>           &nodes);
+                    const std::vector<ContactNode>           &nodes,
+                    const MPI_Comm                            comm);
     ~LoadBalanceTest();
     /** Whether any body has a free rigid motion on which the loads do work. */
     bool
@@ -77,8 +85,8 @@ namespace FetiContact
     LoadBalance
     coulomb(const unsigned int max_iterations = 2000);
     /**
-     * The test with λ_N ≥ 0, ‖λ_T‖ ≤ g_k (@p slip_bounds by contact node, forces in N; nodes
-     * without friction get g = 0).
+     * The test with λ_N ≥ 0, ‖λ_T‖ ≤ g_k (@p slip_bounds by contact node of this object's
+     * nodes, forces in N; nodes without friction get g = 0).
      */
     LoadBalance
     tresca(const std::vector<double> &slip_bounds, const unsigned int max_iterations = 2000);

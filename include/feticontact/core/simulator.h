@@ -184,6 +184,12 @@ namespace FetiContact
      */
     void
     hold_contact_nodes_here();
+    /**
+     * Whether this rank holds @p node: with distributed dual vectors the rank of the node's
+     * home subdomain (the lowest copy of its slave vertex), with replicated ones every rank.
+     */
+    bool
+    holds_contact_node(const ContactNode &node) const;
     /** λ of row @p row of a contact node this rank holds. */
     double
     contact_multiplier(const unsigned int row) const;

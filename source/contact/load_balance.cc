@@ -90,14 +90,18 @@ namespace FetiContact
         return total;
       }
 
-      /** xᵀy over the unknowns of all ranks. */
-      double
-      dot(const Vector<double> &x, const Vector<double> &y) const
+      /** (xᵀy, yᵀy) over the unknowns of all ranks, in one reduction. */
+      std::array<double, 2>
+      dots(const Vector<double> &x, const Vector<double> &y) const
       {
-        return sum_over_columns(1, [&](const unsigned int k, double *s) {
+        const std::vector<double> s = sum_over_columns(2, [&](const unsigned int k, double *s) {
           for (unsigned int c = 0; c < 3; ++c)
-            s[0] += x[3 * k + c] * y[3 * k + c];
-        })[0];
+            {
+              s[0] += x[3 * k + c] * y[3 * k + c];
+              s[1] += y[3 * k + c] * y[3 * k + c];
+            }
+        });
+        return {{s[0], s[1]}};
       }
 
       /** r = W p. */
@@ -404,8 +408,9 @@ namespace FetiContact
             problem.project(p_new);
             Vector<double> d(p_new);
             d -= z;
-            f_new = residual(p_new, r_new);
-            if (f_new <= f_z + problem.dot(gradient, d) + 0.5 * L * problem.dot(d, d) * (1 + 1e-12))
+            f_new                 = residual(p_new, r_new);
+            const auto [g_d, d_d] = problem.dots(gradient, d);
+            if (f_new <= f_z + g_d + 0.5 * L * d_d * (1 + 1e-12))
               break;
             L *= 2;
           }

@@ -315,14 +315,15 @@ namespace FetiContact
   TrescaProblem<VectorType>::relative_change(const std::vector<double> &previous,
                                              const std::vector<double> &next) const
   {
-    ExactSum d2, n2;
+    std::vector<ExactSum> sums(2); // ‖next − previous‖², ‖next‖²
     for (unsigned int k = 0; k < next.size(); ++k)
       {
         const double d = std::isfinite(previous[k]) ? next[k] - previous[k] : next[k];
-        d2.add_product(d, d);
-        n2.add_product(next[k], next[k]);
+        sums[0].add_product(d, d);
+        sums[1].add_product(next[k], next[k]);
       }
-    const double difference = rows.sum_over_ranks(d2), norm = rows.sum_over_ranks(n2);
+    rows.sum_over_ranks(sums);
+    const double difference = sums[0].value(), norm = sums[1].value();
     return norm > 0 ? std::sqrt(difference / norm) : 0.0;
   }
 

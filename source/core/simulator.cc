@@ -6,6 +6,7 @@
 #include <feticontact/base/block_partition.h>
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_solver.h>
@@ -58,13 +59,11 @@ namespace FetiContact
               if (!m.copies.prescribed[c])
                 sum[3 * m.body + c].add(-m.weight * force[c]);
         }
+      ExactSum::sum_over_ranks(sum, comm);
       std::vector<Tensor<1, 3>> forces(bodies.size());
       for (unsigned int b = 0; b < bodies.size(); ++b)
         for (unsigned int c = 0; c < 3; ++c)
-          {
-            sum[3 * b + c].sum_over_ranks(comm);
-            forces[b][c] = sum[3 * b + c].value();
-          }
+          forces[b][c] = sum[3 * b + c].value();
       return forces;
     }
   } // namespace
@@ -399,8 +398,9 @@ namespace FetiContact
     contact_rows_time += rows_timer.wall_time();
     // With distributed dual vectors (and without shared local work, whose ranks may solve any
     // subdomain) a rank keeps the rows that touch its subdomains: the contact rows of the nodes
-    // on them (rank 0 also those without coefficients, which it adds up), and the equality rows
-    // of their vertices, made without any rank holding all.
+    // on them, each node's rows together (rank 0 keeps copies of the rows without
+    // coefficients too; the home subdomain's rank adds them up), and the equality rows of their
+    // vertices, made without any rank holding all.
     const bool shared = parameters.feti.shared_local_work > 0 &&
                         SharedLocalWork::possible(comm, parameters.feti.local_solver);
     const bool local_rows =
@@ -686,13 +686,29 @@ namespace FetiContact
     held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int k) {
       return holds_contact_node(contact_nodes[k]);
     });
-    // The rows of a node belong to its home subdomain (DualRows::held_by).
-    for (unsigned int k = 0; k < held_contact.nodes.size() && distributed_rows; ++k)
-      AssertThrow(distributed_rows->local_index(held_contact.layout.normal_row[k]) !=
-                    numbers::invalid_unsigned_int,
-                  ExcMessage("The rows of contact node " +
-                             std::to_string(held_contact.layout.node_number(k)) +
-                             " are not held by the rank of its home subdomain."));
+    // The rows of a node belong to its home subdomain (DualRows::held_by): a rank holds the
+    // normal rows of exactly its nodes. Checked by all ranks together, so that all stop.
+    std::string error;
+    if (distributed_rows)
+      {
+        const DistributedVector row_numbers = distributed_rows->vector();
+        unsigned int            n_normal    = 0;
+        for (unsigned int i = 0; i < row_numbers.locally_owned_size(); ++i)
+          n_normal += row_numbers.global_index(i) >= layout.first_normal() &&
+                      row_numbers.global_index(i) < layout.first_equality();
+        for (unsigned int k = 0; k < held_contact.nodes.size(); ++k)
+          if (distributed_rows->local_index(held_contact.layout.normal_row[k]) ==
+              numbers::invalid_unsigned_int)
+            error = "the rows of contact node " +
+                    std::to_string(held_contact.layout.node_number(k)) +
+                    " are not held by the rank of its home subdomain";
+        if (error.empty() && n_normal != held_contact.nodes.size())
+          error = "rank " + std::to_string(rank) + " holds " + std::to_string(n_normal) +
+                  " normal rows of contact nodes and " + std::to_string(held_contact.nodes.size()) +
+                  " contact nodes";
+      }
+    error = MPITools::first_error(comm, error);
+    AssertThrow(error.empty(), ExcMessage("Contact nodes and their rows: " + error + "."));
   }
 
   bool
@@ -921,7 +937,8 @@ namespace FetiContact
       .set("model_factor_units", memory_estimate.factor_units)
       .set("meshes_mib", meshes_mib())
       .set("contact_mib",
-           static_cast<double>(memory_consumption(contact_nodes, contact_surfaces)) /
+           static_cast<double>(memory_consumption(contact_nodes, contact_surfaces) +
+                               memory_consumption(held_contact.nodes, ContactSurfaces())) /
              (1024.0 * 1024.0))
       .set("coarse_shared_mib_per_rank",
            Utilities::MPI::all_gather(comm,

@@ -150,35 +150,16 @@ namespace FetiContact
   }
 
   template <typename VectorType>
-  template <typename Number>
-  void
-  LocalDualRows<VectorType>::reduce_sum(std::vector<Number> &values) const
-  {
-    // A value held on one rank is added to zeros only: the same bits as on one rank, except that
-    // −0 + 0 = +0, so −0 becomes +0 first on any number of ranks.
-    if constexpr (distributed)
-      {
-        for (Number &v : values)
-          v += Number(0);
-        Utilities::MPI::sum(ArrayView<const Number>(values.data(), values.size()),
-                            layout->comm,
-                            ArrayView<Number>(values.data(), values.size()));
-        ++layout->n_reductions;
-      }
-  }
-
-  template <typename VectorType>
-  void
-  LocalDualRows<VectorType>::sum_over_ranks(std::vector<double> &values) const
-  {
-    reduce_sum(values);
-  }
-
-  template <typename VectorType>
   void
   LocalDualRows<VectorType>::sum_over_ranks(std::vector<unsigned int> &counts) const
   {
-    reduce_sum(counts);
+    if constexpr (distributed)
+      {
+        Utilities::MPI::sum(ArrayView<const unsigned int>(counts.data(), counts.size()),
+                            layout->comm,
+                            ArrayView<unsigned int>(counts.data(), counts.size()));
+        ++layout->n_reductions;
+      }
   }
 
   template <typename VectorType>
@@ -194,15 +175,14 @@ namespace FetiContact
   }
 
   template <typename VectorType>
-  double
-  LocalDualRows<VectorType>::sum_over_ranks(ExactSum local) const
+  void
+  LocalDualRows<VectorType>::sum_over_ranks(std::vector<ExactSum> &sums) const
   {
     if constexpr (distributed)
       {
         ++layout->n_reductions;
-        local.sum_over_ranks(layout->comm);
+        ExactSum::sum_over_ranks(sums, layout->comm);
       }
-    return local.value();
   }
 
   template class LocalDualRows<Vector<double>>;

@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_handler.h>
 
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
@@ -100,11 +101,15 @@ namespace FetiContact
             local[3 + c] += r[d];
         }
     });
-    std::vector<double> sums(6 * n_bodies, 0.0);
+    // The subdomains' sums added exactly: the same bits on any number of ranks.
+    std::vector<ExactSum> exact(6 * n_bodies);
     for (unsigned int i = 0; i < owned.size(); ++i)
       for (unsigned int j = 0; j < 6; ++j)
-        sums[6 * owned[i]->body.index + j] += of_subdomain[i][j];
-    Utilities::MPI::sum(make_array_view(std::as_const(sums)), comm, make_array_view(sums));
+        exact[6 * owned[i]->body.index + j].add(of_subdomain[i][j]);
+    ExactSum::sum_over_ranks(exact, comm);
+    std::vector<double> sums(6 * n_bodies);
+    for (unsigned int j = 0; j < sums.size(); ++j)
+      sums[j] = exact[j].value();
     std::vector<ForceBalance> balance(n_bodies);
     for (unsigned int b = 0; b < n_bodies; ++b)
       {

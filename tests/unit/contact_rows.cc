@@ -47,6 +47,24 @@ namespace
            std::sin(1.0 + 0.37 * rows.entries[k].body_vertex + 7.0 * rows.entries[k].component);
     return s;
   }
+
+  /** The brick in 3 × 2 × 2 blocks with the contact zones of @p contact (a Contact subsection). */
+  struct Brick
+  {
+    Parameters::Scene                  scene;
+    std::vector<std::unique_ptr<Body>> bodies;
+
+    Brick(const std::string &contact, const unsigned int n_zones)
+    {
+      ParameterHandler prm;
+      Parameters::Scene::declare_parameters(prm, 1, n_zones);
+      prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") +
+                                  contact);
+      scene.parse_parameters(prm, "");
+      bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
+      bodies[0]->setup();
+    }
+  };
 } // namespace
 
 namespace
@@ -55,8 +73,6 @@ namespace
   void
   check_vertex_groups()
   {
-    ParameterHandler prm;
-    Parameters::Scene::declare_parameters(prm, 1, 2);
     std::string zones = "subsection Contact\n set Number of zones = 2\n";
     for (const std::string axis : {"z", "y"})
       zones += " subsection Zone " + std::string(axis == "z" ? "1" : "2") +
@@ -70,14 +86,9 @@ namespace
                "  set Plane point          = 0, 0, 0\n"
                "  set Plane normal         = " +
                (axis == "z" ? "0, 0, 1" : "0, 1, 0") + "\n end\n";
-    prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") + zones +
-                                "end\n");
-    Parameters::Scene scene;
-    scene.parse_parameters(prm, "");
-    std::vector<std::unique_ptr<Body>> bodies;
-    bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
-    bodies[0]->setup();
-    const auto     nodes = find_contact_nodes(bodies, scene.contact);
+    const Brick    brick(zones + "end\n", 2);
+    const auto    &bodies = brick.bodies;
+    const auto     nodes  = find_contact_nodes(bodies, brick.scene.contact);
     DualLayout     layout;
     const DualRows rows =
       build_contact_rows(nodes, {0, bodies[0]->partition.n_parts}, layout, 0, false);
@@ -140,29 +151,22 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  ParameterHandler prm;
-  Parameters::Scene::declare_parameters(prm, 1, 1);
-  prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") +
-                              "subsection Contact\n"
-                              " set Number of zones = 1\n"
-                              " subsection Zone 1\n"
-                              "  set Type                 = rigid plane\n"
-                              "  set Body                 = 1\n"
-                              "  set Surface              = z = zmin\n"
-                              "  set Friction coefficient = 0.3\n"
-                              "  set Plane point          = 0, 0, -0.01\n"
-                              "  set Plane normal         = 0, 0, 1\n"
-                              " end\n"
-                              "end\n");
-  Parameters::Scene scene;
-  scene.parse_parameters(prm, "");
-
-  std::vector<std::unique_ptr<Body>> bodies;
-  bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
-  bodies[0]->setup();
-  const unsigned int              n_sub = bodies[0]->partition.n_parts;
+  const Brick                     brick("subsection Contact\n"
+                                        " set Number of zones = 1\n"
+                                        " subsection Zone 1\n"
+                                        "  set Type                 = rigid plane\n"
+                                        "  set Body                 = 1\n"
+                                        "  set Surface              = z = zmin\n"
+                                        "  set Friction coefficient = 0.3\n"
+                                        "  set Plane point          = 0, 0, -0.01\n"
+                                        "  set Plane normal         = 0, 0, 1\n"
+                                        " end\n"
+                                        "end\n",
+                    1);
+  const auto                     &bodies = brick.bodies;
+  const unsigned int              n_sub  = bodies[0]->partition.n_parts;
   const std::vector<unsigned int> first_subdomain{0, n_sub};
-  const auto                      nodes = find_contact_nodes(bodies, scene.contact);
+  const auto                      nodes = find_contact_nodes(bodies, brick.scene.contact);
   const auto                      parts = parts_of_vertices(bodies[0]->mesh, bodies[0]->partition);
   check(n_sub == 12 && !nodes.empty(),
         std::to_string(nodes.size()) + " contact nodes on " + std::to_string(n_sub) +

@@ -105,7 +105,8 @@ namespace FetiContact
     };
 
     /**
-     * The solver for the dual problem @p dual with the contact rows of @p layout for @p nodes;
+     * The solver for the dual problem @p dual with the contact rows of @p layout for @p nodes,
+     * the nodes whose rows this rank holds (hold_contact_nodes(); TrescaProblem refuses others);
      * progress goes to @p out, the history into Result::history (write_history()).
      */
     ContactSolver(const DualProblem               &dual,

@@ -28,15 +28,17 @@ namespace FetiContact
    * subdomain by subdomain and summed over the ranks. The sum is rank-independent: every
    * subdomain writes its terms B_i u_i into its own slots (one per nonzero of B), and every row
    * adds its slots in the order of increasing subdomain. Every row belongs to the rank of the
-   * first subdomain in that order: the terms of other ranks' subdomains in it (rows on the
-   * boundaries between the ranks' sets of subdomains) are sent to that rank point to point, it
-   * adds up its rows, and an MPI_Allgatherv gives every rank all rows. F x, h and B u − c are then
-   * the same bits on any number of ranks and any assignment of subdomains to ranks, and so are the
-   * iterates and iteration counts of the solvers that use them (floating-point addition is not
-   * associative: a sum in rank order made n_A differ by 8 % between one and two ranks). When the
-   * ranks of a node share their local work (SharedLocalWork), the slots are in shared memory,
-   * any rank may solve any subdomain, and every rank adds up all rows itself; the sums are the
-   * same. Knows nothing of friction: it sees rows of B and their right-hand side c.
+   * first subdomain in that order, or of the subdomain its set of rows held together names
+   * (DualRows::held_by; the contact rows of a slave vertex, its home subdomain): the terms of other
+   * ranks' subdomains in it (rows on the boundaries between the ranks' sets of subdomains) are sent
+   * to that rank point to point, it adds up its rows, and an MPI_Allgatherv gives every rank all
+   * rows. F x, h and B u − c are then the same bits on any number of ranks and any assignment of
+   * subdomains to ranks, and so are the iterates and iteration counts of the solvers that use them
+   * (floating-point addition is not associative: a sum in rank order made n_A differ by 8 % between
+   * one and two ranks). When the ranks of a node share their local work (SharedLocalWork), the
+   * slots are in shared memory, any rank may solve any subdomain, and every rank adds up all rows
+   * itself; the sums are the same. Knows nothing of friction: it sees rows of B and their
+   * right-hand side c.
    *
    * The same operations exist on distributed dual vectors (DistributedVector, spread over the
    * ranks by distribution()): every rank holds the rows it adds up, gets the values of the other

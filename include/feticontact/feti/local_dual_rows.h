@@ -22,8 +22,8 @@ namespace FetiContact
    *   in increasing order, so the rows of a range of rows are a range of local entries.
    *
    * For the solvers that act on rows by their meaning (the contact rows of a node, the blocks
-   * λ_T and λ_c of the Gauss–Seidel split): they loop over the local entries and combine per-node
-   * results over the ranks here. Knows nothing of contact.
+   * λ_T and λ_c of the Gauss–Seidel split): they loop over the local entries and reduce counts,
+   * maxima and exact sums over the ranks here. Knows nothing of contact.
    */
   template <typename VectorType>
   class LocalDualRows
@@ -87,10 +87,6 @@ namespace FetiContact
     Block
     block(const unsigned int first, const unsigned int n) const;
 
-    /** Every entry of @p values summed over the ranks (each entry nonzero on at most one rank). */
-    void
-    sum_over_ranks(std::vector<double> &values) const;
-
     /** Every entry of @p counts summed over the ranks. */
     void
     sum_over_ranks(std::vector<unsigned int> &counts) const;
@@ -100,18 +96,13 @@ namespace FetiContact
     max_over_ranks(const double local) const;
 
     /**
-     * The exact sum of the terms of @p local on all ranks, rounded once: the same bits on any
-     * number of ranks (one reduction with distributed vectors; @p local's value otherwise).
+     * Every sum of @p sums made the exact sum of its terms on all ranks: the same bits on any
+     * number of ranks (one reduction with distributed vectors; nothing otherwise).
      */
-    double
-    sum_over_ranks(ExactSum local) const;
+    void
+    sum_over_ranks(std::vector<ExactSum> &sums) const;
 
   private:
-    /** @p values ← their sums over the ranks (one reduction; nothing on replicated vectors). */
-    template <typename Number>
-    void
-    reduce_sum(std::vector<Number> &values) const;
-
     const DualProblem &dual;
     /** The layout of the distributed dual vectors (empty for replicated ones). */
     std::shared_ptr<const DistributedVector::Layout> layout;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/serialization/vector.hpp>
 #include <cstdio>
 #include <iomanip>
 #include <map>
@@ -173,8 +174,8 @@ namespace FetiContact
     /**
      * The values of the points of this rank's pieces (@p share) whose contact nodes other ranks
      * hold: each point is asked of the rank of its home subdomain, which answers with the values
-     * of its node there or no_node_values(). One exchange of counts, then point to point between
-     * the ranks that share surface vertices. Collective over @p node_comm.
+     * of its node there or no_node_values(), point to point between the ranks that share surface
+     * vertices (Utilities::MPI::some_to_some). Collective over @p node_comm.
      */
     PointValues
     values_held_elsewhere(const ContactOutputShare               &share,
@@ -186,77 +187,44 @@ namespace FetiContact
                           const std::vector<unsigned int>        &subdomain_owner,
                           const MPI_Comm                          node_comm)
     {
-      const int n_ranks = Utilities::MPI::n_mpi_processes(node_comm);
-      const int rank    = Utilities::MPI::this_mpi_process(node_comm);
-      if (n_ranks == 1)
+      if (Utilities::MPI::n_mpi_processes(node_comm) == 1)
         return {}; // every node here
-      std::vector<std::set<PointKey>> wanted(n_ranks);
+      const unsigned int rank = Utilities::MPI::this_mpi_process(node_comm);
+      // The keys asked of each rank (zone, body, vertex, flattened), in increasing order.
+      std::map<unsigned int, std::set<PointKey>> wanted;
       for (const auto &list : share.triangles)
         for (const unsigned int t : list)
           for (unsigned int i = 0; i < 3; ++i)
             {
-              const ContactTriangle &c = triangles[t];
-              const PointKey         key{{c.zone, c.body, c.vertices[i]}};
-              const int              home = subdomain_owner[first_subdomain[c.body] + c.home[i]];
+              const ContactTriangle &c    = triangles[t];
+              const PointKey         key  = {{c.zone, c.body, c.vertices[i]}};
+              const unsigned int     home = subdomain_owner[first_subdomain[c.body] + c.home[i]];
               if (home != rank && node_at.count(key) == 0)
                 wanted[home].insert(key);
             }
-      // The keys asked of each rank and asked by each rank, then the values back.
-      std::vector<std::vector<unsigned int>> asking(n_ranks), asked(n_ranks);
-      std::vector<int>                       n_asking(n_ranks), n_asked(n_ranks);
-      for (int r = 0; r < n_ranks; ++r)
-        {
-          for (const PointKey &key : wanted[r])
-            asking[r].insert(asking[r].end(), key.begin(), key.end());
-          n_asking[r] = asking[r].size();
-        }
-      MPI_Alltoall(n_asking.data(), 1, MPI_INT, n_asked.data(), 1, MPI_INT, node_comm);
-      const unsigned int               n_values = no_node_values().size();
-      std::vector<std::vector<double>> answer(n_ranks), answered(n_ranks);
-      std::vector<MPI_Request>         requests;
-      const auto exchange = [&](auto &send, auto &receive, const auto type, const int tag) {
-        requests.clear();
-        for (int r = 0; r < n_ranks; ++r)
+      std::map<unsigned int, std::vector<unsigned int>> asking;
+      for (const auto &[r, keys] : wanted)
+        for (const PointKey &key : keys)
+          asking[r].insert(asking[r].end(), key.begin(), key.end());
+      // The answers in the order of the keys asked.
+      std::map<unsigned int, std::vector<double>> answer;
+      for (const auto &[r, keys] : Utilities::MPI::some_to_some(node_comm, asking))
+        for (unsigned int j = 0; j + 2 < keys.size(); j += 3)
           {
-            if (!receive[r].empty())
-              {
-                requests.emplace_back();
-                MPI_Irecv(
-                  receive[r].data(), receive[r].size(), type, r, tag, node_comm, &requests.back());
-              }
-            if (!send[r].empty())
-              {
-                requests.emplace_back();
-                MPI_Isend(
-                  send[r].data(), send[r].size(), type, r, tag, node_comm, &requests.back());
-              }
+            const auto it = node_at.find(PointKey{{keys[j], keys[j + 1], keys[j + 2]}});
+            const std::vector<double> v = it != node_at.end() ?
+                                            node_values(nodes[it->second], results[it->second]) :
+                                            no_node_values();
+            answer[r].insert(answer[r].end(), v.begin(), v.end());
           }
-        MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
-      };
-      for (int r = 0; r < n_ranks; ++r)
-        asked[r].resize(n_asked[r]);
-      exchange(asking, asked, MPI_UNSIGNED, 41);
-      for (int r = 0; r < n_ranks; ++r)
-        {
-          for (unsigned int j = 0; j + 2 < asked[r].size(); j += 3)
-            {
-              const auto it =
-                node_at.find(PointKey{{asked[r][j], asked[r][j + 1], asked[r][j + 2]}});
-              const std::vector<double> v = it != node_at.end() ?
-                                              node_values(nodes[it->second], results[it->second]) :
-                                              no_node_values();
-              answer[r].insert(answer[r].end(), v.begin(), v.end());
-            }
-          answered[r].resize(wanted[r].size() * n_values);
-        }
-      exchange(answer, answered, MPI_DOUBLE, 42);
-      PointValues values;
-      for (int r = 0; r < n_ranks; ++r)
+      const unsigned int n_values = no_node_values().size();
+      PointValues        values;
+      for (const auto &[r, answered] : Utilities::MPI::some_to_some(node_comm, answer))
         {
           unsigned int j = 0;
-          for (const PointKey &key : wanted[r])
+          for (const PointKey &key : wanted.at(r))
             {
-              values[key].assign(answered[r].begin() + j, answered[r].begin() + j + n_values);
+              values[key].assign(answered.begin() + j, answered.begin() + j + n_values);
               j += n_values;
             }
         }

@@ -2,7 +2,10 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_tools.h>
 
+#include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
+#include <feticontact/base/regions.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/mortar.h>
 
@@ -53,41 +56,8 @@ namespace FetiContact
     {
       Point<3>     x;
       VertexCopies copies;
-    };
-
-    /**
-     * The vertices of the boundary faces of a body in a surface, with their positions and copies,
-     * the area-weighted sum of the outward normals of those faces, the area lumped at each vertex,
-     * and the mean edge length of the faces.
-     */
-    struct Surface
-    {
-      std::map<unsigned int, SurfaceVertex>    vertex;
-      std::map<unsigned int, Tensor<1, 3>>     normal_sum;
-      std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
-      double                                   mean_edge = 0;
-      std::vector<std::array<unsigned int, 3>> triangles;
-      std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
-      std::vector<unsigned int>                part;    ///< per triangle, the part of its cell
-
-      /** Appends the triangles to @p list as triangles of zone @p zone on body @p body. */
-      void
-      append_to(std::vector<ContactTriangle> &list,
-                const unsigned int            zone,
-                const unsigned int            body) const
-      {
-        for (unsigned int t = 0; t < triangles.size(); ++t)
-          {
-            ContactTriangle triangle{zone, body, triangles[t], {}, outward[t], part[t], {}};
-            for (unsigned int v = 0; v < 3; ++v)
-              {
-                const SurfaceVertex &corner = vertex.at(triangles[t][v]);
-                triangle.points[v]          = corner.x;
-                triangle.home[v]            = corner.copies.parts.front();
-              }
-            list.push_back(triangle);
-          }
-      }
+      /** Whether this rank finds the vertex's contact nodes (its home vertices, or all). */
+      bool home = true;
     };
 
     /**
@@ -106,6 +76,8 @@ namespace FetiContact
       /** Per vertex: the parts that hold it, and its prescribed components (NaN: none). */
       std::array<std::vector<unsigned int>, 3> holders;
       std::array<std::array<double, 3>, 3>     prescribed;
+      /** Whether this rank holds the face's cell (not sent). */
+      bool own = false;
 
       template <class Archive>
       void
@@ -113,18 +85,78 @@ namespace FetiContact
       {
         archive &key &vertex &point &area_normal &edges &part &holders &prescribed;
       }
+
+      BoundingBox<3>
+      box() const
+      {
+        return BoundingBox<3>(std::vector<Point<3>>(point.begin(), point.end()));
+      }
     };
 
     /**
-     * The surface @p surface of @p body; @p parts_of_vertex is Body::parts_of_mesh_vertices().
-     * With the body's cells distributed, the faces of all ranks are gathered and taken in the
-     * order of the whole mesh, so that every rank has the same surface, to the bit, on any
-     * number of ranks. Collective then.
+     * The vertices of the boundary faces of a body in a surface (all faces, or the faces a rank
+     * needs), with their positions and copies, the area-weighted sum of the outward normals of
+     * those faces, the area lumped at each vertex, and the mean edge length of all faces of the
+     * surface.
      */
-    Surface
-    collect_surface(const Body                                   &body,
-                    const BoundarySelector                       &surface,
-                    const std::vector<std::vector<unsigned int>> &parts_of_vertex)
+    struct Surface
+    {
+      std::map<unsigned int, SurfaceVertex>    vertex;
+      std::map<unsigned int, Tensor<1, 3>>     normal_sum;
+      std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
+      double                                   mean_edge = 0;
+      std::vector<std::array<unsigned int, 3>> triangles;
+      std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
+      std::vector<unsigned int>                part;    ///< per triangle, the part of its cell
+      /** Per triangle: whether this rank holds its cell (each triangle is own on one rank). */
+      std::vector<bool> own;
+
+      /**
+       * Appends the triangles this rank holds to @p list as triangles of zone @p zone on body
+       * @p body.
+       */
+      void
+      append_to(std::vector<ContactTriangle> &list,
+                const unsigned int            zone,
+                const unsigned int            body) const
+      {
+        for (unsigned int t = 0; t < triangles.size(); ++t)
+          if (own[t])
+            {
+              ContactTriangle triangle{zone, body, triangles[t], {}, outward[t], part[t], {}};
+              for (unsigned int v = 0; v < 3; ++v)
+                {
+                  const SurfaceVertex &corner = vertex.at(triangles[t][v]);
+                  triangle.points[v]          = corner.x;
+                  triangle.home[v]            = corner.copies.parts.front();
+                }
+              list.push_back(triangle);
+            }
+      }
+    };
+
+    /** How a surface is collected: which faces a rank takes, and whose nodes it finds. */
+    enum class Share
+    {
+      /** Every face of the surface, and the nodes of every vertex. */
+      whole,
+      /**
+       * The faces around the rank's home vertices (those whose lowest part it holds) and around
+       * their neighbours: the nodes of the home vertices, with the normals of their neighbours.
+       */
+      home_rings,
+      /** The faces within a region (a master surface near the rank's slave faces). */
+      region
+    };
+
+    /**
+     * The faces of @p surface of @p body whose cells this rank holds; @p parts_of_vertex is
+     * Body::parts_of_mesh_vertices().
+     */
+    std::vector<SurfaceFace>
+    own_faces(const Body                                   &body,
+              const BoundarySelector                       &surface,
+              const std::vector<std::vector<unsigned int>> &parts_of_vertex)
     {
       std::vector<SurfaceFace> faces;
       for (const auto &cell : body.mesh.active_cell_iterators())
@@ -134,6 +166,7 @@ namespace FetiContact
             if (!face->at_boundary() || !surface.contains(*face))
               continue;
             SurfaceFace record;
+            record.own = true;
             record.key = {{body.body_cell(cell->active_cell_index()), f}};
             for (unsigned int v = 0; v < 3; ++v)
               {
@@ -156,18 +189,149 @@ namespace FetiContact
             record.part  = body.partition.part_of_cell[cell->active_cell_index()];
             faces.push_back(std::move(record));
           }
-      if (body.distributed())
-        {
-          std::vector<SurfaceFace> all;
-          for (auto &list : Utilities::MPI::all_gather(body.mesh_comm(), faces))
-            all.insert(all.end(), list.begin(), list.end());
-          std::sort(all.begin(), all.end(), [](const SurfaceFace &x, const SurfaceFace &y) {
-            return x.key < y.key;
-          });
-          faces = std::move(all);
-        }
+      return faces;
+    }
 
+    /** The rank (of the body's mesh_comm()) that finds the nodes of vertex @p v of @p face. */
+    unsigned int
+    home_rank(const Body &body, const SurfaceFace &face, const unsigned int v)
+    {
+      return body.rank_of_part(face.holders[v].front());
+    }
+
+    /**
+     * @p faces with those that @p outgoing sends to this rank and those the other ranks send
+     * it (not twice), in the order of their keys. Collective on the body's mesh_comm().
+     */
+    std::vector<SurfaceFace>
+    exchange_faces(const Body                                             &body,
+                   std::vector<SurfaceFace>                                faces,
+                   const std::map<unsigned int, std::vector<SurfaceFace>> &outgoing)
+    {
+      for (const auto &[from, list] : Utilities::MPI::some_to_some(body.mesh_comm(), outgoing))
+        faces.insert(faces.end(), list.begin(), list.end());
+      // A face this rank holds first (own), then by key.
+      std::sort(faces.begin(), faces.end(), [](const SurfaceFace &x, const SurfaceFace &y) {
+        return x.key < y.key || (x.key == y.key && x.own && !y.own);
+      });
+      faces.erase(std::unique(faces.begin(),
+                              faces.end(),
+                              [](const SurfaceFace &x, const SurfaceFace &y) {
+                                return x.key == y.key;
+                              }),
+                  faces.end());
+      return faces;
+    }
+
+    /**
+     * The faces of the stars of this rank's home vertices and of their neighbours (the normal
+     * at a node's neighbours enters its mortar integrals), from the faces @p own this rank holds:
+     * every face goes to the home ranks of its vertices, and every rank sends the star of each
+     * of its home vertices to the home ranks of the vertex's neighbours. Collective.
+     */
+    std::vector<SurfaceFace>
+    faces_of_home_rings(const Body &body, const std::vector<SurfaceFace> &own)
+    {
+      const unsigned int rank = Utilities::MPI::this_mpi_process(body.mesh_comm());
+      std::map<unsigned int, std::vector<SurfaceFace>> outgoing;
+      for (const SurfaceFace &face : own)
+        {
+          std::set<unsigned int> ranks;
+          for (unsigned int v = 0; v < 3; ++v)
+            ranks.insert(home_rank(body, face, v));
+          for (const unsigned int r : ranks)
+            if (r != rank)
+              outgoing[r].push_back(face);
+        }
+      std::vector<SurfaceFace> stars = exchange_faces(body, own, outgoing);
+      // The star of each home vertex v (complete here now) to the home ranks of its neighbours.
+      std::map<unsigned int, std::vector<unsigned int>> star; // home vertex → faces
+      std::map<unsigned int, std::set<unsigned int>>    ranks_of_neighbours;
+      for (unsigned int f = 0; f < stars.size(); ++f)
+        for (unsigned int v = 0; v < 3; ++v)
+          if (home_rank(body, stars[f], v) == rank)
+            {
+              star[stars[f].vertex[v]].push_back(f);
+              for (unsigned int w = 0; w < 3; ++w)
+                ranks_of_neighbours[stars[f].vertex[v]].insert(home_rank(body, stars[f], w));
+            }
+      std::map<unsigned int, std::set<unsigned int>> faces_to; // rank → faces
+      for (const auto &[v, faces] : star)
+        for (const unsigned int r : ranks_of_neighbours[v])
+          if (r != rank)
+            faces_to[r].insert(faces.begin(), faces.end());
+      outgoing.clear();
+      for (const auto &[r, faces] : faces_to)
+        for (const unsigned int f : faces)
+          outgoing[r].push_back(stars[f]);
+      return exchange_faces(body, std::move(stars), outgoing);
+    }
+
+    /**
+     * The faces of all ranks that meet the region @p regions gives this rank (widened by
+     * @p margin), from the faces @p own that this rank holds: @p regions has the region of every
+     * rank of the body's mesh_comm(), or nothing for a rank that needs none. Collective.
+     */
+    std::vector<SurfaceFace>
+    faces_in_regions(const Body                         &body,
+                     const std::vector<SurfaceFace>     &own,
+                     const std::vector<Regions::Region> &regions,
+                     const double                        margin)
+    {
+      const unsigned int rank = Utilities::MPI::this_mpi_process(body.mesh_comm());
+      std::map<unsigned int, std::vector<SurfaceFace>> outgoing;
+      std::vector<SurfaceFace>                         kept;
+      for (unsigned int r = 0; r < regions.size(); ++r)
+        if (regions[r])
+          {
+            BoundingBox<3> region = *regions[r];
+            region.extend(margin);
+            for (const SurfaceFace &face : own)
+              if (Regions::meet(region, face.box()))
+                (r == rank ? kept : outgoing[r]).push_back(face);
+          }
+      return exchange_faces(body, std::move(kept), outgoing);
+    }
+
+    /** The bounding box of the points of @p faces, or nothing if there are none. */
+    Regions::Region
+    box_of(const std::vector<SurfaceFace> &faces)
+    {
+      Regions::Region box;
+      for (const SurfaceFace &face : faces)
+        Regions::merge(box, face.box());
+      return box;
+    }
+
+    /**
+     * The sum of the lengths of the edges of the faces of all ranks, each face once (by the
+     * rank that holds its cell), exactly, and their number. Collective on @p comm.
+     */
+    double
+    mean_edge(const std::vector<SurfaceFace> &faces, const MPI_Comm comm)
+    {
+      std::vector<ExactSum> sums(2);
+      for (const SurfaceFace &face : faces)
+        if (face.own)
+          {
+            sums[0].add(face.edges);
+            sums[1].add(1);
+          }
+      ExactSum::sum_over_ranks(sums, comm);
+      return sums[1].value() > 0 ? sums[0].value() / (3 * sums[1].value()) : 0;
+    }
+
+    /**
+     * The surface of @p faces (in the order of their keys); a vertex is a home vertex if
+     * @p home says so. @p mean is the mean edge of the whole surface.
+     */
+    Surface
+    surface_of(const std::vector<SurfaceFace>                               &faces,
+               const double                                                  mean,
+               const std::function<bool(const SurfaceFace &, unsigned int)> &home)
+    {
       Surface s;
+      s.mean_edge = mean;
       for (const auto &face : faces)
         {
           for (unsigned int v = 0; v < 3; ++v)
@@ -177,6 +341,7 @@ namespace FetiContact
                 {
                   entry->second.x            = face.point[v];
                   entry->second.copies.parts = face.holders[v];
+                  entry->second.home         = home(face, v);
                   for (unsigned int c = 0; c < 3; ++c)
                     if (!std::isnan(face.prescribed[v][c]))
                       entry->second.copies.prescribed[c] = face.prescribed[v][c];
@@ -187,11 +352,44 @@ namespace FetiContact
           s.triangles.push_back(face.vertex);
           s.outward.push_back(face.area_normal);
           s.part.push_back(face.part);
-          s.mean_edge += face.edges;
+          s.own.push_back(face.own);
         }
-      if (!faces.empty())
-        s.mean_edge /= 3 * faces.size();
       return s;
+    }
+
+    /**
+     * The surface @p surface of @p body; @p parts_of_vertex is Body::parts_of_mesh_vertices().
+     * Whole: with the body's cells distributed, the faces of all ranks are gathered, so that
+     * every rank has the same surface, to the bit, on any number of ranks. Home rings: the faces
+     * around this rank's home vertices and their neighbours, in the order of the whole surface
+     * (so that the sums at a home vertex are the same bits). Collective.
+     */
+    Surface
+    collect_surface(const Body                                   &body,
+                    const BoundarySelector                       &surface,
+                    const std::vector<std::vector<unsigned int>> &parts_of_vertex,
+                    const Share                                   share)
+    {
+      std::vector<SurfaceFace> faces = own_faces(body, surface, parts_of_vertex);
+      const double             mean  = mean_edge(faces, body.mesh_comm());
+      const unsigned int       rank  = Utilities::MPI::this_mpi_process(body.mesh_comm());
+      if (share == Share::whole && body.distributed())
+        {
+          std::vector<SurfaceFace> all;
+          for (auto &list : Utilities::MPI::all_gather(body.mesh_comm(), faces))
+            all.insert(all.end(), list.begin(), list.end());
+          std::sort(all.begin(), all.end(), [](const SurfaceFace &x, const SurfaceFace &y) {
+            return x.key < y.key;
+          });
+          for (SurfaceFace &face : all)
+            face.own = body.rank_of_part(face.part) == rank;
+          faces = std::move(all);
+        }
+      else if (share == Share::home_rings && body.distributed())
+        faces = faces_of_home_rings(body, faces);
+      return surface_of(faces, mean, [&](const SurfaceFace &face, const unsigned int v) {
+        return share != Share::home_rings || home_rank(body, face, v) == rank;
+      });
     }
 
     std::string
@@ -212,23 +410,38 @@ namespace FetiContact
     check_plane_faces_body(const Surface                 &slave,
                            const Body                    &body,
                            const Parameters::ContactZone &zone,
-                           const std::string             &where)
+                           const std::string             &where,
+                           const MPI_Comm                 comm)
     {
-      Tensor<1, 3> total;
-      double       worst        = -2;
-      unsigned int worst_vertex = 0;
-      double       magnitude    = 0; // Σ |area normals|: |total| below it is a curved surface
+      // The sums over the home vertices of all ranks, exact, and the vertex whose outer normal
+      // points most along the plane's normal (the lowest vertex of the largest cosine).
+      std::vector<ExactSum> sums(4);                          // Σ n (3), Σ |n|
+      std::array<double, 8> worst{{-2, 0, 0, 0, 0, 0, 0, 0}}; // cosine, −vertex, normal, x
       for (const auto &[vertex, normal_sum] : slave.normal_sum)
-        {
-          total += normal_sum;
-          magnitude += normal_sum.norm();
-          const double c = normal_sum * zone.plane_normal / normal_sum.norm();
-          if (c > worst)
-            {
-              worst        = c;
-              worst_vertex = vertex;
-            }
-        }
+        if (slave.vertex.at(vertex).home)
+          {
+            for (unsigned int d = 0; d < 3; ++d)
+              sums[d].add(normal_sum[d]);
+            sums[3].add(normal_sum.norm());
+            const double c = normal_sum * zone.plane_normal / normal_sum.norm();
+            if (c > worst[0])
+              {
+                worst = {{c, -static_cast<double>(vertex), 0, 0, 0, 0, 0, 0}};
+                for (unsigned int d = 0; d < 3; ++d)
+                  {
+                    worst[2 + d] = normal_sum[d] / normal_sum.norm();
+                    worst[5 + d] = slave.vertex.at(vertex).x[d];
+                  }
+              }
+          }
+      ExactSum::sum_over_ranks(sums, comm);
+      for (const auto &other : Utilities::MPI::all_gather(comm, worst))
+        if (other[0] > worst[0] || (other[0] == worst[0] && other[1] > worst[1]))
+          worst = other;
+      const Tensor<1, 3> total({sums[0].value(), sums[1].value(), sums[2].value()});
+      const double       magnitude = sums[3].value(); // |total| below it: a curved surface
+      const Tensor<1, 3> worst_normal({worst[2], worst[3], worst[4]});
+      const Point<3>     worst_x(worst[5], worst[6], worst[7]);
       // Nearly perpendicular (within about 6°): the plane cannot face this surface. Only for a
       // surface whose normals point one way (|Σ n| ≥ 0.7 Σ|n|, arcs below about 160°): the mean
       // normal of a half cylinder or a closed surface says nothing about where it faces.
@@ -244,10 +457,8 @@ namespace FetiContact
       require(total * zone.plane_normal < 0,
               where + "the plane normal " + point_text(zone.plane_normal) + " points into body '" +
                 body.parameters.name + "': the outer normal of its surface <" +
-                zone.surface.name() + "> is " +
-                point_text(slave.normal_sum.at(worst_vertex) /
-                           slave.normal_sum.at(worst_vertex).norm()) +
-                " at the node at " + point_text(slave.vertex.at(worst_vertex).x) +
+                zone.surface.name() + "> is " + point_text(worst_normal) + " at the node at " +
+                point_text(worst_x) +
                 ". The plane normal must point out of the obstacle, towards the body (here " +
                 point_text(-zone.plane_normal) + "?).");
     }
@@ -386,6 +597,27 @@ namespace FetiContact
     }
 
     /**
+     * The master vertex of @p master nearest to the line through @p x along @p outer, and its
+     * distance from that line (invalid and +∞ for a surface without vertices).
+     */
+    std::pair<unsigned int, double>
+    nearest_to_normal_line(const Point<3> &x, const Tensor<1, 3> &outer, const Surface &master)
+    {
+      double       best_offset = std::numeric_limits<double>::max();
+      unsigned int best        = numbers::invalid_unsigned_int;
+      for (const auto &[mv, data] : master.vertex)
+        {
+          const Tensor<1, 3> d = data.x - x;
+          if (const double offset = (d - (d * outer) * outer).norm(); offset < best_offset)
+            {
+              best_offset = offset;
+              best        = mv;
+            }
+        }
+      return {best, best_offset};
+    }
+
+    /**
      * The gap and normal of @p node towards the master surface: χ(x) is the master vertex
      * opposite x along its outer normal @p outer (@p partner if given, else the nearest to the
      * normal's line); the meshes must match node to node.
@@ -402,24 +634,16 @@ namespace FetiContact
                           const std::optional<unsigned int> &partner = {})
     {
       // χ(x): the master vertex opposite x along the outer normal.
-      double       best_offset = std::numeric_limits<double>::max();
-      unsigned int best        = numbers::invalid_unsigned_int;
-      const auto   offset_of   = [&](const unsigned int mv) {
-        const Tensor<1, 3> d = master.vertex.at(mv).x - node.x;
-        return (d - (d * outer) * outer).norm();
-      };
+      unsigned int best;
+      double       best_offset;
       if (partner)
         {
-          best        = *partner;
-          best_offset = offset_of(best);
+          best                 = *partner;
+          const Tensor<1, 3> d = master.vertex.at(best).x - node.x;
+          best_offset          = (d - (d * outer) * outer).norm();
         }
       else
-        for (const auto &[mv, unused] : master.normal_sum)
-          if (const double offset = offset_of(mv); offset < best_offset)
-            {
-              best_offset = offset;
-              best        = mv;
-            }
+        std::tie(best, best_offset) = nearest_to_normal_line(node.x, outer, master);
       require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
               where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
                 "' has no node of the master surface of body '" + master_body->parameters.name +
@@ -509,6 +733,19 @@ namespace FetiContact
       /** parts_of_vertices() of a body, computed once per body. */
       const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
         &parts_of_vertex;
+      /** The zone's (slave) surface. */
+      const BoundarySelector &selector;
+      /** Share::whole, or Share::home_rings: this rank's share of the search. */
+      Share share;
+      /** The ranks of the search (MPI_COMM_SELF for the whole). */
+      MPI_Comm comm;
+
+      /** Whether every rank searches its share only. */
+      bool
+      shared() const
+      {
+        return share == Share::home_rings;
+      }
 
       /**
        * The node at @p vertex with the fields common to every discretization, or nothing if the
@@ -518,7 +755,7 @@ namespace FetiContact
       start_node(const unsigned int vertex) const
       {
         const SurfaceVertex &x = slave.vertex.at(vertex);
-        if (x.copies.prescribed[0] && x.copies.prescribed[1] && x.copies.prescribed[2])
+        if (!x.home || (x.copies.prescribed[0] && x.copies.prescribed[1] && x.copies.prescribed[2]))
           return {};
         ContactNode node;
         node.zone          = z;
@@ -586,31 +823,40 @@ namespace FetiContact
     }
 
     /**
-     * The master vertex of each slave vertex if the coupling is that of matching meshes (every
-     * slave vertex fully covered, and M_kj = D_kk for one master vertex j and 0 for the others);
-     * empty otherwise.
+     * The master vertex of each home vertex of the slave surface if the coupling is that of
+     * matching meshes (every slave vertex fully covered, and M_kj = D_kk for one master vertex j
+     * and 0 for the others, on every rank of @p comm); nothing otherwise. Collective.
      */
-    std::map<unsigned int, unsigned int>
+    std::optional<std::map<unsigned int, unsigned int>>
     matching_partners(const std::vector<Mortar::NodeCoupling> &couplings,
                       const MortarSurface                     &slave,
-                      const MortarSurface                     &master)
+                      const MortarSurface                     &master,
+                      const MPI_Comm                           comm)
     {
       std::map<unsigned int, unsigned int> partner;
-      for (unsigned int k = 0; k < couplings.size(); ++k)
-        {
-          const auto &c = couplings[k];
-          if (c.covered <= 0 || !c.dual)
-            return {};
-          std::optional<unsigned int> one;
-          for (const auto &[j, m] : c.M)
-            if (std::abs(m / c.D - 1) <= 1e-8 && !one)
-              one = j;
-            else if (std::abs(m / c.D) > 1e-8)
-              return {};
-          if (!one)
-            return {};
-          partner[slave.vertex[k]] = master.vertex[*one];
-        }
+      const auto                           match = [&]() {
+        for (unsigned int k = 0; k < couplings.size(); ++k)
+          {
+            if (!slave.data[k]->home)
+              continue;
+            const auto &c = couplings[k];
+            if (c.covered <= 0 || !c.dual)
+              return false;
+            std::optional<unsigned int> one;
+            for (const auto &[j, m] : c.M)
+              if (std::abs(m / c.D - 1) <= 1e-8 && !one)
+                one = j;
+              else if (std::abs(m / c.D) > 1e-8)
+                return false;
+            if (!one)
+              return false;
+            partner[slave.vertex[k]] = master.vertex[*one];
+          }
+        return true;
+      };
+      const bool matches = match();
+      if (Utilities::MPI::min(matches ? 1u : 0u, comm) == 0)
+        return {};
       return partner;
     }
 
@@ -710,6 +956,245 @@ namespace FetiContact
         }
     }
 
+    /** Replaces each of @p counts by its sum over the ranks of @p comm. Collective. */
+    void
+    add_over_ranks(const std::vector<unsigned int *> &counts, const MPI_Comm comm)
+    {
+      std::vector<unsigned int> values;
+      for (const unsigned int *count : counts)
+        values.push_back(*count);
+      Utilities::MPI::sum(values, comm, values);
+      for (unsigned int i = 0; i < counts.size(); ++i)
+        *counts[i] = values[i];
+    }
+
+    /**
+     * Runs @p local_work, which may throw InputError; if it throws on any rank of @p comm, the
+     * message of the lowest such rank is thrown on every rank. Collective.
+     */
+    void
+    collectively(const MPI_Comm comm, const std::function<void()> &local_work)
+    {
+      std::string error;
+      try
+        {
+          local_work();
+        }
+      catch (const InputError &e)
+        {
+          error = e.what();
+        }
+      error = MPITools::first_error(comm, error);
+      if (!error.empty())
+        throw InputError(error);
+    }
+
+    /** The bounding box of the vertices of the triangles of @p s this rank holds. */
+    Regions::Region
+    box_of_own(const Surface &s)
+    {
+      std::vector<Point<3>> points;
+      for (unsigned int t = 0; t < s.triangles.size(); ++t)
+        if (s.own[t])
+          for (const unsigned int v : s.triangles[t])
+            points.push_back(s.vertex.at(v).x);
+      return Regions::box_of(points);
+    }
+
+    /** The bounding box of all vertices of @p s, or nothing. */
+    Regions::Region
+    box_of_all(const Surface &s)
+    {
+      std::vector<Point<3>> points;
+      for (const auto &[v, data] : s.vertex)
+        points.push_back(data.x);
+      return Regions::box_of(points);
+    }
+
+    /**
+     * The sum of the side lengths of the bounding box of the slave faces and the master faces
+     * @p master_own of all ranks (how far behind a slave triangle to look for an overlap, and
+     * the largest distance between the surfaces). Collective.
+     */
+    double
+    span_of_both(const ZoneSide &side, const std::vector<SurfaceFace> &master_own)
+    {
+      Regions::Region both = box_of_own(side.slave);
+      if (const auto m = box_of(master_own))
+        Regions::merge(both, *m);
+      both = Regions::union_over_ranks(side.comm, both);
+      return both ? both->side_length(0) + both->side_length(1) + both->side_length(2) : 0;
+    }
+
+    /**
+     * The statistics of the coupling of every rank's share: the counts added, the smallest
+     * distance and the point of the lowest rank where it occurs. Collective.
+     */
+    void
+    sum_over_ranks(Mortar::Statistics &statistics, const MPI_Comm comm)
+    {
+      add_over_ranks(
+        {&statistics.n_candidate_pairs, &statistics.n_segments, &statistics.n_facing_away}, comm);
+      const double       least = Utilities::MPI::min(statistics.min_distance, comm);
+      const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
+      const unsigned int holder =
+        Utilities::MPI::min(statistics.min_distance == least ? rank : numbers::invalid_unsigned_int,
+                            comm);
+      statistics.min_distance  = least;
+      statistics.deepest_point = Utilities::MPI::broadcast(comm, statistics.deepest_point, holder);
+    }
+
+    /**
+     * The master surface of a body-pair zone as a rank needs it: all of it, or (the search
+     * shared) the master faces near this rank's slave faces.
+     */
+    class MasterSurface
+    {
+    public:
+      MasterSurface(const ZoneSide &side, const Body &body, const BoundarySelector &selector)
+        : side(side)
+        , body(body)
+        , selector(selector)
+      {
+        if (side.shared())
+          own = own_faces(body, selector, side.parts_of_vertex(body));
+        else
+          surface = collect_surface(body, selector, side.parts_of_vertex(body), Share::whole);
+      }
+
+      /**
+       * Adds the master faces within @p margin of the region of every rank, @p region this
+       * rank's (shared search; nothing otherwise). Collective.
+       */
+      void
+      add_faces_near(const Regions::Region &region, const double margin)
+      {
+        if (!side.shared())
+          return;
+        std::vector<SurfaceFace> added =
+          faces_in_regions(body, own, Regions::of_ranks(side.comm, region), margin);
+        near.insert(near.end(), added.begin(), added.end());
+        near    = exchange_faces(body, std::move(near), {});
+        surface = surface_of(near, 0, [](const SurfaceFace &, unsigned int) { return true; });
+      }
+
+      /** Appends the master triangles this rank holds to @p list (Surface::append_to()). */
+      void
+      append_own_to(std::vector<ContactTriangle> &list,
+                    const unsigned int            zone,
+                    const unsigned int            body_index) const
+      {
+        if (side.shared())
+          surface_of(own, 0, [](const SurfaceFace &, unsigned int) {
+            return true;
+          }).append_to(list, zone, body_index);
+        else
+          surface.append_to(list, zone, body_index);
+      }
+
+      /** The whole master surface (gathered if the search is shared). Collective. */
+      Surface
+      whole() const
+      {
+        return side.shared() ?
+                 collect_surface(body, selector, side.parts_of_vertex(body), Share::whole) :
+                 surface;
+      }
+
+      const ZoneSide         &side;
+      const Body             &body;
+      const BoundarySelector &selector;
+      /** The faces this rank holds (shared search). */
+      std::vector<SurfaceFace> own;
+      /** The faces near this rank's slave faces (shared search). */
+      std::vector<SurfaceFace> near;
+      Surface                  surface;
+    };
+
+    /**
+     * The mortar coupling of a zone's surfaces, with the statistics of all ranks. A shared
+     * search couples this rank's slave faces with the master faces near them (within the search
+     * distance, and behind the slave triangles without a segment), which gives the home
+     * vertices' couplings of the whole surfaces.
+     */
+    std::vector<Mortar::NodeCoupling>
+    couple_surfaces(const ZoneSide     &side,
+                    MasterSurface      &master,
+                    const double        distance,
+                    MortarSurface      &slave_m,
+                    MortarSurface      &master_m,
+                    Mortar::Statistics &statistics)
+    {
+      slave_m = mortar_surface(side.slave);
+      Mortar::Share share;
+      if (side.shared())
+        {
+          master.add_faces_near(box_of_all(side.slave), distance);
+          share.counted.assign(side.slave.own.begin(), side.slave.own.end());
+          share.depth = span_of_both(side, master.own);
+        }
+      master_m = mortar_surface(master.surface);
+      auto couplings =
+        Mortar::couple(slave_m.surface, master_m.surface, distance, statistics, share);
+      if (side.shared())
+        {
+          // A master surface deep behind a slave triangle without a segment: the faces there too.
+          if (Utilities::MPI::logical_or(statistics.searched_behind.has_value(), side.comm))
+            {
+              master.add_faces_near(statistics.searched_behind, 0);
+              master_m = mortar_surface(master.surface);
+              couplings =
+                Mortar::couple(slave_m.surface, master_m.surface, distance, statistics, share);
+            }
+          sum_over_ranks(statistics, side.comm);
+        }
+      return couplings;
+    }
+
+    /**
+     * A shared search of a zone discretized node to node: the master faces within a distance of
+     * this rank's slave faces that grows (×8, from the mean edge) until every rank finds a master
+     * vertex opposite each of its home vertices, or the distance spans both surfaces (then
+     * place_opposite_master() tells which node has none). Collective.
+     */
+    void
+    add_master_faces_opposite(const ZoneSide &side, MasterSurface &master)
+    {
+      const double span   = span_of_both(side, master.own);
+      const auto   region = box_of_all(side.slave);
+      for (double reach = side.slave.mean_edge;; reach *= 8)
+        {
+          master.add_faces_near(region, std::min(reach, span));
+          bool missing = false;
+          for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
+            if (side.start_node(vertex))
+              missing |= nearest_to_normal_line(side.slave.vertex.at(vertex).x,
+                                                normal_sum / normal_sum.norm(),
+                                                master.surface)
+                           .second > 1e-6 * side.slave.mean_edge;
+          if (!Utilities::MPI::logical_or(missing, side.comm) || reach >= span)
+            return;
+        }
+    }
+
+    /**
+     * Appends the home vertices of the slave surface of @p side that are no node of the zone
+     * (its nodes are those of @p nodes from @p first) to @p uncoupled.
+     */
+    void
+    add_uncoupled_vertices(const ZoneSide                       &side,
+                           const std::vector<ContactNode>       &nodes,
+                           const unsigned int                    first,
+                           std::vector<ContactSurfaces::Vertex> &uncoupled)
+    {
+      std::set<unsigned int> coupled;
+      for (unsigned int k = first; k < nodes.size(); ++k)
+        coupled.insert(nodes[k].vertex);
+      for (const auto &[vertex, data] : side.slave.vertex)
+        if (data.home && coupled.count(vertex) == 0)
+          uncoupled.push_back({side.z, side.zone.body, vertex, data.x, data.copies.parts.front()});
+    }
+
     /** The nodes of a body-pair zone, node to node or mortar. */
     void
     add_body_pair_nodes(const ZoneSide                           &side,
@@ -731,49 +1216,67 @@ namespace FetiContact
         {
           throw InputError(side.where + "Master surface: " + e.what());
         }
-      const Surface master =
-        collect_surface(master_body, master_selector, side.parts_of_vertex(master_body));
-      if (side.surfaces != nullptr)
-        master.append_to(side.surfaces->master, side.z, zone.master_body);
+      MasterSurface master(side, master_body, master_selector);
 
-      std::map<unsigned int, unsigned int> partner;
+      std::optional<std::map<unsigned int, unsigned int>> partner;
       if (zone.discretization != Discretization::node_to_node)
         {
-          const MortarSurface slave_m  = mortar_surface(side.slave);
-          const MortarSurface master_m = mortar_surface(master);
-          report.search_distance       = zone.search_distance.value_or(side.slave.mean_edge);
+          report.search_distance = zone.search_distance.value_or(side.slave.mean_edge);
+          MortarSurface      slave_m, master_m;
           Mortar::Statistics statistics;
           const auto         couplings =
-            Mortar::couple(slave_m.surface, master_m.surface, report.search_distance, statistics);
+            couple_surfaces(side, master, report.search_distance, slave_m, master_m, statistics);
           report.n_segments = statistics.n_segments;
-          check_mortar_coupling(
-            side, master_body, slave_m, master_m, statistics, report.search_distance);
+          if (statistics.n_segments == 0 && side.shared())
+            check_mortar_coupling(side,
+                                  master_body,
+                                  mortar_surface(collect_surface(side.body,
+                                                                 side.selector,
+                                                                 side.parts_of_vertex(side.body),
+                                                                 Share::whole)),
+                                  mortar_surface(master.whole()),
+                                  statistics,
+                                  report.search_distance);
+          else
+            check_mortar_coupling(
+              side, master_body, slave_m, master_m, statistics, report.search_distance);
           if (zone.discretization == Discretization::automatic)
-            partner = matching_partners(couplings, slave_m, master_m);
-          if (partner.empty())
+            partner = matching_partners(couplings, slave_m, master_m, side.comm);
+          if (!partner)
             {
               report.discretization = "mortar";
-              add_mortar_nodes(side, couplings, slave_m, master_m, nodes, report);
+              collectively(side.comm, [&]() {
+                add_mortar_nodes(side, couplings, slave_m, master_m, nodes, report);
+              });
+              if (side.surfaces != nullptr)
+                master.append_own_to(side.surfaces->master, side.z, zone.master_body);
               return;
             }
         }
+      else if (side.shared())
+        add_master_faces_opposite(side, master);
+      if (side.surfaces != nullptr)
+        master.append_own_to(side.surfaces->master, side.z, zone.master_body);
       report.discretization = "node to node";
-      for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
-        if (auto node = side.start_node(vertex))
-          {
-            const auto hint = partner.find(vertex);
-            place_opposite_master(*node,
-                                  normal_sum / normal_sum.norm(),
-                                  side.slave,
-                                  master,
-                                  side.body,
-                                  &master_body,
-                                  zone,
-                                  side.where,
-                                  hint != partner.end() ? std::optional(hint->second) :
-                                                          std::nullopt);
-            side.finish_node(*node, nodes);
-          }
+      collectively(side.comm, [&]() {
+        for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
+          if (auto node = side.start_node(vertex))
+            {
+              std::optional<unsigned int> hint;
+              if (partner && partner->count(vertex) > 0)
+                hint = partner->at(vertex);
+              place_opposite_master(*node,
+                                    normal_sum / normal_sum.norm(),
+                                    side.slave,
+                                    master.surface,
+                                    side.body,
+                                    &master_body,
+                                    zone,
+                                    side.where,
+                                    hint);
+              side.finish_node(*node, nodes);
+            }
+      });
     }
   } // namespace
 
@@ -781,7 +1284,8 @@ namespace FetiContact
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
                      ContactSurfaces                          *surfaces,
-                     std::vector<ZoneReport>                  *reports)
+                     std::vector<ZoneReport>                  *reports,
+                     const bool                                home_nodes)
   {
     std::vector<std::vector<std::vector<unsigned int>>> parts(bodies.size());
     const std::function<const std::vector<std::vector<unsigned int>> &(const Body &)>
@@ -790,6 +1294,9 @@ namespace FetiContact
         parts[body.index] = body.parts_of_mesh_vertices();
       return parts[body.index];
     };
+    // Shared: every rank finds the nodes of its home vertices (the bodies' cells distributed).
+    const bool     shared = home_nodes && !bodies.empty() && bodies.front()->distributed();
+    const MPI_Comm comm   = shared ? bodies.front()->mesh_comm() : MPI_COMM_SELF;
     std::vector<ContactNode> nodes;
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       {
@@ -805,43 +1312,56 @@ namespace FetiContact
           {
             throw InputError(where + "Surface: " + e.what());
           }
-        const Surface slave = collect_surface(body, surface, parts_of_vertex(body));
+        const Share   share = shared ? Share::home_rings : Share::whole;
+        const Surface slave = collect_surface(body, surface, parts_of_vertex(body), share);
         if (surfaces != nullptr)
           slave.append_to(surfaces->slave, z, zone.body);
 
-        const ZoneSide     side{z, zone, body, slave, where, surfaces, parts_of_vertex};
+        const ZoneSide side{
+          z, zone, body, slave, where, surfaces, parts_of_vertex, surface, share, comm};
         ZoneReport         report;
         const unsigned int first = nodes.size();
         if (zone.type == Parameters::ContactZone::Type::rigid_plane)
           {
             report.discretization = "rigid plane";
-            check_plane_faces_body(slave, body, zone, where);
-            for (const auto &[vertex, normal_sum] : slave.normal_sum)
-              if (auto node = side.start_node(vertex))
-                {
-                  place_on_plane(*node, zone, slave, where);
-                  side.finish_node(*node, nodes);
-                }
+            check_plane_faces_body(slave, body, zone, where, comm);
+            collectively(comm, [&]() {
+              for (const auto &[vertex, normal_sum] : slave.normal_sum)
+                if (auto node = side.start_node(vertex))
+                  {
+                    place_on_plane(*node, zone, slave, where);
+                    side.finish_node(*node, nodes);
+                  }
+            });
           }
         else if (zone.rigid())
           {
             report.discretization  = "rigid obstacle";
             report.search_distance = zone.search_distance.value_or(0);
-            for (const auto &[vertex, normal_sum] : slave.normal_sum)
-              if (auto node = side.start_node(vertex))
-                {
-                  if (!place_on_curved_obstacle(*node, zone, slave, where))
-                    {
-                      ++report.n_uncovered;
-                      continue;
-                    }
-                  report.n_overlapping += node->gap < 0 ? 1 : 0;
-                  side.finish_node(*node, nodes);
-                }
+            collectively(comm, [&]() {
+              for (const auto &[vertex, normal_sum] : slave.normal_sum)
+                if (auto node = side.start_node(vertex))
+                  {
+                    if (!place_on_curved_obstacle(*node, zone, slave, where))
+                      {
+                        ++report.n_uncovered;
+                        continue;
+                      }
+                    report.n_overlapping += node->gap < 0 ? 1 : 0;
+                    side.finish_node(*node, nodes);
+                  }
+            });
           }
         else
-          add_body_pair_nodes(side, bodies, nodes, report);
+          {
+            add_body_pair_nodes(side, bodies, nodes, report);
+            if (surfaces != nullptr)
+              add_uncoupled_vertices(side, nodes, first, surfaces->uncoupled);
+          }
         report.n_nodes = nodes.size() - first;
+        add_over_ranks(
+          {&report.n_nodes, &report.n_uncovered, &report.n_partly_covered, &report.n_overlapping},
+          comm);
         require(report.n_nodes > 0,
                 where + "the surface <" + zone.surface.name() + "> of body '" +
                   body.parameters.name +
@@ -889,7 +1409,8 @@ namespace FetiContact
   {
     std::size_t bytes =
       nodes.capacity() * sizeof(ContactNode) +
-      (surfaces.slave.capacity() + surfaces.master.capacity()) * sizeof(ContactTriangle);
+      (surfaces.slave.capacity() + surfaces.master.capacity()) * sizeof(ContactTriangle) +
+      surfaces.uncoupled.capacity() * sizeof(ContactSurfaces::Vertex);
     for (const ContactNode &node : nodes)
       {
         bytes += node.master.capacity() * sizeof(MasterPoint) +

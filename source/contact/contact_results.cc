@@ -4,10 +4,13 @@
 #include <deal.II/numerics/rtree.h>
 
 #include <feticontact/base/exact_sum.h>
+#include <feticontact/base/regions.h>
 #include <feticontact/contact/contact_results.h>
 
 #include <algorithm>
 #include <array>
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/vector.hpp>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -141,50 +144,84 @@ namespace FetiContact
 
   namespace
   {
+    /** A deformed master triangle: its corners and its outward normal (area-weighted). */
+    using DeformedTriangle = std::array<double, 12>;
+
     /**
-     * The deepest penetration, after the load, of a vertex of body-pair zone @p z's slave surface
-     * that is not a contact node of the zone (a vertex beyond the search distance) into the
-     * master body: the depth behind a master triangle (deformed) whose normal projection it lies
-     * in, up to @p reach behind it.
+     * The deformed master triangles of body-pair zone @p z near this rank's uncoupled vertices
+     * (within @p reach of their deformed positions): from every rank, the triangles it lists.
+     * Collective.
      */
-    double
-    uncoupled_penetration(const unsigned int              z,
-                          const ContactSurfaces          &surfaces,
-                          const std::vector<ContactNode> &nodes,
-                          const VertexDisplacements      &u,
-                          const double                    reach)
+    std::vector<DeformedTriangle>
+    master_triangles_near(const unsigned int           z,
+                          const ContactSurfaces       &surfaces,
+                          const std::vector<Point<3>> &uncoupled,
+                          const VertexDisplacements   &u,
+                          const double                 reach,
+                          const MPI_Comm               comm)
     {
-      std::set<unsigned int>           coupled;
-      std::map<unsigned int, Point<3>> uncoupled; // vertex → deformed position
-      for (const auto &node : nodes)
-        if (node.zone == z)
-          coupled.insert(node.vertex);
-      for (const auto &t : surfaces.slave)
-        if (t.zone == z)
-          for (unsigned int i = 0; i < 3; ++i)
-            if (coupled.count(t.vertices[i]) == 0)
-              uncoupled.emplace(t.vertices[i], t.points[i] + u(t.body, t.vertices[i]));
-      if (uncoupled.empty())
-        return 0;
-      // The deformed master triangles of the zone.
-      std::vector<std::array<Point<3>, 3>>                 master;
-      std::vector<Tensor<1, 3>>                            outward;
-      std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
+      const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+      const auto         regions = Regions::of_ranks(comm, Regions::box_of(uncoupled));
+      std::map<unsigned int, std::vector<DeformedTriangle>> outgoing;
+      std::vector<DeformedTriangle>                         near;
       for (const auto &t : surfaces.master)
         if (t.zone == z)
           {
-            std::array<Point<3>, 3> corners;
+            std::vector<Point<3>> corners(3);
+            DeformedTriangle      deformed;
             for (unsigned int i = 0; i < 3; ++i)
-              corners[i] = t.points[i] + u(t.body, t.vertices[i]);
-            boxes.emplace_back(
-              BoundingBox<3>(std::vector<Point<3>>(corners.begin(), corners.end())), master.size());
-            master.push_back(corners);
-            outward.push_back(t.outward);
+              {
+                corners[i] = t.points[i] + u(t.body, t.vertices[i]);
+                for (unsigned int d = 0; d < 3; ++d)
+                  deformed[3 * i + d] = corners[i][d];
+              }
+            for (unsigned int d = 0; d < 3; ++d)
+              deformed[9 + d] = t.outward[d];
+            const BoundingBox<3> box(corners);
+            for (unsigned int r = 0; r < regions.size(); ++r)
+              if (regions[r])
+                {
+                  BoundingBox<3> region = *regions[r];
+                  region.extend(reach);
+                  if (Regions::meet(region, box))
+                    (r == rank ? near : outgoing[r]).push_back(deformed);
+                }
           }
+      for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, outgoing))
+        near.insert(near.end(), list.begin(), list.end());
+      return near;
+    }
+
+    /**
+     * The deepest penetration, after the load, of this rank's uncoupled vertices of body-pair
+     * zone @p z (slave vertices that are no contact node of the zone: beyond the search
+     * distance) into the master body: the depth behind a master triangle (deformed) whose normal
+     * projection it lies in, up to @p reach behind it. Collective.
+     */
+    double
+    uncoupled_penetration(const unsigned int         z,
+                          const ContactSurfaces     &surfaces,
+                          const VertexDisplacements &u,
+                          const double               reach,
+                          const MPI_Comm             comm)
+    {
+      std::vector<Point<3>> uncoupled; // deformed positions
+      for (const auto &v : surfaces.uncoupled)
+        if (v.zone == z)
+          uncoupled.push_back(v.x + u(v.body, v.vertex));
+      const std::vector<DeformedTriangle> master =
+        master_triangles_near(z, surfaces, uncoupled, u, reach, comm);
+      std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
+      const auto corner = [&](const unsigned int m, const unsigned int i) {
+        return Point<3>(master[m][3 * i], master[m][3 * i + 1], master[m][3 * i + 2]);
+      };
+      for (unsigned int m = 0; m < master.size(); ++m)
+        boxes.emplace_back(
+          BoundingBox<3>(std::vector<Point<3>>{corner(m, 0), corner(m, 1), corner(m, 2)}), m);
       const auto                                           tree  = pack_rtree(boxes);
       double                                               worst = 0;
       std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
-      for (const auto &[v, p] : uncoupled)
+      for (const Point<3> &p : uncoupled)
         {
           BoundingBox<3> box(std::vector<Point<3>>{p});
           box.extend(reach);
@@ -192,13 +229,15 @@ namespace FetiContact
           tree.query(boost::geometry::index::intersects(box), std::back_inserter(candidates));
           for (const auto &candidate : candidates)
             {
-              const auto &[a, b, c]   = master[candidate.second];
-              Tensor<1, 3> n_order    = cross_product_3d(b - a, c - a);
-              const double twice_area = n_order.norm();
+              const unsigned int m = candidate.second;
+              const Point<3>     a = corner(m, 0), b = corner(m, 1), c = corner(m, 2);
+              const Tensor<1, 3> outward({master[m][9], master[m][10], master[m][11]});
+              Tensor<1, 3>       n_order    = cross_product_3d(b - a, c - a);
+              const double       twice_area = n_order.norm();
               if (twice_area == 0)
                 continue;
               n_order /= twice_area;
-              const Tensor<1, 3> n = n_order * outward[candidate.second] < 0 ? -n_order : n_order;
+              const Tensor<1, 3> n = n_order * outward < 0 ? -n_order : n_order;
               const double       h = (p - a) * n;
               if (h >= 0 || -h > reach)
                 continue;
@@ -217,12 +256,12 @@ namespace FetiContact
   } // namespace
 
   double
-  surface_penetration(const Parameters::Contact      &contact,
-                      const ContactSurfaces          &surfaces,
-                      const std::vector<ContactNode> &nodes,
-                      const VertexDisplacements      &u,
-                      const double                    u_max,
-                      const double                    largest_cell)
+  surface_penetration(const Parameters::Contact &contact,
+                      const ContactSurfaces     &surfaces,
+                      const VertexDisplacements &u,
+                      const double               u_max,
+                      const double               largest_cell,
+                      const MPI_Comm             comm)
   {
     double worst = 0;
     // Every vertex of the zone's surface, also those that start a rounding error behind it (or,
@@ -240,7 +279,8 @@ namespace FetiContact
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       if (!contact.zones[z].rigid())
         worst =
-          std::max(worst, uncoupled_penetration(z, surfaces, nodes, u, 2 * u_max + largest_cell));
+          std::max(worst, uncoupled_penetration(z, surfaces, u, 2 * u_max + largest_cell, comm));
+    worst = Utilities::MPI::max(worst, comm);
     return u_max > 0 ? worst / u_max : worst;
   }
 

@@ -1,8 +1,10 @@
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/numbers.h>
 
 #include <feticontact/contact/contact_rows.h>
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <optional>
 
@@ -150,6 +152,59 @@ namespace FetiContact
     layout.n_normal = nodes.size();
     hold_rows_together(nodes, first_subdomain, layout, rows);
     return rows;
+  }
+
+  DualRows
+  build_shared_contact_rows(const MPI_Comm                   comm,
+                            const std::vector<ContactNode>  &nodes,
+                            const std::vector<unsigned int> &first_subdomain,
+                            const std::vector<unsigned int> &owner,
+                            DualLayout                      &layout,
+                            const unsigned int               polygon_directions,
+                            const bool                       average,
+                            const bool                       to_all)
+  {
+    DualRows rows = build_contact_rows(nodes, first_subdomain, layout, polygon_directions, average);
+
+    // A node's place among the nodes of all ranks, and among those with friction: nodes are in
+    // the order of zones and slave vertices, a node per zone and vertex.
+    std::uint64_t n_zones = 0, n_vertices = 0;
+    for (const ContactNode &node : nodes)
+      {
+        n_zones    = std::max<std::uint64_t>(n_zones, node.zone + 1);
+        n_vertices = std::max<std::uint64_t>(n_vertices, node.vertex + 1);
+      }
+    n_zones    = Utilities::MPI::max(n_zones, comm);
+    n_vertices = Utilities::MPI::max(n_vertices, comm);
+    std::vector<std::uint64_t> keys(nodes.size());
+    std::vector<unsigned int>  ones(nodes.size(), 1), tangential(nodes.size(), 0);
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        keys[k] = nodes[k].zone * n_vertices + nodes[k].vertex;
+        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+          tangential[k] = layout.tangential_per_node;
+      }
+    const auto [node_number, n_nodes] = number_by_keys(comm, keys, ones, n_zones * n_vertices);
+    const auto [first_tangential, n_tangential] =
+      number_by_keys(comm, keys, tangential, n_zones * n_vertices);
+    AssertThrow(n_nodes + n_tangential < numbers::invalid_unsigned_int,
+                ExcMessage("The contact rows exceed the range of an unsigned int."));
+
+    // The rows and the layout renumbered: the rows of this rank's nodes among those of all.
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      {
+        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+          for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
+            rows.number[layout.tangential_row[k] + j] = first_tangential[k] + j;
+        rows.number[layout.normal_row[k]] = n_tangential + node_number[k];
+        if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
+          layout.tangential_row[k] = first_tangential[k];
+        layout.normal_row[k] = n_tangential + node_number[k];
+      }
+    rows.n_all          = n_tangential + n_nodes;
+    layout.n_tangential = n_tangential;
+    layout.n_normal     = n_nodes;
+    return rows.sent_to_ranks(comm, owner, to_all);
   }
 
   HeldContactNodes

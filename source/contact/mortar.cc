@@ -399,7 +399,8 @@ namespace FetiContact::Mortar
   couple(const Surface &slave,
          const Surface &master,
          const double   search_distance,
-         Statistics    &statistics)
+         Statistics    &statistics,
+         const Share   &share)
   {
     statistics = Statistics();
     std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
@@ -418,12 +419,23 @@ namespace FetiContact::Mortar
     // for: the size of both surfaces together.
     std::vector<Point<3>> all_points = slave.points;
     all_points.insert(all_points.end(), master.points.begin(), master.points.end());
-    const double depth = BoundingBox<3>(all_points).side_length(0) +
-                         BoundingBox<3>(all_points).side_length(1) +
-                         BoundingBox<3>(all_points).side_length(2);
+    const double depth   = share.depth > 0 ? share.depth :
+                                             BoundingBox<3>(all_points).side_length(0) +
+                                             BoundingBox<3>(all_points).side_length(1) +
+                                             BoundingBox<3>(all_points).side_length(2);
+    const auto   counted = [&](const unsigned int s) {
+      return share.counted.empty() || share.counted[s];
+    };
+    Statistics not_counted;
+    // Candidates by master triangle: the sums over them do not depend on the R-tree's order,
+    // which depends on the master triangles present (a share of a surface has fewer).
+    const auto by_triangle = [](const std::pair<BoundingBox<3>, unsigned int> &a,
+                                const std::pair<BoundingBox<3>, unsigned int> &b) {
+      return a.second < b.second;
+    };
 
     std::vector<Accumulator> accumulators(slave.points.size());
-    NodeFrames               nodes{slave.point_normals, {}};
+    NodeFrames               nodes{slave.point_normals, {}, {}};
     std::vector<double> nearest(slave.triangles.size(), std::numeric_limits<double>::infinity());
     std::vector<double> areas(slave.triangles.size());
     std::vector<std::pair<unsigned int, unsigned int>>   segments;
@@ -434,10 +446,12 @@ namespace FetiContact::Mortar
         const SlaveFrame      frame = slave_frame(slave, s);
         std::vector<Point<3>> corners{slave.points[v[0]], slave.points[v[1]], slave.points[v[2]]};
         areas[s] = 0.5 * std::abs(cross2(frame.vertices[0], frame.vertices[1], frame.vertices[2]));
+        Statistics &counts = counted(s) ? statistics : not_counted;
         candidates.clear();
         tree.query(boost::geometry::index::intersects(box_around(corners, search_distance)),
                    std::back_inserter(candidates));
-        statistics.n_candidate_pairs += candidates.size();
+        std::sort(candidates.begin(), candidates.end(), by_triangle);
+        counts.n_candidate_pairs += candidates.size();
         for (const auto &candidate : candidates)
           if (couple_pair(slave,
                           master,
@@ -445,20 +459,25 @@ namespace FetiContact::Mortar
                           candidate.second,
                           frame,
                           search_distance,
-                          statistics,
+                          counts,
                           nodes,
                           &accumulators,
                           &nearest[s]))
             segments.emplace_back(s, candidate.second);
-        if (nearest[s] < std::numeric_limits<double>::infinity())
+        if (nearest[s] < std::numeric_limits<double>::infinity() || !counted(s))
           continue;
         // Nothing within the search distance: a master surface deeper behind the triangle (inside
         // the slave body) would be an overlap of the bodies that the coupling cannot see.
         for (unsigned int i = 0; i < 3; ++i)
           corners.push_back(corners[i] - depth * frame.normal);
+        const BoundingBox<3> behind = box_around(corners, search_distance);
+        if (statistics.searched_behind)
+          statistics.searched_behind->merge_with(behind);
+        else
+          statistics.searched_behind = behind;
         candidates.clear();
-        tree.query(boost::geometry::index::intersects(box_around(corners, search_distance)),
-                   std::back_inserter(candidates));
+        tree.query(boost::geometry::index::intersects(behind), std::back_inserter(candidates));
+        std::sort(candidates.begin(), candidates.end(), by_triangle);
         for (const auto &candidate : candidates)
           couple_pair(
             slave, master, s, candidate.second, frame, search_distance, statistics, nodes, nullptr);

@@ -220,9 +220,16 @@ namespace FetiContact
   {
     std::vector<ZoneReport> reports;
     Timer                   search_timer;
-    contact_nodes = find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports);
-    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
+    // With distributed dual vectors (and bodies) every rank finds the nodes of its home
+    // vertices, whose rows it will hold.
+    const bool distributed =
+      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
+    contact_nodes =
+      find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports, distributed);
+    if (distributed)
       contact_comm = comm;
+    n_contact_nodes =
+      Utilities::MPI::sum(static_cast<unsigned int>(contact_nodes.size()), contact_comm);
     contact_rows_time += search_timer.wall_time();
     for (unsigned int z = 0; z < reports.size(); ++z)
       {
@@ -242,9 +249,9 @@ namespace FetiContact
                 << " vertices farther than the search distance";
         pcout << std::endl;
       }
-    require(!contact_nodes.empty() || !parameters.verification.hertz.enabled,
+    require(n_contact_nodes > 0 || !parameters.verification.hertz.enabled,
             "Verification/Hertz: the scene has no contact nodes.");
-    require(!contact_nodes.empty() || !parameters.output.write_fclib,
+    require(n_contact_nodes > 0 || !parameters.output.write_fclib,
             "Output/Write FCLIB problem: the scene has no contact nodes.");
     for (const auto &node : contact_nodes)
       require(!parameters.output.write_fclib || !node.keeper || node.friction == 0,
@@ -259,7 +266,7 @@ namespace FetiContact
   void
   Simulator::test_load_balance()
   {
-    if (contact_nodes.empty())
+    if (n_contact_nodes == 0)
       return;
     TimerOutput::Scope scope(timer, "setup");
     const bool         tresca =
@@ -318,7 +325,7 @@ namespace FetiContact
   {
     summary.set_leading("converged", false)
       .set_leading("n_subdomains", first_subdomain.back())
-      .set_leading("n_contact_nodes", static_cast<unsigned int>(contact_nodes.size()))
+      .set_leading("n_contact_nodes", n_contact_nodes)
       .set_leading("n_mpi_ranks", n_ranks);
     on_all_ranks([&]() {
       if (rank == 0)
@@ -389,32 +396,38 @@ namespace FetiContact
     // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
     const bool polygonal =
       parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
-    Timer rows_timer;
-    rows = build_contact_rows(contact_nodes,
-                              first_subdomain,
-                              layout,
-                              polygonal ? parameters.contact_solver.polygon_directions : 0,
-                              parameters.feti.average_contact_rows);
-    contact_rows_time += rows_timer.wall_time();
     // With distributed dual vectors (and without shared local work, whose ranks may solve any
     // subdomain) a rank keeps the rows that touch its subdomains: the contact rows of the nodes
-    // on them, each node's rows together (rank 0 keeps copies of the rows without
-    // coefficients too; the home subdomain's rank adds them up), and the equality rows of their
-    // vertices, made without any rank holding all.
+    // on them, each node's rows together (its home vertex's rank makes them and sends them to
+    // the ranks of the master side), and the equality rows of their vertices, made without any
+    // rank holding all.
+    const bool distributed =
+      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
     const bool shared = parameters.feti.shared_local_work > 0 &&
                         SharedLocalWork::possible(comm, parameters.feti.local_solver);
-    const bool local_rows =
-      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed && !shared &&
-      n_ranks > 1;
-    if (local_rows)
-      rows =
-        rows.rows_touching([this](const unsigned int s) { return owner[s] == rank; }, rank == 0);
+    const bool     local_rows = distributed && !shared && n_ranks > 1;
+    const unsigned directions = polygonal ? parameters.contact_solver.polygon_directions : 0;
+    Timer          rows_timer;
+    rows = distributed ? build_shared_contact_rows(comm,
+                                                   contact_nodes,
+                                                   first_subdomain,
+                                                   owner,
+                                                   layout,
+                                                   directions,
+                                                   parameters.feti.average_contact_rows,
+                                                   !local_rows) :
+                         build_contact_rows(contact_nodes,
+                                            first_subdomain,
+                                            layout,
+                                            directions,
+                                            parameters.feti.average_contact_rows);
+    contact_rows_time += rows_timer.wall_time();
     const DualRows equality = local_rows ? build_local_equality_rows(comm, owned, owner, !primal) :
                                            build_equality_rows(comm, owned, !primal);
     layout.n_equality       = equality.n_all;
     rows.append(equality);
-    if (!contact_nodes.empty())
-      pcout << "Contact: " << contact_nodes.size() << " contact nodes, " << layout.n_normal
+    if (n_contact_nodes > 0)
+      pcout << "Contact: " << n_contact_nodes << " contact nodes, " << layout.n_normal
             << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
   }
 
@@ -495,7 +508,7 @@ namespace FetiContact
   void
   Simulator::solve()
   {
-    if (contact_nodes.empty())
+    if (n_contact_nodes == 0)
       solve_linear();
     else
       solve_contact();
@@ -653,7 +666,7 @@ namespace FetiContact
                                       summary,
                                       pcout};
     summary.set_solver_converged(converged);
-    for (const auto &postprocessor : Postprocessing::create(parameters, !contact_nodes.empty()))
+    for (const auto &postprocessor : Postprocessing::create(parameters, n_contact_nodes > 0))
       {
         postprocessor->execute(input);
         if (const auto *hertz =
@@ -773,7 +786,7 @@ namespace FetiContact
               evaluation.u_not_finite += !std::isfinite(u_v[c]);
             }
           evaluation.u_max = std::max(evaluation.u_max, u_v.norm());
-          if (!contact_nodes.empty())
+          if (n_contact_nodes > 0)
             evaluation.vertex_penetration =
               std::max(evaluation.vertex_penetration,
                        vertex_penetration(parameters.contact,
@@ -791,7 +804,7 @@ namespace FetiContact
     evaluation.lambda_not_finite = multipliers_not_finite();
     evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
     evaluation.contact_forces.resize(bodies.size());
-    if (!contact_nodes.empty())
+    if (n_contact_nodes > 0)
       evaluate_contact(evaluation);
     return evaluation;
   }
@@ -801,8 +814,7 @@ namespace FetiContact
   {
     const bool tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-    evaluation.surface_u =
-      gather_surface_displacements(comm, bodies.size(), owned, u, contact_surfaces);
+    evaluation.surface_u       = contact_displacements();
     evaluation.contact_results = FetiContact::evaluate_contact(
       held_contact.nodes,
       held_contact.layout,
@@ -818,12 +830,8 @@ namespace FetiContact
       largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(s->mesh));
     largest_cell            = Utilities::MPI::max(largest_cell, comm);
     const double u_max      = evaluation.u_max;
-    const double on_surface = surface_penetration(parameters.contact,
-                                                  contact_surfaces,
-                                                  contact_nodes,
-                                                  evaluation.surface_u,
-                                                  u_max,
-                                                  largest_cell);
+    const double on_surface = surface_penetration(
+      parameters.contact, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
     evaluation.contact_check.penetration =
       std::max({evaluation.contact_check.penetration,
                 on_surface,
@@ -832,6 +840,25 @@ namespace FetiContact
                                                          evaluation.contact_results,
                                                          bodies,
                                                          contact_comm);
+  }
+
+  VertexDisplacements
+  Simulator::contact_displacements() const
+  {
+    std::vector<std::array<unsigned int, 3>> wanted; // (body, vertex, home part)
+    for (const auto *list : {&contact_surfaces.slave, &contact_surfaces.master})
+      for (const ContactTriangle &t : *list)
+        for (unsigned int i = 0; i < 3; ++i)
+          wanted.push_back({{t.body, t.vertices[i], t.home[i]}});
+    for (const ContactSurfaces::Vertex &v : contact_surfaces.uncoupled)
+      wanted.push_back({{v.body, v.vertex, v.home}});
+    for (const ContactNode &node : held_contact.nodes)
+      {
+        wanted.push_back({{node.body, node.vertex, node.copies.parts.front()}});
+        for (const MasterPoint &m : node.master)
+          wanted.push_back({{m.body, m.vertex, m.copies.parts.front()}});
+      }
+    return fetch_vertex_displacements(comm, first_subdomain, owner, owned, u, wanted);
   }
 
   bool
@@ -875,7 +902,7 @@ namespace FetiContact
     // with it.
     const double       hessian_time = Utilities::MPI::max(solve_F_time, comm);
     const double       mean_F = solve_F_applications > 0 ? hessian_time / solve_F_applications : 0;
-    const unsigned int n_A    = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
+    const unsigned int n_A    = n_contact_nodes == 0 ? dual->n_F_applications : n_bound + n_disc;
     const double       floor  = time("factorization") + n_A * mean_F;
     // Of the applications of F, the work in the subdomains of the slowest and of the fastest
     // rank; the rest of hessian_applications is the exchange of B u among the ranks and waiting.
@@ -1010,8 +1037,8 @@ namespace FetiContact
       if (body->mesh.n_active_cells() > 0)
         h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
     h_min                            = Utilities::MPI::min(h_min, comm);
-    const unsigned int n_bound_total = contact_nodes.empty() ? dual->n_F_applications : n_bound;
-    const unsigned int n_A = contact_nodes.empty() ? dual->n_F_applications : n_bound + n_disc;
+    const unsigned int n_bound_total = n_contact_nodes == 0 ? dual->n_F_applications : n_bound;
+    const unsigned int n_A = n_contact_nodes == 0 ? dual->n_F_applications : n_bound + n_disc;
 
     double           total_time    = 0;
     const JsonObject times         = summarize_times(total_time);
@@ -1056,7 +1083,7 @@ namespace FetiContact
     const auto solve_time                  = timer_data.find("solve");
     const auto output_time                 = timer_data.find("output");
     run_statistics.n_primal                = n_primal;
-    run_statistics.n_contact_nodes         = contact_nodes.size();
+    run_statistics.n_contact_nodes         = n_contact_nodes;
     run_statistics.outer_iterations        = iterations;
     run_statistics.hessian_multiplications = n_A;
     run_statistics.h_min                   = h_min;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -194,61 +195,131 @@ namespace FetiContact
 
     /**
      * The number among all rows of the first row of every group (body, body vertex, first row)
-     * in @p groups, which has @p n_rows rows in all: every rank counts the rows of a range of the
-     * vertices of all bodies, ranges in rank order, and numbers them after the rows of the lower
-     * ranges (only groups with rows are counted). Returns the first numbers and the number of all
-     * rows.
+     * in @p groups, which has @p n_rows rows in all (number_by_keys() with the vertices of all
+     * bodies as keys). Returns the first numbers and the number of all rows.
      */
     std::pair<std::vector<std::uint64_t>, std::uint64_t>
     number_groups(const MPI_Comm                   comm,
                   const std::vector<unsigned int> &groups,
                   const unsigned int               n_rows)
     {
-      const unsigned int                n_ranks  = Utilities::MPI::n_mpi_processes(comm);
-      const unsigned int                n_groups = groups.size() / 3;
-      const auto                        keyed    = vertex_keys(comm, groups);
-      const std::vector<std::uint64_t> &keys     = keyed.first;
-      const std::uint64_t               n_keys   = keyed.second;
-      const auto                        counter  = [&](const std::uint64_t key) {
-        return static_cast<unsigned int>(key * n_ranks / n_keys);
-      };
-      const auto size_of = [&](const unsigned int g) {
-        return (g + 1 < n_groups ? groups[3 * g + 5] : n_rows) - groups[3 * g + 2];
-      };
-
-      // Every group's key and size to the rank that counts its range.
-      std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> sizes;
+      const unsigned int        n_groups = groups.size() / 3;
+      const auto                keyed    = vertex_keys(comm, groups);
+      std::vector<unsigned int> sizes(n_groups);
       for (unsigned int g = 0; g < n_groups; ++g)
-        if (size_of(g) > 0)
-          sizes[counter(keys[g])].push_back({{keys[g], size_of(g)}});
-      std::vector<std::array<std::uint64_t, 3>> ranged; // (key, size, rank of the group)
-      for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, sizes))
-        for (const auto &[key, size] : list)
-          ranged.push_back({{key, size, from}});
-      std::sort(ranged.begin(), ranged.end());
-      std::uint64_t n_counted = 0, before = 0;
-      for (const auto &group : ranged)
-        n_counted += group[1];
-      MPI_Exscan(&n_counted, &before, 1, MPI_UINT64_T, MPI_SUM, comm);
-      if (Utilities::MPI::this_mpi_process(comm) == 0)
-        before = 0;
-      std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> firsts;
-      for (const auto &[key, size, from] : ranged)
-        {
-          firsts[from].push_back({{key, before}});
-          before += size;
-        }
-      std::unordered_map<std::uint64_t, std::uint64_t> first_of_key;
-      for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, firsts))
-        for (const auto &[key, first] : list)
-          first_of_key[key] = first;
-      std::vector<std::uint64_t> first(n_groups);
-      for (unsigned int g = 0; g < n_groups; ++g)
-        if (size_of(g) > 0)
-          first[g] = first_of_key.at(keys[g]);
-      return {std::move(first), Utilities::MPI::sum(n_counted, comm)};
+        sizes[g] = (g + 1 < n_groups ? groups[3 * g + 5] : n_rows) - groups[3 * g + 2];
+      return number_by_keys(comm, keyed.first, sizes, keyed.second);
     }
   } // namespace
+
+  std::pair<std::vector<std::uint64_t>, std::uint64_t>
+  number_by_keys(const MPI_Comm                    comm,
+                 const std::vector<std::uint64_t> &keys,
+                 const std::vector<unsigned int>  &sizes,
+                 const std::uint64_t               n_keys)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const auto         counter = [&](const std::uint64_t key) {
+      return static_cast<unsigned int>(key * n_ranks / std::max<std::uint64_t>(n_keys, 1));
+    };
+
+    // Every item's key and size to the rank that counts its range.
+    std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> counted;
+    for (unsigned int g = 0; g < keys.size(); ++g)
+      if (sizes[g] > 0)
+        counted[counter(keys[g])].push_back({{keys[g], sizes[g]}});
+    std::vector<std::array<std::uint64_t, 3>> ranged; // (key, size, rank of the item)
+    for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, counted))
+      for (const auto &[key, size] : list)
+        ranged.push_back({{key, size, from}});
+    std::sort(ranged.begin(), ranged.end());
+    std::uint64_t n_counted = 0, before = 0;
+    for (const auto &item : ranged)
+      n_counted += item[1];
+    MPI_Exscan(&n_counted, &before, 1, MPI_UINT64_T, MPI_SUM, comm);
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      before = 0;
+    std::map<unsigned int, std::vector<std::array<std::uint64_t, 2>>> firsts;
+    for (const auto &[key, size, from] : ranged)
+      {
+        firsts[from].push_back({{key, before}});
+        before += size;
+      }
+    std::unordered_map<std::uint64_t, std::uint64_t> first_of_key;
+    for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, firsts))
+      for (const auto &[key, first] : list)
+        first_of_key[key] = first;
+    std::vector<std::uint64_t> first(keys.size(), 0);
+    for (unsigned int g = 0; g < keys.size(); ++g)
+      if (sizes[g] > 0)
+        first[g] = first_of_key.at(keys[g]);
+    return {std::move(first), Utilities::MPI::sum(n_counted, comm)};
+  }
+
+  DualRows
+  DualRows::merged(const std::vector<const DualRows *> &parts)
+  {
+    std::vector<std::array<unsigned int, 3>> order; // (number, part, row)
+    for (unsigned int j = 0; j < parts.size(); ++j)
+      for (unsigned int r = 0; r < parts[j]->n_rows(); ++r)
+        order.push_back({{parts[j]->number[r], j, r}});
+    std::sort(order.begin(), order.end());
+    DualRows                               rows;
+    std::vector<std::vector<unsigned int>> index(parts.size());
+    for (unsigned int j = 0; j < parts.size(); ++j)
+      index[j].resize(parts[j]->n_rows());
+    for (const auto &[number, j, r] : order)
+      {
+        AssertThrow(rows.n_rows() == 0 || rows.number.back() < number,
+                    ExcMessage("DualRows::merged: row " + std::to_string(number) + " twice."));
+        index[j][r] = rows.n_rows();
+        rows.add_row_of(*parts[j], r, number);
+      }
+    for (unsigned int j = 0; j < parts.size(); ++j)
+      {
+        rows.n_all = std::max(rows.n_all, parts[j]->n_all);
+        for (unsigned int i = 0; i < parts[j]->held_together.size(); ++i)
+          {
+            rows.held_together.emplace_back();
+            for (const unsigned int r : parts[j]->held_together[i])
+              rows.held_together.back().push_back(index[j][r]);
+            rows.held_by.push_back(parts[j]->held_by.empty() ? numbers::invalid_unsigned_int :
+                                                               parts[j]->held_by[i]);
+          }
+      }
+    return rows;
+  }
+
+  DualRows
+  DualRows::sent_to_ranks(const MPI_Comm                   comm,
+                          const std::vector<unsigned int> &owner,
+                          const bool                       to_all) const
+  {
+    const unsigned int     n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int     rank    = Utilities::MPI::this_mpi_process(comm);
+    std::set<unsigned int> ranks;
+    if (to_all)
+      for (unsigned int r = 0; r < n_ranks; ++r)
+        ranks.insert(r);
+    else
+      for (const DualRowEntry &entry : entries)
+        ranks.insert(owner[entry.subdomain]);
+    std::map<unsigned int, DualRows> outgoing;
+    for (const unsigned int r : ranks)
+      if (r != rank)
+        outgoing[r] = to_all ?
+                        *this :
+                        rows_touching([&](const unsigned int s) { return owner[s] == r; }, false);
+    const DualRows kept =
+      rows_touching([&](const unsigned int s) { return to_all || owner[s] == rank; }, false);
+    const auto                    incoming = Utilities::MPI::some_to_some(comm, outgoing);
+    std::vector<const DualRows *> parts{&kept};
+    for (const auto &[from, rows] : incoming)
+      parts.push_back(&rows);
+    DualRows all = merged(parts);
+    all.n_all    = Utilities::MPI::max(n_all, comm);
+    return all;
+  }
 
   DualRows
   build_local_equality_rows(const MPI_Comm                   comm,

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
 #include <cstdio>
 #include <iomanip>
@@ -255,7 +256,9 @@ namespace FetiContact
   ContactOutputShare::ContactOutputShare(const std::vector<unsigned int>    &first_subdomain,
                                          const std::vector<Subdomain *>     &owned,
                                          const std::vector<ContactNode>     &contact_nodes,
-                                         const std::vector<ContactTriangle> &contact_triangles)
+                                         const std::vector<ContactTriangle> &contact_triangles,
+                                         const std::vector<unsigned int>    &subdomain_owner,
+                                         const MPI_Comm                      comm)
   {
     std::vector<unsigned int> mine;
     for (const Subdomain *s : owned)
@@ -303,6 +306,41 @@ namespace FetiContact
         subdomains.push_back(s);
         triangles.push_back(std::move(list));
       }
+    lowest_over_ranks(first_subdomain, contact_triangles, subdomain_owner, comm);
+  }
+
+  void
+  ContactOutputShare::lowest_over_ranks(const std::vector<unsigned int>    &first_subdomain,
+                                        const std::vector<ContactTriangle> &contact_triangles,
+                                        const std::vector<unsigned int>    &subdomain_owner,
+                                        const MPI_Comm                      comm)
+  {
+    // Every point's lowest subdomain here to the rank of its home subdomain, which answers with
+    // the lowest of all ranks.
+    std::map<PointKey, unsigned int> home_rank;
+    for (const ContactTriangle &t : contact_triangles)
+      for (unsigned int i = 0; i < 3; ++i)
+        home_rank.emplace(PointKey{{t.zone, t.body, t.vertices[i]}},
+                          subdomain_owner[first_subdomain[t.body] + t.home[i]]);
+    std::map<unsigned int, std::vector<std::array<unsigned int, 4>>> questions;
+    for (const auto &[p, s] : point_owner)
+      questions[home_rank.at(p)].push_back({{p[0], p[1], p[2], s}});
+    const auto                       asked = Utilities::MPI::some_to_some(comm, questions);
+    std::map<PointKey, unsigned int> lowest;
+    for (const auto &[from, list] : asked)
+      for (const auto &[zone, body, vertex, s] : list)
+        {
+          const auto [entry, first_seen] = lowest.emplace(PointKey{{zone, body, vertex}}, s);
+          if (!first_seen)
+            entry->second = std::min(entry->second, s);
+        }
+    std::map<unsigned int, std::vector<std::array<unsigned int, 4>>> answers;
+    for (const auto &[from, list] : asked)
+      for (const auto &q : list)
+        answers[from].push_back({{q[0], q[1], q[2], lowest.at(PointKey{{q[0], q[1], q[2]}})}});
+    for (const auto &[from, list] : Utilities::MPI::some_to_some(comm, answers))
+      for (const auto &[zone, body, vertex, s] : list)
+        point_owner.at(PointKey{{zone, body, vertex}}) = s;
   }
 
   void

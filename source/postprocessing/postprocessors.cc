@@ -320,7 +320,9 @@ namespace FetiContact::Postprocessing
     const ContactOutputShare share(input.first_subdomain,
                                    input.owned,
                                    input.contact_nodes,
-                                   input.contact_surfaces.slave);
+                                   input.contact_surfaces.slave,
+                                   input.subdomain_owner,
+                                   input.comm);
     write_contact_csv(input.result_files,
                       input.comm,
                       input.output_directory,

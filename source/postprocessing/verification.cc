@@ -9,6 +9,7 @@
 #include <feticontact/subdomain/elasticity_assembly.h>
 
 #include <algorithm>
+#include <boost/serialization/array.hpp>
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 
@@ -286,32 +288,57 @@ namespace FetiContact
   }
 
   VertexDisplacements
-  gather_surface_displacements(const MPI_Comm                     comm,
-                               const unsigned int                 n_bodies,
-                               const std::vector<Subdomain *>    &owned,
-                               const std::vector<Vector<double>> &u,
-                               const ContactSurfaces             &surfaces)
+  fetch_vertex_displacements(const MPI_Comm                                  comm,
+                             const std::vector<unsigned int>                &first_subdomain,
+                             const std::vector<unsigned int>                &owner,
+                             const std::vector<Subdomain *>                 &owned,
+                             const std::vector<Vector<double>>              &u,
+                             const std::vector<std::array<unsigned int, 3>> &wanted)
   {
-    std::vector<std::unordered_set<unsigned int>> wanted(n_bodies);
-    for (const auto *list : {&surfaces.slave, &surfaces.master})
-      for (const auto &t : *list)
-        wanted[t.body].insert(t.vertices.begin(), t.vertices.end());
-    // (body, vertex) and (u_x, u_y, u_z) of the vertices this rank reports.
-    std::pair<std::vector<unsigned int>, std::vector<double>> mine;
+    const unsigned int n_bodies = first_subdomain.size() - 1;
+    // The questions, by the rank that answers them: (body, body vertex, subdomain).
+    std::map<unsigned int, std::vector<std::array<unsigned int, 3>>> questions;
+    for (const auto &[body, vertex, part] : wanted)
+      {
+        const unsigned int s = first_subdomain[body] + part;
+        questions[owner[s]].push_back({{body, vertex, s}});
+      }
+    for (auto &[rank, list] : questions)
+      {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+      }
+    std::map<unsigned int, unsigned int> index_of; // subdomain → index in owned
     for (unsigned int i = 0; i < owned.size(); ++i)
-      for (const auto &[w, v] : owned[i]->reported_vertices())
-        if (wanted[owned[i]->body.index].count(w) > 0)
-          {
-            mine.first.insert(mine.first.end(), {owned[i]->body.index, w});
-            for (unsigned int c = 0; c < 3; ++c)
-              mine.second.push_back(u[i][owned[i]->vertex_dofs[v][c]]);
-          }
+      index_of[owned[i]->global_index] = i;
+    std::vector<std::unordered_map<unsigned int, unsigned int>> own_vertex(owned.size());
+    const auto answer = [&](const std::vector<std::array<unsigned int, 3>> &asked) {
+      std::vector<double> values;
+      for (const auto &[body, vertex, s] : asked)
+        {
+          const unsigned int i = index_of.at(s);
+          if (own_vertex[i].empty())
+            for (const auto &[w, v] : owned[i]->reported_vertices())
+              own_vertex[i][w] = v;
+          const unsigned int v = own_vertex[i].at(vertex);
+          for (unsigned int c = 0; c < 3; ++c)
+            values.push_back(u[i][owned[i]->vertex_dofs[v][c]]);
+        }
+      return values;
+    };
+    std::map<unsigned int, std::vector<double>> replies;
+    for (const auto &[from, asked] : Utilities::MPI::some_to_some(comm, questions))
+      replies[from] = answer(asked);
+    const auto          answers = Utilities::MPI::some_to_some(comm, replies);
     VertexDisplacements result(n_bodies);
-    for (const auto &[vertices, values] : Utilities::MPI::all_gather(comm, mine))
-      for (unsigned int k = 0; 2 * k < vertices.size(); ++k)
-        result.set(vertices[2 * k],
-                   vertices[2 * k + 1],
-                   Tensor<1, 3>({values[3 * k], values[3 * k + 1], values[3 * k + 2]}));
+    for (const auto &[rank, values] : answers)
+      {
+        const auto &asked = questions.at(rank);
+        for (unsigned int k = 0; k < asked.size(); ++k)
+          result.set(asked[k][0],
+                     asked[k][1],
+                     Tensor<1, 3>({values[3 * k], values[3 * k + 1], values[3 * k + 2]}));
+      }
     return result;
   }
 } // namespace FetiContact

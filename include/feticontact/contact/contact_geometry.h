@@ -180,9 +180,25 @@ namespace FetiContact
   struct ContactSurfaces
   {
     std::vector<ContactTriangle> slave, master;
+
+    /** A vertex of a body's surface, with its position and its home part. */
+    struct Vertex
+    {
+      unsigned int     zone;
+      unsigned int     body;
+      unsigned int     vertex;
+      dealii::Point<3> x;
+      unsigned int     home;
+    };
+    /**
+     * The slave vertices of the body-pair zones that are no contact node of their zone (beyond
+     * the search distance, or clamped): the home vertices of this rank (all with the whole
+     * search). surface_penetration() checks them against the master surface.
+     */
+    std::vector<Vertex> uncoupled;
   };
 
-  /** The bytes that @p nodes and @p surfaces hold (every rank holds all of them). */
+  /** The bytes that @p nodes and @p surfaces hold. */
   std::size_t
   memory_consumption(const std::vector<ContactNode> &nodes, const ContactSurfaces &surfaces);
 
@@ -200,14 +216,22 @@ namespace FetiContact
    * its normal; otherwise the surfaces do not match and InputError names the node. A mortar pair
    * (doc/contact.md, "Non-matching meshes") has the slave vertices that the master surface
    * covers within the search distance, with n_k the mean outer normal at the vertex. If
-   * @p surfaces is given, the triangles of the zones' surfaces are appended to it; if
-   * @p reports is given, one report per zone.
+   * @p surfaces is given, the triangles of the zones' surfaces are appended to it (those whose
+   * cells this rank holds); if @p reports is given, one report per zone (of all ranks).
+   *
+   * With @p home_nodes and the bodies' cells distributed over the ranks (Body::distributed()),
+   * the search is shared (doc/contact.md, "The contact search on several ranks"): a rank finds
+   * the nodes of its home vertices only, those whose home part (the lowest part that holds a
+   * copy) it holds, from the slave faces around them and the master faces near them, which the
+   * other ranks send it. They are the nodes that one rank finds at those vertices, to the bit,
+   * in the same order. Otherwise every rank finds every node. Collective on the bodies' ranks.
    */
   std::vector<ContactNode>
   find_contact_nodes(const std::vector<std::unique_ptr<Body>> &bodies,
                      const Parameters::Contact                &contact,
-                     ContactSurfaces                          *surfaces = nullptr,
-                     std::vector<ZoneReport>                  *reports  = nullptr);
+                     ContactSurfaces                          *surfaces   = nullptr,
+                     std::vector<ZoneReport>                  *reports    = nullptr,
+                     const bool                                home_nodes = false);
 
   /**
    * The signed distance of @p x from the surface of the rigid obstacle of @p zone (a plane, a

@@ -107,17 +107,20 @@ namespace FetiContact
    * its depth behind a master triangle it projects into (up to 2 max |u| plus
    * @p largest_cell, the largest cell diameter of the bodies).
    *
-   * This function checks the vertices of the zones' surfaces (@p surfaces, displaced by @p u);
-   * the vertices off them are checked one by one by vertex_penetration(), whose largest value
-   * over all vertices, divided by @p u_max (max |u|), completes the check.
+   * This function checks the vertices of the zones' surfaces (@p surfaces, displaced by @p u,
+   * which holds the displacements of their vertices), the largest over all ranks of @p comm,
+   * each rank the triangles and uncoupled vertices it lists; a rank gets the deformed master
+   * triangles near its uncoupled vertices from the ranks that list them. The vertices off the
+   * surfaces are checked one by one by vertex_penetration(), whose largest value over all
+   * vertices, divided by @p u_max (max |u|), completes the check. Collective.
    */
   double
-  surface_penetration(const Parameters::Contact      &contact,
-                      const ContactSurfaces          &surfaces,
-                      const std::vector<ContactNode> &nodes,
-                      const VertexDisplacements      &u,
-                      const double                    u_max,
-                      const double                    largest_cell);
+  surface_penetration(const Parameters::Contact &contact,
+                      const ContactSurfaces     &surfaces,
+                      const VertexDisplacements &u,
+                      const double               u_max,
+                      const double               largest_cell,
+                      const MPI_Comm             comm);
 
   /**
    * The part of the check of surface_penetration() for one vertex @p x of body @p body,

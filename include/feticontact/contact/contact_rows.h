@@ -92,6 +92,26 @@ namespace FetiContact
                      const unsigned int               polygon_directions = 0,
                      const bool                       average            = false);
 
+  /**
+   * The contact rows of the nodes of all ranks of @p comm, each rank giving the nodes of its
+   * home vertices (find_contact_nodes() with home_nodes), with the numbers that
+   * build_contact_rows() gives them with all nodes: a node's place among the nodes of all ranks
+   * (in the order of zones and vertices) is summed over the ranks, without any rank holding all
+   * nodes (number_by_keys()). Every rank gets the rows that touch its subdomains (@p owner: the
+   * rank of every subdomain) with the rows held together with them, or with @p to_all all rows.
+   * @p layout gets the counts of all rows, and the per-node arrays of this rank's nodes.
+   * Collective.
+   */
+  DualRows
+  build_shared_contact_rows(const MPI_Comm                   comm,
+                            const std::vector<ContactNode>  &nodes,
+                            const std::vector<unsigned int> &first_subdomain,
+                            const std::vector<unsigned int> &owner,
+                            DualLayout                      &layout,
+                            const unsigned int               polygon_directions,
+                            const bool                       average,
+                            const bool                       to_all);
+
   /** Contact nodes with their layout (DualLayout's per-node arrays in the order of the nodes). */
   struct HeldContactNodes
   {

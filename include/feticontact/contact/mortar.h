@@ -1,10 +1,12 @@
 #pragma once
 
+#include <deal.II/base/bounding_box.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
 #include <array>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -84,6 +86,29 @@ namespace FetiContact::Mortar
     double min_distance = std::numeric_limits<double>::infinity();
     /** A slave point where min_distance occurs. */
     dealii::Point<3> deepest_point;
+    /**
+     * The region searched behind the slave triangles without a segment for a master surface
+     * deeper than the search distance (the union of their boxes); unset if there was none.
+     */
+    std::optional<dealii::BoundingBox<3>> searched_behind;
+  };
+
+  /**
+   * What part of a slave surface couple() reports on, for a surface that is a rank's share of a
+   * larger one (doc/contact.md, "The contact search on several ranks").
+   */
+  struct Share
+  {
+    /**
+     * Per slave triangle: whether its pairs count in the statistics and its region behind is
+     * searched (every triangle if empty). A triangle that several ranks hold counts on one.
+     */
+    std::vector<bool> counted;
+    /**
+     * How far behind a slave triangle a master surface that overlaps the slave body is looked
+     * for; 0: the size of the bounding box of both surfaces (pass that of the whole surfaces).
+     */
+    double depth = 0;
   };
 
   /**
@@ -104,7 +129,8 @@ namespace FetiContact::Mortar
   couple(const Surface &slave,
          const Surface &master,
          const double   search_distance,
-         Statistics    &statistics);
+         Statistics    &statistics,
+         const Share   &share = {});
 
   /**
    * Fills triangle_normals (from the vertex order, flipped where @p outward says the other way)

@@ -184,6 +184,14 @@ namespace FetiContact
      */
     void
     hold_contact_nodes_here();
+
+    /**
+     * The displacements of the vertices that the contact evaluation and output on this rank
+     * read: those of the contact surfaces' triangles it lists, of its uncoupled vertices and of
+     * its nodes and their master vertices, each from the rank of its home subdomain. Collective.
+     */
+    VertexDisplacements
+    contact_displacements() const;
     /**
      * Whether this rank holds @p node: with distributed dual vectors the rank of the node's
      * home subdomain (the lowest copy of its slave vertex), with replicated ones every rank.
@@ -291,8 +299,15 @@ namespace FetiContact
     std::vector<Subdomain *>                owned;
     std::vector<unsigned int>               mode_offset;
     /** The rows of B that this rank holds (build_dual_rows()). */
-    DualRows                 rows;
+    DualRows rows;
+    /**
+     * The contact nodes this rank found (find_contact_nodes()): all of them with replicated dual
+     * vectors; with distributed ones, the search is shared and these are the nodes of this
+     * rank's home vertices.
+     */
     std::vector<ContactNode> contact_nodes;
+    /** The number of contact nodes of all ranks. */
+    unsigned int n_contact_nodes = 0;
     /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
     std::unique_ptr<LoadBalanceTest> load_balance_test;
     ContactSurfaces                  contact_surfaces;

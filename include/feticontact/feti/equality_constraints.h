@@ -2,6 +2,7 @@
 
 #include <feticontact/subdomain/subdomain.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mpi.h>
@@ -86,6 +87,24 @@ namespace FetiContact
     DualRows
     rows_touching(const std::function<bool(unsigned int)> &touches, const bool keep_empty) const;
 
+    /**
+     * The rows of @p parts (each with its numbers, no number in two parts) in the order of their
+     * numbers, with their sets held together.
+     */
+    static DualRows
+    merged(const std::vector<const DualRows *> &parts);
+
+    /**
+     * These rows (a rank's share of all rows, numbered) sent where they are needed, and what the
+     * other ranks of @p comm send this rank: every rank gets the rows that touch its subdomains
+     * (@p owner: the rank of every subdomain), each with the rows held together with it, or with
+     * @p to_all every row of every rank. Collective.
+     */
+    DualRows
+    sent_to_ranks(const MPI_Comm                   comm,
+                  const std::vector<unsigned int> &owner,
+                  const bool                       to_all) const;
+
     template <class Archive>
     void
     serialize(Archive &archive, const unsigned int /*version*/)
@@ -119,6 +138,18 @@ namespace FetiContact
    * ranks (each rank counts a range of the vertices), and the maker sends the rows to the ranks
    * of the vertex's other holders. @p owner: the rank of every subdomain.
    */
+  /**
+   * Numbers items spread over the ranks of @p comm in the order of their @p keys (distinct over
+   * all ranks, below @p n_keys): for each item, the sum of the @p sizes of all items with smaller
+   * keys, and the sum of all sizes. Every rank counts the items of a range of the keys; no rank
+   * holds all of them. Collective.
+   */
+  std::pair<std::vector<std::uint64_t>, std::uint64_t>
+  number_by_keys(const MPI_Comm                    comm,
+                 const std::vector<std::uint64_t> &keys,
+                 const std::vector<unsigned int>  &sizes,
+                 const std::uint64_t               n_keys);
+
   DualRows
   build_local_equality_rows(const MPI_Comm                   comm,
                             const std::vector<Subdomain *>  &owned,

@@ -30,16 +30,33 @@ namespace FetiContact
     std::vector<std::vector<unsigned int>> triangles;
     /**
      * For every point (zone, body, vertex) of this rank's triangles, the subdomain whose piece
-     * holds it as its own: the lowest subdomain with a triangle at the point. In the other pieces
-     * with the point it is a duplicate (vtkGhostType), so that sums over the whole surface in
-     * ParaView count every point once.
+     * holds it as its own: the lowest subdomain with a triangle at the point, on any rank. In the
+     * other pieces with the point it is a duplicate (vtkGhostType), so that sums over the whole
+     * surface in ParaView count every point once.
      */
     std::map<std::array<unsigned int, 3>, unsigned int> point_owner;
 
+    /**
+     * The share of this rank's subdomains @p owned, of the @p nodes and @p triangles it lists
+     * (@p subdomain_owner: the rank of every subdomain, of @p comm). Collective.
+     */
     ContactOutputShare(const std::vector<unsigned int>    &first_subdomain,
                        const std::vector<Subdomain *>     &owned,
                        const std::vector<ContactNode>     &nodes,
-                       const std::vector<ContactTriangle> &triangles);
+                       const std::vector<ContactTriangle> &triangles,
+                       const std::vector<unsigned int>    &subdomain_owner,
+                       const MPI_Comm                      comm);
+
+  private:
+    /**
+     * Lowers every entry of point_owner to the lowest subdomain of all ranks with a triangle at
+     * the point: each point's rank of its home subdomain compares the ranks' values. Collective.
+     */
+    void
+    lowest_over_ranks(const std::vector<unsigned int>    &first_subdomain,
+                      const std::vector<ContactTriangle> &triangles,
+                      const std::vector<unsigned int>    &subdomain_owner,
+                      const MPI_Comm                      comm);
   };
 
   /**

@@ -9,6 +9,7 @@
 #include <feticontact/scene/body.h>
 #include <feticontact/subdomain/subdomain.h>
 
+#include <array>
 #include <mpi.h>
 #include <vector>
 
@@ -70,16 +71,18 @@ namespace FetiContact
                          const VertexDisplacements                 &reference);
 
   /**
-   * The displacements of the vertices of the triangles of @p surfaces, from the displacements
-   * @p u of the subdomains @p owned of each rank (a vertex takes the value of the lowest-numbered
-   * subdomain that holds it), on every rank of @p comm: a surface's worth of values.
+   * The displacements of the vertices @p wanted, each given as (body, body vertex, home part: the
+   * lowest part of the body that holds it), from the displacements @p u of the subdomains
+   * @p owned of each rank: each is asked of the rank of its home subdomain (@p owner of
+   * @p first_subdomain of the body plus the part), point to point. Collective.
    */
   VertexDisplacements
-  gather_surface_displacements(const MPI_Comm                             comm,
-                               const unsigned int                         n_bodies,
-                               const std::vector<Subdomain *>            &owned,
-                               const std::vector<dealii::Vector<double>> &u,
-                               const ContactSurfaces                     &surfaces);
+  fetch_vertex_displacements(const MPI_Comm                                  comm,
+                             const std::vector<unsigned int>                &first_subdomain,
+                             const std::vector<unsigned int>                &owner,
+                             const std::vector<Subdomain *>                 &owned,
+                             const std::vector<dealii::Vector<double>>      &u,
+                             const std::vector<std::array<unsigned int, 3>> &wanted);
 
   /**
    * Force balance of each body: the applied force Σ f (tractions and volume force), the force

@@ -173,6 +173,16 @@ namespace FetiContact
     std::vector<unsigned int>
     reported_vertices() const;
 
+    /**
+     * The rank of mesh_comm() that holds the cells of part @p part (0, this rank, if the mesh is
+     * whole).
+     */
+    unsigned int
+    rank_of_part(const unsigned int part) const
+    {
+      return distributed() ? part_owner[part] : 0;
+    }
+
     /** Whether this rank holds the cells of part @p part. */
     bool
     holds_part(const unsigned int part) const

@@ -16,6 +16,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 
 namespace FetiContact
 {
@@ -144,9 +145,7 @@ namespace FetiContact
        * The faces around the rank's home vertices (those whose lowest part it holds) and around
        * their neighbours: the nodes of the home vertices, with the normals of their neighbours.
        */
-      home_rings,
-      /** The faces within a region (a master surface near the rank's slave faces). */
-      region
+      home_rings
     };
 
     /**
@@ -597,30 +596,42 @@ namespace FetiContact
     }
 
     /**
-     * The master vertex of @p master nearest to the line through @p x along @p outer, and its
-     * distance from that line (invalid and +∞ for a surface without vertices).
+     * The master vertex of @p master opposite @p x along the unit vector @p outer: of the
+     * vertices within @p tolerance of the line through @p x along @p outer, the nearest to @p x
+     * (the lowest vertex number of equally near ones); without any, the vertex nearest to the
+     * line. Returns the vertex (invalid for a surface without vertices), its distance from the
+     * line and its distance from @p x.
      */
-    std::pair<unsigned int, double>
-    nearest_to_normal_line(const Point<3> &x, const Tensor<1, 3> &outer, const Surface &master)
+    std::tuple<unsigned int, double, double>
+    opposite_master_vertex(const Point<3>     &x,
+                           const Tensor<1, 3> &outer,
+                           const Surface      &master,
+                           const double        tolerance)
     {
-      double       best_offset = std::numeric_limits<double>::max();
       unsigned int best        = numbers::invalid_unsigned_int;
+      double       best_offset = std::numeric_limits<double>::max(),
+             best_distance     = std::numeric_limits<double>::max();
       for (const auto &[mv, data] : master.vertex)
         {
-          const Tensor<1, 3> d = data.x - x;
-          if (const double offset = (d - (d * outer) * outer).norm(); offset < best_offset)
+          const Tensor<1, 3> d        = data.x - x;
+          const double       offset   = (d - (d * outer) * outer).norm();
+          const double       distance = d.norm();
+          const bool         on_line = offset <= tolerance, best_on_line = best_offset <= tolerance;
+          if (on_line ? (!best_on_line || distance < best_distance) :
+                        (!best_on_line && offset < best_offset))
             {
-              best_offset = offset;
-              best        = mv;
+              best          = mv;
+              best_offset   = offset;
+              best_distance = distance;
             }
         }
-      return {best, best_offset};
+      return {best, best_offset, best_distance};
     }
 
     /**
      * The gap and normal of @p node towards the master surface: χ(x) is the master vertex
-     * opposite x along its outer normal @p outer (@p partner if given, else the nearest to the
-     * normal's line); the meshes must match node to node.
+     * opposite x along its outer normal @p outer (@p partner if given, else
+     * opposite_master_vertex()); the meshes must match node to node.
      */
     void
     place_opposite_master(ContactNode                       &node,
@@ -643,7 +654,8 @@ namespace FetiContact
           best_offset          = (d - (d * outer) * outer).norm();
         }
       else
-        std::tie(best, best_offset) = nearest_to_normal_line(node.x, outer, master);
+        std::tie(best, best_offset, std::ignore) =
+          opposite_master_vertex(node.x, outer, master, 1e-6 * slave.mean_edge);
       require(best != numbers::invalid_unsigned_int && best_offset <= 1e-6 * slave.mean_edge,
               where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
                 "' has no node of the master surface of body '" + master_body->parameters.name +
@@ -1165,13 +1177,20 @@ namespace FetiContact
       for (double reach = side.slave.mean_edge;; reach *= 8)
         {
           master.add_faces_near(region, std::min(reach, span));
+          // Found: a vertex opposite every home node, and every master vertex nearer to the
+          // node than it in the window (its ball lies in the window), so that the nearest one
+          // is that of the whole surface.
           bool missing = false;
           for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
             if (side.start_node(vertex))
-              missing |= nearest_to_normal_line(side.slave.vertex.at(vertex).x,
-                                                normal_sum / normal_sum.norm(),
-                                                master.surface)
-                           .second > 1e-6 * side.slave.mean_edge;
+              {
+                const auto [best, offset, distance] =
+                  opposite_master_vertex(side.slave.vertex.at(vertex).x,
+                                         normal_sum / normal_sum.norm(),
+                                         master.surface,
+                                         1e-6 * side.slave.mean_edge);
+                missing |= offset > 1e-6 * side.slave.mean_edge || distance > reach;
+              }
           if (!Utilities::MPI::logical_or(missing, side.comm) || reach >= span)
             return;
         }

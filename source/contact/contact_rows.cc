@@ -168,13 +168,9 @@ namespace FetiContact
 
     // A node's place among the nodes of all ranks, and among those with friction: nodes are in
     // the order of zones and slave vertices, a node per zone and vertex.
-    std::uint64_t n_zones = 0, n_vertices = 0;
+    std::uint64_t n_vertices = 0;
     for (const ContactNode &node : nodes)
-      {
-        n_zones    = std::max<std::uint64_t>(n_zones, node.zone + 1);
-        n_vertices = std::max<std::uint64_t>(n_vertices, node.vertex + 1);
-      }
-    n_zones    = Utilities::MPI::max(n_zones, comm);
+      n_vertices = std::max<std::uint64_t>(n_vertices, node.vertex + 1);
     n_vertices = Utilities::MPI::max(n_vertices, comm);
     std::vector<std::uint64_t> keys(nodes.size());
     std::vector<unsigned int>  ones(nodes.size(), 1), tangential(nodes.size(), 0);
@@ -184,9 +180,8 @@ namespace FetiContact
         if (layout.tangential_row[k] != numbers::invalid_unsigned_int)
           tangential[k] = layout.tangential_per_node;
       }
-    const auto [node_number, n_nodes] = number_by_keys(comm, keys, ones, n_zones * n_vertices);
-    const auto [first_tangential, n_tangential] =
-      number_by_keys(comm, keys, tangential, n_zones * n_vertices);
+    const auto [node_number, n_nodes]           = number_by_keys(comm, keys, ones);
+    const auto [first_tangential, n_tangential] = number_by_keys(comm, keys, tangential);
     AssertThrow(n_nodes + n_tangential < numbers::invalid_unsigned_int,
                 ExcMessage("The contact rows exceed the range of an unsigned int."));
 

@@ -830,8 +830,12 @@ namespace FetiContact
       largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(s->mesh));
     largest_cell            = Utilities::MPI::max(largest_cell, comm);
     const double u_max      = evaluation.u_max;
-    const double on_surface = surface_penetration(
-      parameters.contact, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
+    const double on_surface = surface_penetration(parameters.contact,
+                                                  contact_surfaces,
+                                                  evaluation.surface_u,
+                                                  u_max,
+                                                  largest_cell,
+                                                  contact_comm);
     evaluation.contact_check.penetration =
       std::max({evaluation.contact_check.penetration,
                 on_surface,

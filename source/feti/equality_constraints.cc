@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/equality_constraints.h>
 
 #include <algorithm>
@@ -208,19 +209,37 @@ namespace FetiContact
       std::vector<unsigned int> sizes(n_groups);
       for (unsigned int g = 0; g < n_groups; ++g)
         sizes[g] = (g + 1 < n_groups ? groups[3 * g + 5] : n_rows) - groups[3 * g + 2];
-      return number_by_keys(comm, keyed.first, sizes, keyed.second);
+      return number_by_keys(comm, keyed.first, sizes);
     }
   } // namespace
 
   std::pair<std::vector<std::uint64_t>, std::uint64_t>
   number_by_keys(const MPI_Comm                    comm,
                  const std::vector<std::uint64_t> &keys,
-                 const std::vector<unsigned int>  &sizes,
-                 const std::uint64_t               n_keys)
+                 const std::vector<unsigned int>  &sizes)
   {
-    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
-    const auto         counter = [&](const std::uint64_t key) {
-      return static_cast<unsigned int>(key * n_ranks / std::max<std::uint64_t>(n_keys, 1));
+    // The ranges of the counting ranks split the keys of all items in equal numbers (keys
+    // cluster: the contact nodes of a surface are a small part of the vertices): every rank
+    // offers up to 64 of its keys, evenly spaced, and the ranges end at every (number of
+    // offers / ranks)-th of all offers.
+    const unsigned int         n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<std::uint64_t> mine;
+    for (unsigned int g = 0; g < keys.size(); ++g)
+      if (sizes[g] > 0)
+        mine.push_back(keys[g]);
+    std::sort(mine.begin(), mine.end());
+    std::vector<std::uint64_t> offers;
+    const std::size_t          n_offers = std::min<std::size_t>(64, mine.size());
+    for (std::size_t i = 0; i < n_offers; ++i)
+      offers.push_back(mine[i * mine.size() / n_offers]);
+    std::vector<std::uint64_t> all_offers = MPITools::all_gather(comm, offers);
+    std::sort(all_offers.begin(), all_offers.end());
+    std::vector<std::uint64_t> ends; // a key ≥ ends[r] is counted by a rank above r
+    for (unsigned int r = 1; r < n_ranks && !all_offers.empty(); ++r)
+      ends.push_back(all_offers[r * all_offers.size() / n_ranks]);
+    const auto counter = [&](const std::uint64_t key) {
+      return static_cast<unsigned int>(std::upper_bound(ends.begin(), ends.end(), key) -
+                                       ends.begin());
     };
 
     // Every item's key and size to the rank that counts its range.

@@ -173,9 +173,10 @@ namespace FetiContact
   };
 
   /**
-   * The triangles of the zones' surfaces: of every zone's (slave) surface, and of the master
-   * surface of every body-pair zone. They are a surface's worth of the bodies: the contact
-   * output and the checks after the solve read them instead of the bodies' meshes.
+   * The triangles of the zones' surfaces that a rank lists: of every zone's (slave) surface, and
+   * of the master surface of every body-pair zone; all of them where every rank holds the whole
+   * meshes, else those of the rank's cells (find_contact_nodes()). The contact output and the
+   * checks after the solve read them instead of the bodies' meshes.
    */
   struct ContactSurfaces
   {

@@ -140,15 +140,15 @@ namespace FetiContact
    */
   /**
    * Numbers items spread over the ranks of @p comm in the order of their @p keys (distinct over
-   * all ranks, below @p n_keys): for each item, the sum of the @p sizes of all items with smaller
-   * keys, and the sum of all sizes. Every rank counts the items of a range of the keys; no rank
-   * holds all of them. Collective.
+   * all ranks): for each item, the sum of the @p sizes of all items with smaller keys, and the
+   * sum of all sizes. Every rank counts the items of a range of the keys, the ranges chosen from
+   * a sample of the keys so that they hold about equally many items; no rank holds all of them.
+   * Collective.
    */
   std::pair<std::vector<std::uint64_t>, std::uint64_t>
   number_by_keys(const MPI_Comm                    comm,
                  const std::vector<std::uint64_t> &keys,
-                 const std::vector<unsigned int>  &sizes,
-                 const std::uint64_t               n_keys);
+                 const std::vector<unsigned int>  &sizes);
 
   DualRows
   build_local_equality_rows(const MPI_Comm                   comm,

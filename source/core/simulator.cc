@@ -271,15 +271,12 @@ namespace FetiContact
     TimerOutput::Scope scope(timer, "setup");
     const bool         tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-    // The test of this rank's nodes, those the contact solver will hold.
-    const HeldContactNodes home =
-      hold_contact_nodes(contact_nodes, DualLayout(), [this](const unsigned int k) {
-        return holds_contact_node(contact_nodes[k]);
-      });
-    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, home.nodes, contact_comm);
+    // The test of this rank's nodes, those the contact solver will hold (find_contact_nodes()
+    // gives a rank the nodes of its home vertices).
+    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes, contact_comm);
     const LoadBalance balance =
       tresca ? load_balance_test->tresca(
-                 std::vector<double>(home.nodes.size(), parameters.contact_solver.slip_bound)) :
+                 std::vector<double>(contact_nodes.size(), parameters.contact_solver.slip_bound)) :
                load_balance_test->coulomb();
     const char *outcome[] = {"balanced", "impossible", "undecided"};
     summary.set("load_balance",

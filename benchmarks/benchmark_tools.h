@@ -94,7 +94,7 @@ namespace FetiContact::BenchmarkTools
     Parameters::Scene::declare_parameters(prm, 1);
     prm.parse_input_from_string(text);
     Parameters::Scene scene;
-    scene.parse_parameters(prm, "");
+    scene.parse_parameters(prm);
     return scene;
   }
 } // namespace FetiContact::BenchmarkTools

@@ -326,8 +326,8 @@ def plot_hertz_two_bodies(outdir):
     ax.legend(fontsize=7, loc="upper right", framealpha=0.9)
     ax = axes[2]
     on = np.abs(d["y"]) < 1e-12
-    block = on & (d["body"] == 1) & (np.abs(d["z"]) < 1e-12)
-    indenter = on & (d["body"] == 0) & (d["z"] <= R - np.sqrt(np.maximum(R ** 2 - d["x"] ** 2, 0))
+    block = on & (d["body"] == 2) & (np.abs(d["z"]) < 1e-12)
+    indenter = on & (d["body"] == 1) & (d["z"] <= R - np.sqrt(np.maximum(R ** 2 - d["x"] ** 2, 0))
                                          + 1e-9)
     for mask, colour, label in ((indenter, "tab:orange", "indenter's bottom"),
                                 (block, "tab:purple", "block's top")):

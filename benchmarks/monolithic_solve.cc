@@ -71,10 +71,10 @@ main(int argc, char **argv)
 
   try
     {
-      ParameterHandler prm;
-      Parameters::Scene::read_parameter_file(prm, filename, overrides);
+      ParameterHandler  prm;
+      const auto        origins = Parameters::Scene::read_parameter_file(prm, filename, overrides);
       Parameters::Scene scene;
-      scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
+      scene.parse_parameters(prm, origins);
 
       // One part: the whole body is a single "subdomain" with its Dirichlet DoFs eliminated.
       auto body_parameters                  = scene.bodies[0];

@@ -32,7 +32,7 @@ CASES = [("5 × 5 on 7 × 7", "prm/patch_test.prm", 0.0),
 
 
 def exact(body, x, y, z):
-    if body == 0:
+    if body == 1:
         return (SIGMA / E1 * NU1 * x, SIGMA / E1 * NU1 * y, -SIGMA / E1 * z)
     return (SIGMA / E2 * NU2 * x, SIGMA / E2 * NU2 * y,
             -SIGMA / E1 * 0.5 - SIGMA / E2 * (z - 0.5))

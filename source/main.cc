@@ -15,9 +15,11 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_start.h>
 #include <feticontact/base/output_files.h>
+#include <feticontact/base/output_lock.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/core/refinement_study.h>
 #include <feticontact/core/simulator.h>
+#include <feticontact/scene/parameter_file.h>
 #include <feticontact/scene/scene_parameters.h>
 
 #include <filesystem>
@@ -134,11 +136,15 @@ namespace
   }
 
   /**
-   * A run starts with an output directory free of every file an earlier run wrote there, also
-   * when it then stops on bad input. Collective.
+   * A run claims its output directory (OutputLock: refused if another run holds it) and starts
+   * with it free of every file an earlier run wrote there, also when it then stops on bad input.
+   * Collective; rank 0 holds @p lock.
    */
   void
-  clean_output_directory(const MPI_Comm comm, const bool root, const CommandLine &command)
+  claim_output_directory(const MPI_Comm           comm,
+                         const bool               root,
+                         const CommandLine       &command,
+                         FetiContact::OutputLock &lock)
   {
     using namespace FetiContact;
     std::string error;
@@ -147,7 +153,12 @@ namespace
         const std::string directory =
           Parameters::Scene::output_directory(command.filename, command.overrides);
         if (root && !directory.empty())
-          OutputFiles::clean(directory, command.filename);
+          {
+            lock.acquire(directory);
+            if (!lock.note().empty())
+              std::cerr << "Warning: " << lock.note() << std::endl;
+            OutputFiles::clean(directory, command.filename);
+          }
       }
     catch (const InputError &e)
       {
@@ -184,17 +195,19 @@ namespace
   {
     using namespace FetiContact;
     // --validate writes nothing and removes nothing.
+    OutputLock lock;
     if (!command.validate_only)
-      clean_output_directory(comm, root, command);
+      claim_output_directory(comm, root, command, lock);
 
     dealii::ParameterHandler prm;
     std::vector<std::string> warnings;
-    Parameters::Scene::read_parameter_file(prm, command.filename, command.overrides, &warnings);
+    const auto               origins =
+      Parameters::Scene::read_parameter_file(prm, command.filename, command.overrides, &warnings);
     if (root)
       for (const auto &w : warnings)
         std::cerr << "Warning: " << w << std::endl;
     Parameters::Scene scene;
-    scene.parse_parameters(prm, std::filesystem::path(command.filename).parent_path().string());
+    scene.parse_parameters(prm, origins);
 
     if (command.validate_only)
       {
@@ -206,13 +219,12 @@ namespace
         return 0;
       }
 
-    std::ifstream      in(command.filename);
-    std::ostringstream verbatim;
-    verbatim << in.rdbuf();
+    const std::string verbatim =
+      Parameters::ParameterFileText::bytes_of(command.filename, "parameter file");
 
     if (!scene.refinement_study.subdivision_factors.empty())
       {
-        RefinementStudy study(comm, command.filename, command.overrides, verbatim.str());
+        RefinementStudy study(comm, command.filename, command.overrides, verbatim);
         if (study.run())
           return 0;
         if (root)
@@ -222,7 +234,7 @@ namespace
 
     std::ostringstream effective;
     prm.print_parameters(effective, dealii::ParameterHandler::PRM);
-    Simulator simulator(comm, scene, effective.str(), verbatim.str());
+    Simulator simulator(comm, scene, effective.str(), verbatim);
     return simulator.run() ? 0 : report_failure(simulator, root);
   }
 } // namespace
@@ -244,6 +256,8 @@ main(int argc, char **argv)
     return *command.exit_status;
   try
     {
+      // A parameter file from a pipe is read once, by rank 0, and kept.
+      Parameters::ParameterFileText::share_unrepeatable(comm, command.filename);
       return run(comm, root, command);
     }
   catch (const InputError &e)

@@ -19,8 +19,16 @@ CHECK is one of
   unwritable   an output directory that cannot be created or written, or that holds a folder
                with the name of a result file: exit 1, the message names the directory (or the
                folder) and the reason.
+  locked       an output directory in use: a run into a folder whose lock file another process
+               holds exits 1 naming that process and leaves the folder as it was; --validate
+               is not refused; two real runs started into one folder, the second while the first
+               solves: the second exits 1 and the first's files are complete and its own; a lock
+               file left by a dead process is taken over with a warning; no lock file remains
+               after a run.
 Standard library only.
 """
+import fcntl
+import json
 import os
 import shutil
 import signal
@@ -245,6 +253,76 @@ def unwritable(exe, prm_dir, work):
     return 0
 
 
+def locked(exe, prm_dir, work):
+    outdir = os.path.join(work, "locked")
+    shutil.rmtree(outdir, ignore_errors=True)
+    os.makedirs(outdir)
+    prm = os.path.join(prm_dir, "brick_contact.prm")
+    lock = os.path.join(outdir, "feticontact.lock")
+
+    # A lock held by another process (this test, posing as process 4242).
+    with open(lock, "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        held.write("4242 otherhost\n")
+        held.flush()
+        p = run(exe, prm, outdir)
+        if p.returncode != 1 or "in use by another run" not in p.stderr or "4242" not in p.stderr:
+            fail("a run into a locked folder: exit %d, stderr %r" % (p.returncode, p.stderr))
+        if sorted(os.listdir(outdir)) != ["feticontact.lock"]:
+            fail("a refused run changed the locked folder: %s" % os.listdir(outdir))
+        with open(lock) as f:
+            if f.read() != "4242 otherhost\n":
+                fail("a refused run changed the lock file of the run that holds it")
+        p = subprocess.run([exe, "--validate", "--set", "Output/Directory=" + outdir, prm],
+                           capture_output=True, text=True, env=ENV)
+        if p.returncode != 0:
+            fail("--validate of a scene whose folder is locked: exit %d" % p.returncode)
+
+    # The lock file left by a process that ended without removing it.
+    p = run(exe, prm, outdir)
+    if p.returncode != 0 or "took over the lock file" not in p.stderr:
+        fail("a run over a stale lock: exit %d, stderr %r" % (p.returncode, p.stderr))
+    if os.path.exists(lock):
+        fail("the lock file remains after the run")
+    check_complete(outdir, "run over a stale lock")
+
+    # Two runs at once: the second starts while the first solves.
+    first = command(exe, prm, outdir, ["Body 1/Mesh/Subdivisions=48, 16, 16"])
+    print("$", " ".join(first), "(then a second run into the same folder)", flush=True)
+    proc = subprocess.Popen(first, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=ENV,
+                            text=True)
+    log = os.path.join(outdir, "log.txt")
+    os.remove(log)  # the earlier run's
+    deadline = time.time() + 120
+    while time.time() < deadline and proc.poll() is None:
+        if os.path.exists(log) and "FETI:" in open(log, errors="replace").read():
+            break
+        time.sleep(0.05)
+    if proc.poll() is not None:
+        fail("the first run ended (exit %d) before the second started" % proc.returncode)
+        return 0
+    with open(lock) as f:
+        if f.read().split()[0] != str(proc.pid):
+            fail("the lock file does not name the running process %d" % proc.pid)
+    p = run(exe, prm, outdir)
+    if p.returncode != 1 or str(proc.pid) not in p.stderr:
+        fail("the second run: exit %d, stderr %r" % (p.returncode, p.stderr))
+    _, stderr = proc.communicate(timeout=600)
+    if proc.returncode != 0:
+        fail("the first run: exit %d: %s" % (proc.returncode, stderr))
+    check_complete(outdir, "the first of two runs")
+    # The first run's mesh: 49 × 17 × 17 vertices, the face x = xmin clamped.
+    with open(os.path.join(outdir, "summary.json")) as f:
+        if json.load(f).get("n_primal", 0) != 3 * (49 - 1) * 17 * 17:
+            fail("summary.json is not the first run's")
+    with open(os.path.join(outdir, "parameters.prm")) as f:
+        if "48, 16, 16" not in f.read():
+            fail("parameters.prm is not the first run's")
+    if os.path.exists(lock):
+        fail("the lock file remains after the first run")
+    return 0
+
+
 def main():
     exe, prm_dir, work, check = sys.argv[1:5]
     np = int(sys.argv[sys.argv.index("--np") + 1]) if "--np" in sys.argv else 1
@@ -255,6 +333,8 @@ def main():
         status = clean(exe, prm_dir, work, "--fclib" in sys.argv)
     elif check == "killed":
         status = killed(exe, prm_dir, work)
+    elif check == "locked":
+        status = locked(exe, prm_dir, work)
     elif check == "unwritable":
         status = unwritable(exe, prm_dir, work)
     else:

@@ -217,7 +217,7 @@ def write_output(summary, outdir, output_file):
     u_scale = max(math.sqrt(sum(c * c for c in r["u"])) for r in rows)
     for index in sorted(set(r["body"] for r in rows), key=int):
         of_body = [r for r in rows if r["body"] == index]
-        name = f"body{int(index) + 1}"
+        name = f"body{int(index)}"
         put(name + ".max_norm_u", max(math.sqrt(sum(c * c for c in r["u"])) for r in of_body))
         low = [min(r["x"][i] for r in of_body) for i in range(3)]
         high = [max(r["x"][i] for r in of_body) for i in range(3)]

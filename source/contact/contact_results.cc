@@ -440,7 +440,8 @@ namespace FetiContact
   {
     if (header)
       out << "zone,body,x,y,z,lambda_N,lambda_T1,lambda_T2,gap,slip_1,slip_2,status,area,pressure,"
-             "weighted_gap,D_kk\n";
+             "weighted_gap,D_kk,n_x,n_y,n_z,t1_x,t1_y,t1_z,t2_x,t2_y,t2_z,lambda_T_x,lambda_T_y,"
+             "lambda_T_z\n";
     out << std::setprecision(12);
     for (const unsigned int k : which)
       {
@@ -450,7 +451,13 @@ namespace FetiContact
             << ',' << r.lambda_N << ',' << r.lambda_T[0] << ',' << r.lambda_T[1] << ',' << r.gap
             << ',' << r.slip[0] << ',' << r.slip[1] << ',' << to_string(r.status) << ',' << n.area
             << ',' << r.lambda_N / n.pressure_area << ',' << n.gap * n.pressure_area << ','
-            << n.pressure_area << '\n';
+            << n.pressure_area;
+        // The node's frame and the tangential multiplier λ_T1 t1 + λ_T2 t2 in global coordinates.
+        const dealii::Tensor<1, 3> lambda_T = r.lambda_T[0] * n.t1 + r.lambda_T[1] * n.t2;
+        for (const auto *v : {&n.n, &n.t1, &n.t2, &lambda_T})
+          for (unsigned int c = 0; c < 3; ++c)
+            out << ',' << (*v)[c];
+        out << '\n';
       }
   }
 } // namespace FetiContact

@@ -5,6 +5,7 @@
 #include <feticontact/scene/lattice_parts.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -116,45 +117,114 @@ namespace FetiContact
       return bytes / (1024.0 * 1024.0);
     }
 
-    /** What this machine can still give to processes, in MiB. */
-    double
-    available_on_machine()
+    /**
+     * The folders of the memory cgroups this process is in, innermost first, each followed by
+     * its ancestors up to the root of its hierarchy (a limit of any of them applies): cgroup v2
+     * (`0::/path` in /proc/self/cgroup, under /sys/fs/cgroup or /sys/fs/cgroup/unified) and v1
+     * (the `memory` controller, under /sys/fs/cgroup/memory), with the names of their limit,
+     * usage, reclaimable page cache and page cache entries.
+     */
+    struct Cgroup
+    {
+      std::string folder, limit, usage, inactive_key, cache_key;
+    };
+
+    std::vector<Cgroup>
+    memory_cgroups()
+    {
+      std::vector<Cgroup> found;
+      const auto          add_with_ancestors =
+        [&](const std::string &mount, std::string path, const Cgroup &names) {
+          if (!std::filesystem::is_directory(mount))
+            return;
+          while (true)
+            {
+              Cgroup c = names;
+              c.folder = mount + (path == "/" ? "" : path);
+              if (std::filesystem::exists(c.folder + "/" + c.limit))
+                found.push_back(c);
+              if (path.empty() || path == "/")
+                break;
+              path = std::filesystem::path(path).parent_path().string();
+            }
+        };
+      const Cgroup v2{"", "memory.max", "memory.current", "inactive_file", "file"};
+      const Cgroup v1{
+        "", "memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file", "total_cache"};
+      std::ifstream in("/proc/self/cgroup");
+      std::string   line;
+      while (std::getline(in, line))
+        {
+          // hierarchy-ID:controller-list:path
+          const auto first = line.find(':'), second = line.find(':', first + 1);
+          if (first == std::string::npos || second == std::string::npos)
+            continue;
+          const std::string controllers = line.substr(first + 1, second - first - 1);
+          const std::string path        = line.substr(second + 1);
+          if (line.compare(0, first, "0") == 0 && controllers.empty())
+            for (const std::string mount : {"/sys/fs/cgroup", "/sys/fs/cgroup/unified"})
+              add_with_ancestors(mount, path, v2);
+          else
+            for (const auto &c : InputParsing::split(controllers, ','))
+              if (c == "memory")
+                add_with_ancestors("/sys/fs/cgroup/memory", path, v1);
+        }
+      // Inside a container the process's cgroup is the mount's root.
+      add_with_ancestors("/sys/fs/cgroup", "/", v2);
+      add_with_ancestors("/sys/fs/cgroup/memory", "/", v1);
+      return found;
+    }
+
+    /**
+     * What this machine and the memory cgroups of this process can give the ranks of a node,
+     * their own resident memory (@p anon_mib anonymous, @p file_mib mapped files: the program's
+     * libraries) included: for the machine, MemAvailable plus both; for a cgroup, its limit less
+     * its usage plus its reclaimable page cache, plus what the ranks hold that the cgroup counts
+     * (their anonymous memory, and their mapped files only as far as its page cache has them:
+     * libraries read before the process joined the cgroup are charged elsewhere).
+     */
+    struct Available
+    {
+      double mib = unlimited;
+      /** What limits it, for messages. */
+      std::string source = "MemAvailable of /proc/meminfo";
+    };
+
+    Available
+    available_on_machine(const double anon_mib, const double file_mib)
     {
       const double mem_available = keyed_number("/proc/meminfo", "MemAvailable"); // kB
-      double       available     = std::isnan(mem_available) ? unlimited : mem_available / 1024;
-      // A cgroup's usage counts the page cache, whose inactive part the kernel reclaims.
-      struct Cgroup
-      {
-        std::string limit, usage, stat, inactive_key;
-      };
-      for (const Cgroup &c : {Cgroup{"/sys/fs/cgroup/memory.max",
-                                     "/sys/fs/cgroup/memory.current",
-                                     "/sys/fs/cgroup/memory.stat",
-                                     "inactive_file"},
-                              Cgroup{"/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                                     "/sys/fs/cgroup/memory/memory.usage_in_bytes",
-                                     "/sys/fs/cgroup/memory/memory.stat",
-                                     "total_inactive_file"}})
+      Available    available;
+      if (!std::isnan(mem_available))
+        available.mib = mem_available / 1024 + anon_mib + file_mib;
+      for (const Cgroup &c : memory_cgroups())
         {
-          const double max = cgroup_mib(c.limit);
-          if (!std::isfinite(max))
+          const double max = cgroup_mib(c.folder + "/" + c.limit);
+          if (!std::isfinite(max) || max >= 1e12) // "max", or v1's "no limit" (2⁶³ bytes)
             continue;
-          const double reclaimable = keyed_number(c.stat, c.inactive_key); // bytes
-          available                = std::min(available,
-                               max - cgroup_mib(c.usage) +
-                                 (std::isnan(reclaimable) ? 0 : reclaimable / (1024.0 * 1024.0)));
+          const auto stat_mib = [&](const std::string &key) {
+            const double bytes = keyed_number(c.folder + "/memory.stat", key);
+            return std::isnan(bytes) ? 0.0 : bytes / (1024.0 * 1024.0);
+          };
+          // A cgroup's usage counts the page cache, whose inactive part the kernel reclaims.
+          const double free = max - cgroup_mib(c.folder + "/" + c.usage) +
+                              stat_mib(c.inactive_key) + anon_mib +
+                              std::min(file_mib, stat_mib(c.cache_key));
+          if (free < available.mib)
+            available = {free,
+                         "the limit " + InputParsing::number_text(std::round(max)) +
+                           " MiB of the memory cgroup <" + c.folder + ">, less its usage"};
         }
       return available;
     }
 
-    /** The resident memory of this process now, in MiB. */
-    double
+    /** The resident memory of this process now, in MiB: anonymous, and mapped files. */
+    std::array<double, 2>
     resident_mib()
     {
-      std::ifstream in("/proc/self/statm");
-      double        size = 0, resident = 0;
-      in >> size >> resident;
-      return resident * sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0);
+      const double anon = keyed_number("/proc/self/status", "RssAnon"); // kB
+      const double file = keyed_number("/proc/self/status", "RssFile");
+      return {{std::isnan(anon) ? 0.0 : anon / 1024, std::isnan(file) ? 0.0 : file / 1024}};
     }
 
     /** M for the bodies scaled by @p s (subdivisions of boxes, cells of Gmsh meshes). */
@@ -264,7 +334,9 @@ namespace FetiContact
     MPI_Comm       node;
     MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
     estimate.ranks_on_node = Utilities::MPI::n_mpi_processes(node);
-    const double resident  = Utilities::MPI::sum(resident_mib(), node);
+    const auto   own       = resident_mib();
+    const double anon      = Utilities::MPI::sum(own[0], node);
+    const double file      = Utilities::MPI::sum(own[1], node);
     MPI_Comm_free(&node);
 
     Model model           = model_of(scene, Utilities::MPI::n_mpi_processes(comm));
@@ -276,8 +348,9 @@ namespace FetiContact
 
     // Per rank, the least over the nodes: the memory free on the node plus what its ranks
     // already hold (the program and its libraries, part of M₀).
-    estimate.available_mib =
-      Utilities::MPI::min((available_on_machine() + resident) / estimate.ranks_on_node, comm);
+    const Available available = available_on_machine(anon, file);
+    estimate.available_mib    = Utilities::MPI::min(available.mib / estimate.ranks_on_node, comm);
+    estimate.available_source = available.source;
 
     if (!estimate.fits())
       {
@@ -321,7 +394,7 @@ namespace FetiContact
          << InputParsing::number_text(std::round(cells))
          << " tetrahedra), exceeds by more than the model's error of "
          << InputParsing::number_text(100 * model_error) << " % the " << gib_text(available_mib)
-         << " per rank that the machine has available (MemAvailable and any cgroup limit)";
+         << " per rank that this process can use (" << available_source << ")";
     const bool boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const auto &b) {
       return b.mesh.type == Parameters::Mesh::Type::box;
     });

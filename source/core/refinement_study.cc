@@ -31,13 +31,11 @@ namespace FetiContact
   bool
   RefinementStudy::run()
   {
-    const bool root           = Utilities::MPI::this_mpi_process(comm) == 0;
-    const auto base_directory = std::filesystem::path(filename).parent_path().string();
-
+    const bool       root = Utilities::MPI::this_mpi_process(comm) == 0;
     ParameterHandler base_prm;
-    Parameters::Scene::read_parameter_file(base_prm, filename, overrides);
+    const auto origins = Parameters::Scene::read_parameter_file(base_prm, filename, overrides);
     Parameters::Scene base;
-    base.parse_parameters(base_prm, base_directory);
+    base.parse_parameters(base_prm, origins);
     const std::string directory = base.output.directory;
     // (main() has removed every file of an earlier run from the directory.)
 
@@ -155,8 +153,8 @@ namespace FetiContact
     cycle_overrides.push_back("Output/Directory=" + c.directory);
 
     ParameterHandler prm;
-    Parameters::Scene::read_parameter_file(prm, filename, cycle_overrides);
-    c.scene.parse_parameters(prm, std::filesystem::path(filename).parent_path().string());
+    const auto origins = Parameters::Scene::read_parameter_file(prm, filename, cycle_overrides);
+    c.scene.parse_parameters(prm, origins);
     std::ostringstream effective;
     prm.print_parameters(effective, ParameterHandler::PRM);
     c.effective_parameters = effective.str();

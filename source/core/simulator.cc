@@ -31,42 +31,6 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  namespace
-  {
-    /**
-     * The total contact force on every body: −(λ_N n + λ_T1 t1 + λ_T2 t2) on the slave, its
-     * opposite on the master, except at a prescribed component of the master vertex, where the
-     * force goes to the support (and K u − f there, the support force, holds it already).
-     */
-    std::vector<Tensor<1, 3>>
-    contact_forces_on_bodies(const std::vector<ContactNode>           &nodes,
-                             const std::vector<ContactNodeResult>     &results,
-                             const std::vector<std::unique_ptr<Body>> &bodies,
-                             const MPI_Comm                            comm)
-    {
-      // Exact sums over the nodes of all ranks: the same bits on any number of ranks.
-      std::vector<ExactSum> sum(3 * bodies.size());
-      for (unsigned int k = 0; k < nodes.size(); ++k)
-        {
-          const auto        &node = nodes[k];
-          const Tensor<1, 3> force =
-            -(results[k].lambda_N * node.n + results[k].lambda_T[0] * node.t1 +
-              results[k].lambda_T[1] * node.t2);
-          for (unsigned int c = 0; c < 3; ++c)
-            sum[3 * node.body + c].add(force[c]);
-          for (const auto &m : node.master)
-            for (unsigned int c = 0; c < 3; ++c)
-              if (!m.copies.prescribed[c])
-                sum[3 * m.body + c].add(-m.weight * force[c]);
-        }
-      ExactSum::sum_over_ranks(sum, comm);
-      std::vector<Tensor<1, 3>> forces(bodies.size());
-      for (unsigned int b = 0; b < bodies.size(); ++b)
-        for (unsigned int c = 0; c < 3; ++c)
-          forces[b][c] = sum[3 * b + c].value();
-      return forces;
-    }
-  } // namespace
 
   Simulator::Simulator(const MPI_Comm           comm,
                        const Parameters::Scene &parameters,
@@ -167,7 +131,7 @@ namespace FetiContact
     pcout << "Memory: estimated peak "
           << InputParsing::number_text(std::round(memory_estimate.peak_mib)) << " MiB per rank, "
           << InputParsing::number_text(std::round(memory_estimate.available_mib))
-          << " MiB per rank available" << std::endl;
+          << " MiB per rank available (" << memory_estimate.available_source << ")" << std::endl;
     memory_estimate.check(parameters);
     if (memory_estimate.tight())
       pcout << "Warning: the estimated peak memory exceeds the memory available by less than the "
@@ -218,8 +182,8 @@ namespace FetiContact
   void
   Simulator::set_up_contact_nodes()
   {
-    std::vector<ZoneReport> reports;
-    Timer                   search_timer;
+    std::vector<ZoneReport> &reports = zone_reports;
+    Timer                    search_timer;
     // With distributed dual vectors (and bodies) every rank finds the nodes of its home
     // vertices, whose rows it will hold.
     const bool distributed =
@@ -249,6 +213,7 @@ namespace FetiContact
                 << " vertices farther than the search distance";
         pcout << std::endl;
       }
+    check_bodies_held_by_contact();
     require(n_contact_nodes > 0 || !parameters.verification.hertz.enabled,
             "Verification/Hertz: the scene has no contact nodes.");
     require(n_contact_nodes > 0 || !parameters.output.write_fclib,
@@ -297,8 +262,55 @@ namespace FetiContact
     summary.set("solver_message", message).set("no_equilibrium", true);
   }
 
+  void
+  Simulator::check_bodies_held_by_contact() const
+  {
+    // Contact nodes per body, as slave or as master, over all ranks.
+    std::vector<unsigned int> touching(bodies.size());
+    for (const ContactNode &node : contact_nodes)
+      {
+        ++touching[node.body];
+        for (const MasterPoint &m : node.master)
+          ++touching[m.body];
+      }
+    MPI_Allreduce(
+      MPI_IN_PLACE, touching.data(), touching.size(), MPI_UNSIGNED, MPI_SUM, contact_comm);
+    for (const auto &body : bodies)
+      {
+        if (touching[body->index] > 0 || !in_contact(parameters.contact, body->index))
+          continue;
+        const FreeRigidMotions free = body->free_rigid_motions();
+        if (free.n() > 0)
+          throw InputError("Body '" + body->parameters.name +
+                           "' is not held: its prescribed displacements "
+                           "leave " +
+                           std::to_string(free.n()) + " rigid body motion(s) free (" + free.text() +
+                           "), and its contact zones found no contact node on it" +
+                           uncoupled_vertices_text() + ".");
+      }
+  }
+
   std::string
-  Simulator::no_equilibrium_message(const LoadBalance &balance, const bool tresca)
+  Simulator::uncoupled_vertices_text() const
+  {
+    std::string text;
+    for (unsigned int z = 0; z < zone_reports.size(); ++z)
+      {
+        const ZoneReport &r = zone_reports[z];
+        if (r.n_uncovered == 0 || r.discretization == "rigid plane")
+          continue;
+        text += ". In contact zone " + std::to_string(z + 1) + ", " +
+                std::to_string(r.n_uncovered) + " slave vertices have " +
+                (r.discretization == "rigid obstacle" ? "no obstacle" : "no master") +
+                " within the search distance " + InputParsing::number_text(r.search_distance) +
+                " m and are no contact nodes: a larger 'Contact/Zone " + std::to_string(z + 1) +
+                "/Search distance' couples them";
+      }
+    return text;
+  }
+
+  std::string
+  Simulator::no_equilibrium_message(const LoadBalance &balance, const bool tresca) const
   {
     std::ostringstream text;
     text << "no equilibrium: the loads cannot be balanced by contact forces within "
@@ -313,7 +325,8 @@ namespace FetiContact
     else
       text << "no contact force within them can oppose it";
     text << ". A body held only by contact is pulled off its obstacle, or its tangential loads "
-            "exceed what friction can hold (full sliding)";
+            "exceed what friction can hold (full sliding)"
+         << uncoupled_vertices_text();
     return text.str();
   }
 
@@ -800,7 +813,8 @@ namespace FetiContact
     const double jump            = largest_equality_residual();
     evaluation.lambda_not_finite = multipliers_not_finite();
     evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
-    evaluation.contact_forces.resize(bodies.size());
+    evaluation.contact_forces.on_body.resize(bodies.size());
+    evaluation.contact_forces.of_zone.resize(parameters.contact.zones.size());
     if (n_contact_nodes > 0)
       evaluate_contact(evaluation);
     return evaluation;
@@ -837,10 +851,11 @@ namespace FetiContact
       std::max({evaluation.contact_check.penetration,
                 on_surface,
                 u_max > 0 ? evaluation.vertex_penetration / u_max : evaluation.vertex_penetration});
-    evaluation.contact_forces = contact_forces_on_bodies(held_contact.nodes,
-                                                         evaluation.contact_results,
-                                                         bodies,
-                                                         contact_comm);
+    evaluation.contact_forces = ContactForces::of(held_contact.nodes,
+                                                  evaluation.contact_results,
+                                                  bodies.size(),
+                                                  parameters.contact.zones.size(),
+                                                  contact_comm);
   }
 
   VertexDisplacements

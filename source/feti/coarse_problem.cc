@@ -163,11 +163,16 @@ namespace FetiContact
   void
   CoarseProblem::factorize_GGt(const SparseMatrix<double> &M)
   {
+    // The bodies' supports and contact nodes are checked before; what is left to name.
+    const std::string not_held_causes =
+      ": a subdomain is joined to the rest of its body only at a vertex or along an edge (a "
+      "decomposition of a thin part), or a body is held by contact rows that restrain only some "
+      "of its rigid motions (a single contact node, contact nodes on one line).";
     on_factorizing_rank([&]() {
       for (unsigned int r = 0; r < n_rows; ++r)
         require(M.diag_element(r) > 0,
                 "The coarse problem is singular: rigid body mode " + std::to_string(r) +
-                  " of a floating subdomain is restrained by no constraint. A body is not held.");
+                  " of a floating subdomain is restrained by no constraint" + not_held_causes);
       try
         {
           GGt.factorize(M);
@@ -175,12 +180,13 @@ namespace FetiContact
       catch (const InputError &)
         {
           throw InputError("The coarse problem GGᵀ is singular: some rigid motion of a floating "
-                           "subdomain is restrained by no constraint, so a body is not held.");
+                           "subdomain is restrained by no constraint" +
+                           not_held_causes);
         }
       const double rcond = GGt.reciprocal_condition_estimate();
       require(rcond > 1e-13,
               "The coarse problem GGᵀ is numerically singular (reciprocal condition estimate " +
-                InputParsing::number_text(rcond) + "): a body is not held.");
+                InputParsing::number_text(rcond) + ")" + not_held_causes);
       return true;
     });
     share(GGt);

@@ -2,6 +2,7 @@
 #include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/output_parameters.h>
 
+#include <filesystem>
 #include <fstream>
 
 namespace FetiContact::Parameters
@@ -94,13 +95,18 @@ namespace FetiContact::Parameters
   }
 
   void
-  Verification::parse_parameters(ParameterHandler &prm)
+  Verification::parse_parameters(ParameterHandler &prm, const EntryOrigins &origins)
   {
     prm.enter_subsection("Verification");
     compare_with_monolithic = prm.get_bool("Compare with monolithic solve");
-    reference_displacements = InputParsing::trim(prm.get("Reference displacements"));
+    const std::string given = InputParsing::trim(prm.get("Reference displacements"));
+    reference_displacements = origins.resolve("Reference displacements", given);
+    std::error_code   error;
+    const std::string tried =
+      std::filesystem::absolute(reference_displacements, error).lexically_normal().string();
     require(reference_displacements.empty() || std::ifstream(reference_displacements).good(),
-            "Verification/Reference displacements: cannot open '" + reference_displacements + "'.");
+            "Verification/Reference displacements: cannot open '" + given + "'" +
+              origins.where("Reference displacements") + ": looked for <" + tried + ">.");
     hertz.parse_parameters(prm);
     prm.leave_subsection();
   }

@@ -5,6 +5,7 @@
 #include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/postprocessors.h>
 #include <feticontact/postprocessing/solution_output.h>
+#include <feticontact/postprocessing/stresses.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/scene/decomposition.h>
 
@@ -82,7 +83,45 @@ namespace FetiContact::Postprocessing
                 "displacements or multipliers that are not finite numbers (overflow?), count",
                 n_not_finite,
                 0);
+    if (n_not_finite > 0)
+      return; // refuted already; strains of infinities mean nothing
+    double largest = 0;
+    for (unsigned int i = 0; i < input.owned.size(); ++i)
+      for (const auto &strain : cell_strains(*input.owned[i], input.mapping, input.u[i]))
+        for (const double e : eigenvalues(strain))
+          largest = std::max(largest, std::abs(e));
+    largest = dealii::Utilities::MPI::max(largest, input.comm);
+    input.summary.set("largest_strain", largest);
+    input.check("largest_strain",
+                "a strain outside the small-strain theory that this program solves (linear "
+                "elasticity, contact about the initial geometry; are the loads, the moduli or "
+                "the prescribed displacements in other units?):",
+                largest,
+                0.1);
   }
+
+  namespace
+  {
+    /** The master of contact zone @p z for the log: "body 'NAME'" or the rigid obstacle. */
+    std::string
+    master_name(const Input &input, const unsigned int z)
+    {
+      using Type       = Parameters::ContactZone::Type;
+      const auto &zone = input.parameters.contact.zones[z];
+      switch (zone.type)
+        {
+          case Type::body:
+            return "body '" + input.bodies[zone.master_body]->parameters.name + "'";
+          case Type::rigid_plane:
+            return "(rigid plane)";
+          case Type::rigid_sphere:
+            return "(rigid sphere)";
+          case Type::rigid_cylinder:
+            return "(rigid cylinder)";
+        }
+      return "";
+    }
+  } // namespace
 
   std::string
   ContactConditions::name() const
@@ -110,10 +149,29 @@ namespace FetiContact::Postprocessing
       .set("open", check.n_open)
       .set("stick", check.n_stick)
       .set("slip", check.n_slip);
+    std::vector<JsonObject> zones;
+    for (unsigned int z = 0; z < input.contact_forces.of_zone.size(); ++z)
+      {
+        const ZoneResultant &r = input.contact_forces.of_zone[z];
+        zones.push_back(
+          JsonObject()
+            .set("zone", z + 1)
+            .set("force_on_slave",
+                 std::vector<double>(r.on_slave.begin_raw(), r.on_slave.end_raw()))
+            .set("force_on_master",
+                 std::vector<double>(r.on_master.begin_raw(), r.on_master.end_raw())));
+      }
+    totals.set("zones", zones);
     input.summary.set("contact", totals);
     input.pcout << "Contact: " << check.n_open << " open, " << check.n_stick << " stick, "
-                << check.n_slip << " slip; force of the contact on the bodies "
-                << check.normal_force + check.tangential_force << std::endl;
+                << check.n_slip << " slip" << std::endl;
+    const auto &zone_parameters = input.parameters.contact.zones;
+    for (unsigned int z = 0; z < input.contact_forces.of_zone.size(); ++z)
+      input.pcout << "  zone " << z + 1 << ": force on the slave body '"
+                  << input.bodies[zone_parameters[z].body]->parameters.name << "' "
+                  << input.contact_forces.of_zone[z].on_slave << ", on the master "
+                  << master_name(input, z) << ' ' << input.contact_forces.of_zone[z].on_master
+                  << std::endl;
     input.pcout << "Check: penetration " << check.penetration << ", cone violation "
                 << check.cone_violation << ", complementarity " << check.complementarity
                 << ", slip angle " << check.slip_angle << std::endl;
@@ -206,8 +264,12 @@ namespace FetiContact::Postprocessing
   {
     std::vector<JsonObject> body_records;
     double                  worst   = 0;
-    const auto              balance = compute_force_balance(
-      input.comm, input.bodies.size(), input.owned, input.u, input.mapping, input.contact_forces);
+    const auto              balance = compute_force_balance(input.comm,
+                                               input.bodies.size(),
+                                               input.owned,
+                                               input.u,
+                                               input.mapping,
+                                               input.contact_forces.on_body);
     for (const auto &body : input.bodies)
       {
         const auto &fb = balance[body->index];
@@ -216,6 +278,7 @@ namespace FetiContact::Postprocessing
         b.set("applied_force", std::vector<double>{fb.applied[0], fb.applied[1], fb.applied[2]});
         b.set("support_force", std::vector<double>{fb.support[0], fb.support[1], fb.support[2]});
         b.set("contact_force", std::vector<double>{fb.contact[0], fb.contact[1], fb.contact[2]});
+        b.set("force_through", fb.through);
         b.set("relative_imbalance", fb.relative_imbalance);
         body_records.push_back(b);
         worst = std::max(worst, fb.relative_imbalance);
@@ -230,7 +293,7 @@ namespace FetiContact::Postprocessing
     // the interface jump is the QP's tolerance times the conditioning (measured up to 6e-7).
     input.check("equilibrium.largest_relative_imbalance",
                 "a force imbalance of a body (applied + support + contact forces, relative "
-                "to the largest of them) of",
+                "to the forces that pass through it) of",
                 worst,
                 1e-6);
     input.check("interface_jump",
@@ -432,7 +495,7 @@ namespace FetiContact::Postprocessing
         for (const auto &[w, v] : s.reported_vertices())
           {
             const auto &x = s.mesh.get_vertices()[v];
-            rows << s.body.index << ',' << x[0] << ',' << x[1] << ',' << x[2];
+            rows << s.body.index + 1 << ',' << x[0] << ',' << x[1] << ',' << x[2];
             for (unsigned int c = 0; c < 3; ++c)
               rows << ',' << input.u[i][s.vertex_dofs[v][c]];
             rows << '\n';

@@ -88,7 +88,7 @@ namespace FetiContact
         {
           mises[c]        = von_mises(sigma[c]);
           subdomain_id[c] = s.global_index;
-          body_id[c]      = s.body.index;
+          body_id[c]      = s.body.index + 1;
         }
       DataOut<3> data_out;
       data_out.attach_dof_handler(s.dof_handler);

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -74,57 +75,99 @@ namespace FetiContact
     return u;
   }
 
-  std::vector<ForceBalance>
-  compute_force_balance(const MPI_Comm                     comm,
-                        const unsigned int                 n_bodies,
-                        const std::vector<Subdomain *>    &owned,
-                        const std::vector<Vector<double>> &u,
-                        const Mapping<3>                  &mapping,
-                        const std::vector<Tensor<1, 3>>   &contact_forces)
+  namespace
   {
-    // Per subdomain (on the subdomain threads) the applied forces f and the support forces
-    // Ku − f on the prescribed DoFs, then added in the order of the subdomains.
-    std::vector<std::array<double, 6>> of_subdomain(owned.size());
-    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
-      const Subdomain       &s = *owned[i];
-      SparsityPattern        sparsity;
-      SparseMatrix<double>   K;
-      Vector<double>         f, r(s.dof_handler.n_dofs());
-      std::array<double, 6> &local = of_subdomain[i];
-      local.fill(0.0);
+    /** Per subdomain: the sums of compute_force_balance() before they are added up. */
+    struct SubdomainForces
+    {
+      std::array<double, 3> applied{}, support{};
+      /** Σ |f_d|, Σ_{Γ_u} |(K u − f)_d| and Σ_{Γ_u} (|K| |u| + |f|)_d. */
+      double applied_magnitudes = 0, support_magnitudes = 0, support_terms = 0;
+    };
+
+    SubdomainForces
+    forces_of_subdomain(const Subdomain &s, const Vector<double> &u, const Mapping<3> &mapping)
+    {
+      SparsityPattern      sparsity;
+      SparseMatrix<double> K;
+      Vector<double>       f, r(s.dof_handler.n_dofs());
+      SubdomainForces      local;
       assemble_elasticity(s.dof_handler, mapping, s.body.parameters, sparsity, K, f);
-      K.vmult(r, u[i]);
+      K.vmult(r, u);
       r -= f;
       for (unsigned int d = 0; d < f.size(); ++d)
         {
           const unsigned int c = s.dof_component[d];
-          local[c] += f[d];
-          if (s.prescribed[d])
-            local[3 + c] += r[d];
+          local.applied[c] += f[d];
+          local.applied_magnitudes += std::abs(f[d]);
+          if (!s.prescribed[d])
+            continue;
+          local.support[c] += r[d];
+          local.support_magnitudes += std::abs(r[d]);
+          double terms = std::abs(f[d]);
+          for (auto entry = K.begin(d); entry != K.end(d); ++entry)
+            terms += std::abs(entry->value() * u[entry->column()]);
+          local.support_terms += terms;
         }
+      return local;
+    }
+  } // namespace
+
+  std::vector<ForceBalance>
+  compute_force_balance(const MPI_Comm                         comm,
+                        const unsigned int                     n_bodies,
+                        const std::vector<Subdomain *>        &owned,
+                        const std::vector<Vector<double>>     &u,
+                        const Mapping<3>                      &mapping,
+                        const std::vector<ContactForceOnBody> &contact_forces)
+  {
+    // Per subdomain (on the subdomain threads) the applied forces f and the support forces
+    // K u − f on the prescribed DoFs, then added in the order of the subdomains.
+    std::vector<SubdomainForces> of_subdomain(owned.size());
+    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
+      of_subdomain[i] = forces_of_subdomain(*owned[i], u[i], mapping);
     });
     // The subdomains' sums added exactly: the same bits on any number of ranks.
-    std::vector<ExactSum> exact(6 * n_bodies);
+    constexpr unsigned int per_body = 9;
+    std::vector<ExactSum>  exact(per_body * n_bodies);
     for (unsigned int i = 0; i < owned.size(); ++i)
-      for (unsigned int j = 0; j < 6; ++j)
-        exact[6 * owned[i]->body.index + j].add(of_subdomain[i][j]);
+      {
+        const SubdomainForces &local = of_subdomain[i];
+        const auto             sums  = exact.begin() + per_body * owned[i]->body.index;
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            sums[c].add(local.applied[c]);
+            sums[3 + c].add(local.support[c]);
+          }
+        sums[6].add(local.applied_magnitudes);
+        sums[7].add(local.support_magnitudes);
+        sums[8].add(local.support_terms);
+      }
     ExactSum::sum_over_ranks(exact, comm);
-    std::vector<double> sums(6 * n_bodies);
-    for (unsigned int j = 0; j < sums.size(); ++j)
-      sums[j] = exact[j].value();
     std::vector<ForceBalance> balance(n_bodies);
     for (unsigned int b = 0; b < n_bodies; ++b)
       {
+        ForceBalance &fb   = balance[b];
+        const auto    sums = exact.begin() + per_body * b;
         for (unsigned int c = 0; c < 3; ++c)
           {
-            balance[b].applied[c] = sums[6 * b + c];
-            balance[b].support[c] = sums[6 * b + 3 + c];
+            fb.applied[c] = sums[c].value();
+            fb.support[c] = sums[3 + c].value();
           }
+        double contact_magnitudes = 0;
         if (b < contact_forces.size())
-          balance[b].contact = contact_forces[b];
-        const auto  &fb    = balance[b];
-        const double scale = std::max({fb.applied.norm(), fb.support.norm(), fb.contact.norm()});
-        balance[b].relative_imbalance =
+          {
+            fb.contact         = contact_forces[b].force;
+            contact_magnitudes = contact_forces[b].magnitudes;
+          }
+        // The forces that pass through the body; for a body that moves without strain (all
+        // of them rounding), √ε times the terms of K u − f whose sum is its support force,
+        // the accuracy that sum can have.
+        fb.through = sums[6].value() + sums[7].value() + contact_magnitudes;
+        const double attainable =
+          std::sqrt(std::numeric_limits<double>::epsilon()) * sums[8].value();
+        const double scale = std::max(fb.through, attainable);
+        fb.relative_imbalance =
           scale > 0 ? (fb.applied + fb.support + fb.contact).norm() / scale : 0.0;
       }
     return balance;
@@ -189,10 +232,14 @@ namespace FetiContact
         const auto where  = "line " + std::to_string(line_number) + " of '" + file + "'";
         try
           {
-            const unsigned int b = body_column >= 0 ? std::stoul(fields.at(body_column)) : 0;
-            require(b < bodies.size(), where + ": no body " + std::to_string(b) + ".");
-            Point<3>     x;
-            Tensor<1, 3> u;
+            // Bodies are numbered from 1, as the parameter file counts them.
+            const long number = body_column >= 0 ? std::stol(fields.at(body_column)) : 1;
+            require(number >= 1 && number <= long(bodies.size()),
+                    where + ": no body " + std::to_string(number) + " (the scene has bodies 1 to " +
+                      std::to_string(bodies.size()) + ").");
+            const unsigned int b = number - 1;
+            Point<3>           x;
+            Tensor<1, 3>       u;
             for (unsigned int d = 0; d < 3; ++d)
               {
                 x[d] = std::stod(fields.at(columns[d]));

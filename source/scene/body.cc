@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
@@ -399,6 +400,88 @@ namespace FetiContact
     return v;
   }
 
+  std::string
+  FreeRigidMotions::text() const
+  {
+    // Rounded to the decimal place of 1e-3 of @p unit (directions: of 1; points: of the size).
+    const auto rounded = [](const Tensor<1, 3> &v, const double unit) {
+      const double place  = std::pow(10.0, std::floor(std::log10(1e-3 * unit)));
+      const auto   number = [&](const double x) {
+        const double r = std::round(x / place) * place;
+        return InputParsing::number_text(std::abs(r) < place ? 0.0 : r);
+      };
+      return "(" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + ")";
+    };
+    // A direction with its largest component positive.
+    const auto canonical = [](const Tensor<1, 3> &v) {
+      unsigned int largest = 0;
+      for (unsigned int k = 1; k < 3; ++k)
+        if (std::abs(v[k]) > std::abs(v[largest]) + 1e-12)
+          largest = k;
+      return v[largest] < 0 ? -v : v;
+    };
+    // The motions are v(x) = t + ω × (x − c)/L. The combinations of the columns without
+    // rotation (the kernel of Ω = their ω's) are the free translations; the others, with their
+    // translation part orthogonal to the free translations, are rotations about an axis.
+    const unsigned int r = n();
+    if (r == 0)
+      return "";
+    LAPACKFullMatrix<double> OtO(r, r);
+    for (unsigned int i = 0; i < r; ++i)
+      for (unsigned int j = 0; j < r; ++j)
+        for (unsigned int k = 3; k < 6; ++k)
+          OtO(i, j) += coefficients(k, i) * coefficients(k, j);
+    Vector<double>     weights;
+    FullMatrix<double> combinations;
+    OtO.compute_eigenvalues_symmetric(-1.0, 2.0 * r + 1.0, 1e-14, weights, combinations);
+    const auto motion = [&](const unsigned int j, Tensor<1, 3> &t, Tensor<1, 3> &omega) {
+      t = omega = Tensor<1, 3>();
+      for (unsigned int i = 0; i < r; ++i)
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            t[k] += coefficients(k, i) * combinations(i, j);
+            omega[k] += coefficients(k + 3, i) * combinations(i, j);
+          }
+    };
+    std::vector<Tensor<1, 3>> translations; // orthonormal
+    std::vector<std::string>  rotations;
+    for (unsigned int j = 0; j < weights.size(); ++j)
+      if (weights[j] < 1e-10)
+        {
+          Tensor<1, 3> t, omega;
+          motion(j, t, omega);
+          for (const auto &e : translations)
+            t -= (t * e) * e;
+          if (t.norm() > 1e-8)
+            translations.push_back(t / t.norm());
+        }
+    for (unsigned int j = 0; j < weights.size(); ++j)
+      if (weights[j] >= 1e-10)
+        {
+          Tensor<1, 3> t, omega;
+          motion(j, t, omega);
+          for (const auto &e : translations)
+            t -= (t * e) * e;
+          const Tensor<1, 3> axis = canonical(omega / omega.norm());
+          const Point<3>     through =
+            centre + length * cross_product_3d(omega, t) / omega.norm_square();
+          rotations.push_back(
+            "rotation about " + rounded(axis, 1) + " through " + rounded(through, length) +
+            (std::abs(t * axis) > 1e-6 * omega.norm() ? " with a translation along it" : ""));
+        }
+    std::string text;
+    if (translations.size() == 3)
+      text = "translations in every direction";
+    else if (translations.size() == 2)
+      text = "translations normal to " +
+             rounded(canonical(cross_product_3d(translations[0], translations[1])), 1);
+    else if (translations.size() == 1)
+      text = "translation along " + rounded(canonical(translations[0]), 1);
+    for (const auto &rotation : rotations)
+      text += (text.empty() ? "" : "; ") + rotation;
+    return text;
+  }
+
   FreeRigidMotions
   Body::free_rigid_motions() const
   {
@@ -533,13 +616,14 @@ namespace FetiContact
   void
   Body::check_held() const
   {
-    const unsigned int n_free = free_rigid_motions().n();
-    require(n_free == 0,
-            "Body '" + parameters.name + "' is not held: its prescribed displacements leave " +
-              std::to_string(n_free) +
-              " rigid body motion(s) free and the scene has no contact, so the linear elastic "
-              "problem has no unique solution (equilibrium of the loads is not guaranteed). "
-              "Clamp or prescribe displacements on a larger part of its boundary.");
+    const FreeRigidMotions free = free_rigid_motions();
+    if (free.n() > 0)
+      throw InputError(
+        "Body '" + parameters.name + "' is not held: its prescribed displacements leave " +
+        std::to_string(free.n()) + " rigid body motion(s) free (" + free.text() +
+        ") and no contact zone holds it, so the linear elastic problem has no unique "
+        "solution (equilibrium of the loads is not guaranteed). Clamp or prescribe "
+        "displacements on a larger part of its boundary, or add a contact zone.");
   }
 
   unsigned int

@@ -76,7 +76,7 @@ namespace FetiContact::Parameters
   }
 
   void
-  Mesh::parse_parameters(ParameterHandler &prm, const std::string &base_directory)
+  Mesh::parse_parameters(ParameterHandler &prm, const EntryOrigins &origins)
   {
     prm.enter_subsection("Mesh");
     type = prm.get("Type") == "box" ? Type::box : Type::gmsh;
@@ -126,14 +126,19 @@ namespace FetiContact::Parameters
       }
     else
       {
-        file = InputParsing::trim(prm.get("File"));
-        require(!file.empty(), ("Mesh: 'Type = gmsh' needs 'File'."));
-        if (std::filesystem::path(file).is_relative() && !base_directory.empty())
-          file = (std::filesystem::path(base_directory) / file).string();
+        const std::string given = InputParsing::trim(prm.get("File"));
+        require(!given.empty(), ("Mesh: 'Type = gmsh' needs 'File'."));
+        file = origins.resolve("Mesh/File", given);
+        std::error_code   error;
+        const std::string tried =
+          std::filesystem::absolute(file, error).lexically_normal().string();
         require(!std::filesystem::is_directory(file),
-                ("Mesh/File: <" + file + "> is a folder, not a mesh file."));
+                "Mesh/File: <" + tried + "> is a folder, not a mesh file.");
         require(std::filesystem::is_regular_file(file),
-                ("Mesh/File: the mesh file <" + file + "> does not exist."));
+                "Mesh/File: the mesh file <" + given + ">" + origins.where("Mesh/File") +
+                  " does not exist: looked for <" + tried +
+                  "> (a relative path is taken from the folder of the parameter file that "
+                  "names it).");
       }
     prm.leave_subsection();
   }
@@ -377,10 +382,10 @@ namespace FetiContact::Parameters
   }
 
   void
-  Body::parse_parameters(ParameterHandler &prm, const std::string &base_directory)
+  Body::parse_parameters(ParameterHandler &prm, const EntryOrigins &origins)
   {
     name = InputParsing::trim(prm.get("Name"));
-    mesh.parse_parameters(prm, base_directory);
+    mesh.parse_parameters(prm, origins);
     material.parse_parameters(prm);
     boundary_conditions.parse_parameters(prm);
     decomposition.parse_parameters(prm);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 namespace FetiContact::Parameters
@@ -106,14 +107,19 @@ namespace FetiContact::Parameters
       return found;
     }
 
+    /** The folder against which the relative paths named in @p filename are taken. */
+    std::filesystem::path
+    folder_of(const std::string &filename)
+    {
+      return ParameterFileText::is_unrepeatable(filename) ?
+               std::filesystem::path() :
+               std::filesystem::path(filename).parent_path();
+    }
+
     void
     expand(const std::string &filename, std::vector<std::string> &stack, ParameterFileText &result)
     {
-      check_text_file(filename, "parameter file");
-      std::ifstream in(filename);
-      require(static_cast<bool>(in), "Cannot open the parameter file <" + filename + ">.");
-      std::stringstream buffer;
-      buffer << in.rdbuf();
+      std::stringstream buffer(ParameterFileText::bytes_of(filename, "parameter file"));
 
       std::error_code   error;
       const std::string canonical = std::filesystem::weakly_canonical(filename, error).string();
@@ -147,7 +153,7 @@ namespace FetiContact::Parameters
               const auto  hash   = target.find('#');
               if (hash != std::string::npos)
                 target = InputParsing::trim(target.substr(0, hash));
-              const auto beside = std::filesystem::path(filename).parent_path() / target;
+              const auto beside = folder_of(filename) / target;
               if (std::filesystem::exists(beside))
                 target = beside.string();
               const std::string target_canonical =
@@ -170,6 +176,93 @@ namespace FetiContact::Parameters
     }
   } // namespace
 
+  namespace
+  {
+    /** The bytes of the files read once (not regular files), by the name they were given. */
+    std::map<std::string, std::string> &
+    kept_bytes()
+    {
+      static std::map<std::string, std::string> kept;
+      return kept;
+    }
+
+    /** check_text_file() on the first bytes @p head of @p file. */
+    void
+    check_text_head(const std::string &head, const std::string &file, const std::string &what);
+  } // namespace
+
+  bool
+  ParameterFileText::is_unrepeatable(const std::string &filename)
+  {
+    // A pipe or FIFO; or the standard input by name, which under mpirun only rank 0 has.
+    const auto under = [&](const std::string &folder) {
+      return filename.compare(0, folder.size(), folder) == 0;
+    };
+    return kept_bytes().count(filename) > 0 ||
+           (std::filesystem::exists(filename) && !std::filesystem::is_regular_file(filename) &&
+            !std::filesystem::is_directory(filename)) ||
+           under("/dev/stdin") || under("/dev/fd/") || under("/proc/");
+  }
+
+  std::string
+  ParameterFileText::bytes_of(const std::string &filename, const std::string &what)
+  {
+    const auto kept = kept_bytes().find(filename);
+    if (kept == kept_bytes().end())
+      {
+        require(!std::filesystem::is_directory(filename),
+                "The " + what + " <" + filename + "> is a folder, not a file.");
+        std::ifstream   in(filename, std::ios::binary);
+        std::error_code error;
+        require(static_cast<bool>(in),
+                "Cannot open the " + what + " <" + filename + "> (looked for at <" +
+                  std::filesystem::absolute(filename, error).lexically_normal().string() + ">).");
+        std::stringstream buffer;
+        buffer << in.rdbuf();
+        if (!is_unrepeatable(filename))
+          {
+            check_text_head(buffer.str().substr(0, 4096), filename, what);
+            return buffer.str();
+          }
+        kept_bytes()[filename] = buffer.str();
+      }
+    const std::string &bytes = kept_bytes()[filename];
+    check_text_head(bytes.substr(0, 4096), filename, what);
+    return bytes;
+  }
+
+  std::string
+  ParameterFileText::kept_text(const std::string &filename)
+  {
+    const auto kept = kept_bytes().find(filename);
+    return kept == kept_bytes().end() ? "" : kept->second;
+  }
+
+  void
+  ParameterFileText::share_unrepeatable(const MPI_Comm comm, const std::string &filename)
+  {
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    // The decision is rank 0's: under mpirun the others' standard input is /dev/null.
+    int unrepeatable = rank == 0 && is_unrepeatable(filename);
+    MPI_Bcast(&unrepeatable, 1, MPI_INT, 0, comm);
+    if (!unrepeatable)
+      return;
+    std::string bytes;
+    if (rank == 0)
+      {
+        std::ifstream     in(filename, std::ios::binary);
+        std::stringstream buffer;
+        buffer << in.rdbuf();
+        bytes = buffer.str();
+      }
+    unsigned long long size = bytes.size();
+    MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+    bytes.resize(size);
+    MPI_Bcast(bytes.data(), int(size), MPI_CHAR, 0, comm);
+    kept_bytes()[filename] = bytes;
+  }
+
   void
   check_text_file(const std::string &file, const std::string &what)
   {
@@ -181,22 +274,32 @@ namespace FetiContact::Parameters
     std::string head(4096, '\0');
     in.read(head.data(), head.size());
     head.resize(in.gcount());
-    const auto starts = [&](const std::string &bytes) {
-      return head.compare(0, bytes.size(), bytes) == 0;
-    };
-    require(!starts("\xEF\xBB\xBF"),
-            "The " + what + " <" + file +
-              "> starts with a UTF-8 byte-order mark: save it as plain UTF-8 or ASCII text "
-              "without one.");
-    require(!starts("\xFF\xFE") && !starts("\xFE\xFF"),
-            "The " + what + " <" + file +
-              "> is UTF-16 text (it starts with a UTF-16 byte-order mark): save it as UTF-8 or "
-              "ASCII text.");
-    const auto nul = head.find('\0');
-    require(nul == std::string::npos,
-            "The " + what + " <" + file + "> contains a NUL byte at offset " + std::to_string(nul) +
-              ": it is not 8-bit text (UTF-16 without a byte-order mark, or a binary file).");
+    check_text_head(head, file, what);
   }
+
+  namespace
+  {
+    void
+    check_text_head(const std::string &head, const std::string &file, const std::string &what)
+    {
+      const auto starts = [&](const std::string &bytes) {
+        return head.compare(0, bytes.size(), bytes) == 0;
+      };
+      require(!starts("\xEF\xBB\xBF"),
+              "The " + what + " <" + file +
+                "> starts with a UTF-8 byte-order mark: save it as plain UTF-8 or ASCII text "
+                "without one.");
+      require(!starts("\xFF\xFE") && !starts("\xFE\xFF"),
+              "The " + what + " <" + file +
+                "> is UTF-16 text (it starts with a UTF-16 byte-order mark): save it as UTF-8 or "
+                "ASCII text.");
+      const auto nul = head.find('\0');
+      require(nul == std::string::npos,
+              "The " + what + " <" + file + "> contains a NUL byte at offset " +
+                std::to_string(nul) +
+                ": it is not 8-bit text (UTF-16 without a byte-order mark, or a binary file).");
+    }
+  } // namespace
 
   ParameterFileText
   ParameterFileText::read(const std::string &filename)
@@ -218,5 +321,71 @@ namespace FetiContact::Parameters
       if (e.key == subsection_path + "/" + entry)
         value = e.value;
     return value;
+  }
+
+  std::set<std::string>
+  ParameterFileText::subsections(const std::string &text)
+  {
+    std::set<std::string>    found;
+    std::vector<std::string> path;
+    for (const auto &l : logical_lines(text))
+      if (starts_with_keyword(l.text, "subsection"))
+        {
+          path.push_back(normalized(l.text.substr(10)));
+          std::string joined;
+          for (const auto &p : path)
+            joined += (joined.empty() ? "" : "/") + p;
+          found.insert(joined);
+        }
+      else if (l.text == "end" && !path.empty())
+        path.pop_back();
+    return found;
+  }
+
+  EntryOrigins::EntryOrigins(const ParameterFileText &file, const std::string &text_with_overrides)
+  {
+    auto map = std::make_shared<std::map<std::string, std::pair<std::string, unsigned int>>>();
+    for (const auto &e : entries(text_with_overrides))
+      if (e.line >= 1 && e.line <= file.origin.size())
+        (*map)[e.key] = file.origin[e.line - 1];
+      else
+        map->erase(e.key); // a --set option: the working directory
+    origin = map;
+  }
+
+  EntryOrigins
+  EntryOrigins::in(const std::string &subsection) const
+  {
+    EntryOrigins scoped = *this;
+    scoped.prefix += subsection + "/";
+    return scoped;
+  }
+
+  const std::pair<std::string, unsigned int> *
+  EntryOrigins::find(const std::string &key) const
+  {
+    if (!origin)
+      return nullptr;
+    const auto it = origin->find(prefix + key);
+    return it == origin->end() ? nullptr : &it->second;
+  }
+
+  std::string
+  EntryOrigins::resolve(const std::string &key, const std::string &value) const
+  {
+    const std::filesystem::path path(value);
+    const auto                 *set_in = find(key);
+    if (path.is_absolute() || path.empty() || set_in == nullptr)
+      return value;
+    return (folder_of(set_in->first) / path).string();
+  }
+
+  std::string
+  EntryOrigins::where(const std::string &key) const
+  {
+    const auto *set_in = find(key);
+    if (set_in == nullptr)
+      return "";
+    return " (set in <" + set_in->first + ">, line " + std::to_string(set_in->second) + ")";
   }
 } // namespace FetiContact::Parameters

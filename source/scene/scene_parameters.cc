@@ -37,7 +37,7 @@ namespace FetiContact::Parameters
   }
 
   void
-  Scene::parse_parameters(ParameterHandler &prm, const std::string &base_directory)
+  Scene::parse_parameters(ParameterHandler &prm, const EntryOrigins &origins)
   {
     const unsigned int n_bodies = prm.get_integer("Number of bodies");
     bodies.resize(n_bodies);
@@ -47,7 +47,7 @@ namespace FetiContact::Parameters
         prm.enter_subsection(section);
         try
           {
-            bodies[b].parse_parameters(prm, base_directory);
+            bodies[b].parse_parameters(prm, origins.in(section));
           }
         catch (const InputError &e)
           {
@@ -61,7 +61,7 @@ namespace FetiContact::Parameters
     contact_solver.parse_parameters(prm);
     feti.parse_parameters(prm);
     output.parse_parameters(prm);
-    verification.parse_parameters(prm);
+    verification.parse_parameters(prm, origins.in("Verification"));
     refinement_study.parse_parameters(prm);
     if (verification.hertz.enabled)
       {
@@ -202,6 +202,45 @@ namespace FetiContact::Parameters
       return "";
     }
 
+    /**
+     * Throws InputError unless @p text (of @p filename and the --set options) opens a
+     * `subsection Body N` for every body that `Number of bodies` announces and a `subsection
+     * Contact / subsection Zone N` for every zone that `Contact/Number of zones` announces: a
+     * body or zone is never made of defaults.
+     */
+    void
+    require_announced_subsections(const std::string &text,
+                                  const std::string &filename,
+                                  const unsigned int n_bodies,
+                                  const unsigned int n_zones)
+    {
+      const auto written = ParameterFileText::subsections(text);
+      const auto missing =
+        [&](const std::string &prefix, const std::string &name, const unsigned int count) {
+          std::vector<std::string> absent;
+          for (unsigned int i = 1; i <= count; ++i)
+            if (written.count(prefix + name + " " + std::to_string(i)) == 0)
+              absent.push_back("'" + name + " " + std::to_string(i) + "'");
+          std::string list;
+          for (unsigned int k = 0; k < absent.size(); ++k)
+            list += (k == 0 ? "" : k + 1 == absent.size() ? " and " : ", ") + absent[k];
+          return std::make_pair(absent.size(), list);
+        };
+      const auto [bodies_missing, bodies] = missing("", "Body", n_bodies);
+      require(bodies_missing == 0,
+              "Parameter file <" + filename + ">: 'Number of bodies = " + std::to_string(n_bodies) +
+                "' announces " + std::to_string(n_bodies) + (n_bodies == 1 ? " body" : " bodies") +
+                ", but the file has no subsection " + bodies +
+                " (every body is described in its own subsection; none is made of defaults).");
+      const auto [zones_missing, zones] = missing("Contact/", "Zone", n_zones);
+      require(zones_missing == 0,
+              "Parameter file <" + filename +
+                ">: 'Contact/Number of zones = " + std::to_string(n_zones) + "' announces " +
+                std::to_string(n_zones) + (n_zones == 1 ? " contact zone" : " contact zones") +
+                ", but 'subsection Contact' has no subsection " + zones +
+                " (every zone is described in its own subsection; none is made of defaults).");
+    }
+
     /** The --set options as parameter-file text, to be appended to the file. */
     std::string
     overrides_text(const std::vector<std::string> &overrides)
@@ -255,7 +294,7 @@ namespace FetiContact::Parameters
     }
   } // namespace
 
-  void
+  EntryOrigins
   Scene::read_parameter_file(ParameterHandler               &prm,
                              const std::string              &filename,
                              const std::vector<std::string> &overrides,
@@ -316,6 +355,7 @@ namespace FetiContact::Parameters
       first.leave_subsection();
     }
 
+    require_announced_subsections(text, filename, n_bodies, n_zones);
     declare_parameters(prm, n_bodies, n_zones);
     try
       {
@@ -325,6 +365,7 @@ namespace FetiContact::Parameters
       {
         throw InputError(describe(e) + hint_for_unknown_entry(e.what()));
       }
+    return EntryOrigins(file, text);
   }
 
   std::string
@@ -339,11 +380,17 @@ namespace FetiContact::Parameters
       {
         // A file that fails its checks (encoding, include cycle) still names its directory.
         std::ifstream in(filename, std::ios::binary);
-        if (!std::filesystem::is_regular_file(filename) || !in)
+        if (ParameterFileText::is_unrepeatable(filename))
+          text = ParameterFileText::kept_text(filename);
+        else if (std::filesystem::is_regular_file(filename) && in)
+          {
+            std::stringstream raw;
+            raw << in.rdbuf();
+            text = raw.str();
+          }
+        else
           return "";
-        std::stringstream raw;
-        raw << in.rdbuf();
-        text = raw.str() + "\n" + overrides_text(overrides);
+        text += "\n" + overrides_text(overrides);
       }
     Output defaults;
     return ParameterFileText::last_value(text, "Output", "Directory", defaults.directory);

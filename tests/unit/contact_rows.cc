@@ -60,7 +60,7 @@ namespace
       Parameters::Scene::declare_parameters(prm, 1, n_zones);
       prm.parse_input_from_string(brick_text("set Method = blocks\nset Blocks = 3, 2, 2") +
                                   contact);
-      scene.parse_parameters(prm, "");
+      scene.parse_parameters(prm);
       bodies.push_back(std::make_unique<Body>(scene.bodies[0], 0));
       bodies[0]->setup();
     }

@@ -78,8 +78,7 @@ namespace
   {
     ParameterHandler  prm;
     Parameters::Scene scene;
-    Parameters::Scene::read_parameter_file(prm, file, overrides);
-    scene.parse_parameters(prm, std::filesystem::path(file).parent_path().string());
+    scene.parse_parameters(prm, Parameters::Scene::read_parameter_file(prm, file, overrides));
     return scene;
   }
 
@@ -176,7 +175,7 @@ namespace
     Parameters::Scene::declare_parameters(prm, 1, 1);
     prm.parse_input_from_string(text);
     Parameters::Scene scene;
-    scene.parse_parameters(prm, "");
+    scene.parse_parameters(prm);
     const auto bodies  = distributed_bodies(scene, comm);
     const auto refusal = [&](const bool home_nodes) {
       try

@@ -45,7 +45,7 @@ scene_from_text(const std::string &text)
   FetiContact::Parameters::Scene::declare_parameters(prm, 1);
   prm.parse_input_from_string(text);
   FetiContact::Parameters::Scene scene;
-  scene.parse_parameters(prm, "");
+  scene.parse_parameters(prm);
   return scene;
 }
 

@@ -38,8 +38,10 @@ namespace FetiContact
   {
     double peak_mib      = 0; ///< the model's peak resident memory per rank
     double available_mib = 0; ///< what this node's ranks can still use, per rank
-    double cells         = 0; ///< Σ C_b
-    double factor_units  = 0; ///< the factor term's Σ before its coefficient, per rank
+    /** What limits available_mib: the machine's MemAvailable or a memory cgroup (this rank's). */
+    std::string available_source;
+    double      cells        = 0; ///< Σ C_b
+    double      factor_units = 0; ///< the factor term's Σ before its coefficient, per rank
     /** The fraction of the subdivisions (boxes) or of the cells (Gmsh) that would fit; 0 if none.
      */
     double       fitting_scale = 1;

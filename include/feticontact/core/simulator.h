@@ -8,6 +8,7 @@
 
 #include <feticontact/base/output_files.h>
 #include <feticontact/base/tee_stream.h>
+#include <feticontact/contact/contact_forces.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
 #include <feticontact/contact/load_balance.h>
@@ -132,9 +133,26 @@ namespace FetiContact
      */
     void
     test_load_balance();
-    /** The message of a load balance proved impossible. */
-    static std::string
-    no_equilibrium_message(const LoadBalance &balance, const bool tresca);
+    /**
+     * The message of a load balance proved impossible, with the slave vertices that the contact
+     * search left without a master (uncoupled_vertices_text()).
+     */
+    std::string
+    no_equilibrium_message(const LoadBalance &balance, const bool tresca) const;
+    /**
+     * Throws InputError naming the body and its free rigid motions if a body that only contact
+     * could hold has no contact node (as slave or master): the coarse problem would be singular.
+     * Collective.
+     */
+    void
+    check_bodies_held_by_contact() const;
+    /**
+     * For a message of no equilibrium: per zone whose search left slave vertices without a
+     * master (or an obstacle) within its search distance, their number and the distance; "" if
+     * none.
+     */
+    std::string
+    uncoupled_vertices_text() const;
     /** Writes the summary of a run that stops without equilibrium before the solve. */
     bool
     stop_without_equilibrium();
@@ -221,10 +239,10 @@ namespace FetiContact
       /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
       double vertex_penetration = 0;
       /** The entries of λ not finite. */
-      unsigned int                      lambda_not_finite = 0;
-      std::vector<ContactNodeResult>    contact_results;
-      ContactCheck                      contact_check;
-      std::vector<dealii::Tensor<1, 3>> contact_forces;
+      unsigned int                   lambda_not_finite = 0;
+      std::vector<ContactNodeResult> contact_results;
+      ContactCheck                   contact_check;
+      ContactForces                  contact_forces;
     };
     Evaluation
     evaluate_solution() const;
@@ -344,9 +362,11 @@ namespace FetiContact
     /** Time in and number of applications of F up to the end of the solve. */
     double solve_F_time = 0;
     /** Wall time of the contact search, the mortar integrals and the contact rows (in setup). */
-    double       contact_rows_time    = 0;
-    double       solve_F_local_time   = 0;
-    unsigned int solve_F_applications = 0;
+    double contact_rows_time = 0;
+    /** What the contact search found per zone (counts over all ranks). */
+    std::vector<ZoneReport> zone_reports;
+    double                  solve_F_local_time   = 0;
+    unsigned int            solve_F_applications = 0;
     /** Time in and number of applications of the lumped preconditioner (part of the solve). */
     double       solve_preconditioner_time         = 0;
     unsigned int solve_preconditioner_applications = 0;

@@ -7,6 +7,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/output_files.h>
+#include <feticontact/contact/contact_forces.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_results.h>
 #include <feticontact/contact/contact_rows.h>
@@ -67,8 +68,8 @@ namespace FetiContact::Postprocessing
     const std::vector<ContactNodeResult> &contact_results;
     /** The contact conditions checked from u and the forces (the penetration of every vertex). */
     const ContactCheck &contact_check;
-    /** The force of the contacts on each body. */
-    const std::vector<dealii::Tensor<1, 3>> &contact_forces;
+    /** The forces of the contacts on each body and the resultant of each zone. */
+    const ContactForces &contact_forces;
     /** Verification/Reference displacements, by body and vertex (empty: none). */
     const std::optional<VertexDisplacements> &reference_displacements;
     const dealii::Mapping<3>                 &mapping;

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <feticontact/scene/parameter_file.h>
+
 #include <string>
 
 namespace FetiContact::Parameters
@@ -74,7 +76,11 @@ namespace FetiContact::Parameters
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
+    /**
+     * Reads `subsection Verification`; a relative path of the reference displacements is taken
+     * from the folder of the parameter file that names it (@p origins of this subsection).
+     */
     void
-    parse_parameters(dealii::ParameterHandler &prm);
+    parse_parameters(dealii::ParameterHandler &prm, const EntryOrigins &origins);
   };
 } // namespace FetiContact::Parameters

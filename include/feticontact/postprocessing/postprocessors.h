@@ -13,10 +13,14 @@
 namespace FetiContact::Postprocessing
 {
   /**
-   * The constraints of the solution: the interface jump (summary.json: interface_jump) and the
+   * The constraints of the solution: the interface jump (summary.json: interface_jump), the
    * displacements and multipliers that are not finite numbers (values_not_finite), which refute
    * the solution: overflow gives infinities and NaNs, which every later comparison would let
-   * pass.
+   * pass; and the largest strain (largest_strain), which refutes it above 0.1: the program
+   * solves linear elasticity and contact linearized about the initial geometry (small strain),
+   * and larger strains (loads or moduli in other units, a body pushed through its obstacle)
+   * have no meaning there. It runs before the contact conditions, so that a run out of small
+   * strain is reported as such and not as a penetration.
    */
   class ConstraintCheck : public Interface
   {

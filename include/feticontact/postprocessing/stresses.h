@@ -10,6 +10,12 @@
 
 namespace FetiContact
 {
+  /** The strain ε = sym ∇u of every cell of a subdomain (constant per cell for P1 elements). */
+  std::vector<dealii::SymmetricTensor<2, 3>>
+  cell_strains(const Subdomain              &subdomain,
+               const dealii::Mapping<3>     &mapping,
+               const dealii::Vector<double> &u);
+
   /**
    * The Cauchy stress σ = λ tr(ε) I + 2μ ε of every cell of a subdomain (constant per cell for
    * P1 elements), by active cell index.

@@ -5,6 +5,7 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/vector.h>
 
+#include <feticontact/contact/contact_forces.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -95,16 +96,26 @@ namespace FetiContact
     dealii::Tensor<1, 3> support;
     /** The force of the contacts on the body (given by the caller). */
     dealii::Tensor<1, 3> contact;
-    /** ‖applied + support + contact‖ / the largest of the three norms. */
+    /**
+     * The forces that pass through the body: the sum of the absolute values of the components
+     * of its nodal applied, support and contact forces. A body in the middle of a stack, whose
+     * net contact force is nearly 0, passes the forces of both its contacts.
+     */
+    double through = 0;
+    /**
+     * ‖applied + support + contact‖ / #through; for a body that moves without strain (#through
+     * of the size of rounding), relative to √ε Σ_{Γ_u} (|K| |u| + |f|), the accuracy its
+     * support force can have.
+     */
     double relative_imbalance = 0;
   };
 
-  /** @p contact_forces: the contact force on each body (empty: none). */
+  /** @p contact_forces: the contact forces on each body (empty: none). */
   std::vector<ForceBalance>
   compute_force_balance(const MPI_Comm                             comm,
                         const unsigned int                         n_bodies,
                         const std::vector<Subdomain *>            &owned,
                         const std::vector<dealii::Vector<double>> &u,
                         const dealii::Mapping<3>                  &mapping,
-                        const std::vector<dealii::Tensor<1, 3>>   &contact_forces = {});
+                        const std::vector<ContactForceOnBody>     &contact_forces = {});
 } // namespace FetiContact

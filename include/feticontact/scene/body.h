@@ -39,6 +39,14 @@ namespace FetiContact
     /** v_j(x), the free motion @p j at @p x. */
     dealii::Tensor<1, 3>
     value(const unsigned int j, const dealii::Point<3> &x) const;
+
+    /**
+     * The free motions as text for a message: each a translation along a direction, or a
+     * rotation about an axis through a point (with a translation along that axis if it has one),
+     * e.g. "translation along (1, 0, 0); rotation about (0, 0, 1) through (0.5, 0.5, 0)".
+     */
+    std::string
+    text() const;
   };
 
   /**

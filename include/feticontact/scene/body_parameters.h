@@ -5,6 +5,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <feticontact/scene/boundary_selector.h>
+#include <feticontact/scene/parameter_file.h>
 
 #include <array>
 #include <optional>
@@ -44,13 +45,17 @@ namespace FetiContact::Parameters
      */
     dealii::Point<3> focus;
 
-    /** Gmsh file (`.msh`); boundary ids are the physical tags of its triangles. */
+    /**
+     * Gmsh file (`.msh`); boundary ids are the physical tags of its triangles. A relative path is
+     * taken from the folder of the parameter file that names it.
+     */
     std::string file;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
+    /** Reads `subsection Mesh`; @p origins are those of the body's subsection. */
     void
-    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+    parse_parameters(dealii::ParameterHandler &prm, const EntryOrigins &origins);
   };
 
   /** `subsection Material`: isotropic linear elasticity. */
@@ -163,7 +168,8 @@ namespace FetiContact::Parameters
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
+    /** Reads the body's subsection; @p origins are those of that subsection. */
     void
-    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+    parse_parameters(dealii::ParameterHandler &prm, const EntryOrigins &origins);
   };
 } // namespace FetiContact::Parameters

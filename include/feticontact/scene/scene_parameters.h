@@ -48,8 +48,12 @@ namespace FetiContact::Parameters
     declare_parameters(dealii::ParameterHandler &prm,
                        const unsigned int        n_bodies,
                        const unsigned int        n_zones = 0);
+    /**
+     * Reads the scene from @p prm; file names in entries are found next to the parameter file
+     * that set them (@p origins, from read_parameter_file()).
+     */
     void
-    parse_parameters(dealii::ParameterHandler &prm, const std::string &base_directory);
+    parse_parameters(dealii::ParameterHandler &prm, const EntryOrigins &origins = {});
 
     /**
      * Reads @p filename into @p prm: first `Number of bodies` and `Contact/Number of zones`
@@ -60,9 +64,10 @@ namespace FetiContact::Parameters
      * @p overrides ("Body 1/Mesh/Subdivisions=24, 8, 8", from the command line option --set)
      * are applied after the file, as if appended to it. `include` lines are expanded first
      * (ParameterFileText); its warnings (an entry set twice in one subsection of one file) are
-     * appended to @p warnings if given.
+     * appended to @p warnings if given. Every body and zone that the counts announce must have
+     * its subsection. Returns where each entry was set.
      */
-    static void
+    static EntryOrigins
     read_parameter_file(dealii::ParameterHandler       &prm,
                         const std::string              &filename,
                         const std::vector<std::string> &overrides = {},

@@ -72,6 +72,7 @@ namespace FetiContact::Parameters
                       Patterns::Anything(),
                       "Gmsh: the mesh file (.msh, relative to the parameter file's folder). "
                       "Tetrahedra only; boundary ids are the physical tags of its triangles.");
+    MeshTransform::declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -135,6 +136,7 @@ namespace FetiContact::Parameters
         require(std::filesystem::is_regular_file(file),
                 ("Mesh/File: the mesh file <" + file + "> does not exist."));
       }
+    transform.parse_parameters(prm);
     prm.leave_subsection();
   }
 

@@ -5,6 +5,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <feticontact/scene/boundary_selector.h>
+#include <feticontact/scene/mesh_transform.h>
 
 #include <array>
 #include <optional>
@@ -46,6 +47,9 @@ namespace FetiContact::Parameters
 
     /** Gmsh file (`.msh`); boundary ids are the physical tags of its triangles. */
     std::string file;
+
+    /** The rigid motion from the body's own frame (the above) to the scene. */
+    MeshTransform transform;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -11,7 +11,7 @@ e_max = max_v |u − u_ref| / max_v |u_ref|, e_energy = ‖u − u_ref‖_K / �
 (feticontact's Verification/Reference displacements), the contact nodes whose open/stick/slip
 status differs from the reference, MSA steps and Hessian multiplications n_A.
 Part 2: every preset on the scenes with mortar zones (prm/hertz_two_bodies.prm,
-prm/cattaneo_mindlin_pair.prm, prm/two_blocks_nonmatching.prm, tests/scenes/hemisphere_on_plate.prm):
+prm/cattaneo_mindlin_pair.prm, prm/two_blocks_nonmatching.prm, tests/scenes/hemisphere_pushed_sideways.prm):
 exit status, MSA steps, n_A. Counts do not depend on the machine. Standard library only.
 """
 import csv
@@ -88,7 +88,7 @@ def brick(exe, prm_dir, k, work):
 def mortar(exe, prm_dir, scenes_dir, work):
     scenes = [os.path.join(prm_dir, n) for n in
               ("hertz_two_bodies.prm", "cattaneo_mindlin_pair.prm", "two_blocks_nonmatching.prm")]
-    scenes.append(os.path.join(scenes_dir, "hemisphere_on_plate.prm"))
+    scenes.append(os.path.join(scenes_dir, "hemisphere_pushed_sideways.prm"))
     lines = ["| scene | " + " | ".join(PRESETS) + " |", "|---|" + "---|" * len(PRESETS)]
     for prm in scenes:
         cells = []

@@ -102,15 +102,39 @@ namespace FetiContact
      */
     struct Surface
     {
-      std::map<unsigned int, SurfaceVertex>    vertex;
-      std::map<unsigned int, Tensor<1, 3>>     normal_sum;
-      std::map<unsigned int, double>           area; ///< a third of each adjacent triangle
-      double                                   mean_edge = 0;
-      std::vector<std::array<unsigned int, 3>> triangles;
-      std::vector<Tensor<1, 3>>                outward; ///< per triangle, area-weighted
-      std::vector<unsigned int>                part;    ///< per triangle, the part of its cell
+      std::map<unsigned int, SurfaceVertex> vertex;
+      std::map<unsigned int, Tensor<1, 3>>  normal_sum;
+      std::map<unsigned int, double>        area; ///< a third of each adjacent triangle
+      /** The sum of the edge lengths of the triangles at each vertex, and their number. */
+      std::map<unsigned int, std::pair<double, unsigned int>> edges_at;
+      double                                                  mean_edge = 0;
+      std::vector<std::array<unsigned int, 3>>                triangles;
+      std::vector<Tensor<1, 3>> outward; ///< per triangle, area-weighted
+      std::vector<unsigned int> part;    ///< per triangle, the part of its cell
       /** Per triangle: whether this rank holds its cell (each triangle is own on one rank). */
       std::vector<bool> own;
+
+      /**
+       * The local mesh size at @p v: the mean length of the edges of the triangles around it
+       * (complete at the vertices whose nodes this rank finds).
+       */
+      double
+      local_edge(const unsigned int v) const
+      {
+        const auto &[length, count] = edges_at.at(v);
+        return length / (3 * count);
+      }
+
+      /**
+       * The depth up to which the node at vertex @p v that starts inside an obstacle or the
+       * master body counts as touching it (its gap is 0): touching_fraction times the local
+       * mesh size. Deeper, the bodies overlap before any load.
+       */
+      double
+      touching_depth(const unsigned int v) const
+      {
+        return touching_fraction * local_edge(v);
+      }
 
       /**
        * Appends the triangles this rank holds to @p list as triangles of zone @p zone on body
@@ -347,6 +371,9 @@ namespace FetiContact
                 }
               s.normal_sum[face.vertex[v]] += face.area_normal;
               s.area[face.vertex[v]] += face.area_normal.norm() / 3;
+              auto &[length, count] = s.edges_at[face.vertex[v]];
+              length += face.edges;
+              ++count;
             }
           s.triangles.push_back(face.vertex);
           s.outward.push_back(face.area_normal);
@@ -547,20 +574,39 @@ namespace FetiContact
 
   namespace
   {
-    /** The gap and normal of @p node towards a rigid plane: χ(x) is its orthogonal projection. */
+    /**
+     * The text that tells how deep a node may start inside: the touching depth at vertex @p v of
+     * @p slave and the local mesh size it is relative to.
+     */
+    std::string
+    touching_text(const Surface &slave, const unsigned int v)
+    {
+      return InputParsing::number_text(slave.touching_depth(v)) + " (" +
+             InputParsing::number_text(touching_fraction) + " of the local mesh size " +
+             InputParsing::number_text(slave.local_edge(v)) + ")";
+    }
+
+    /**
+     * The gap and normal of @p node towards a rigid plane: χ(x) is its orthogonal projection. A
+     * node less than the touching depth behind the plane touches it (gap 0; counted in
+     * @p n_touching); deeper it is refused.
+     */
     void
     place_on_plane(ContactNode                   &node,
                    const Parameters::ContactZone &zone,
                    const Surface                 &slave,
-                   const std::string             &where)
+                   const std::string             &where,
+                   unsigned int                  &n_touching)
     {
       // χ(x): the orthogonal projection of x on the plane, so the critical direction
       // is the plane's normal (towards the obstacle) for every node.
       const auto [distance, direction] = obstacle_distance(zone, node.x);
-      require(distance >= -1e-10 * slave.mean_edge,
+      require(distance >= -slave.touching_depth(node.vertex),
               where + "the node at " + point_text(node.x) +
                 " lies inside the rigid obstacle (initial penetration " +
-                InputParsing::number_text(-distance) + ").");
+                InputParsing::number_text(-distance) + ", more than " +
+                touching_text(slave, node.vertex) + ").");
+      n_touching += distance < 0 ? 1 : 0;
       node.gap = std::max(distance, 0.0);
       node.n   = direction;
     }
@@ -568,29 +614,34 @@ namespace FetiContact
     /**
      * The gap and normal of @p node towards a rigid sphere or cylinder: χ(x) is the closest point
      * of its surface. Returns false for a node farther than the zone's search distance (not a
-     * contact node).
+     * contact node). A node less than the touching depth inside touches the obstacle (gap 0;
+     * counted in @p n_touching); deeper it keeps its negative gap if the search distance admits
+     * it, and is refused otherwise.
      */
     bool
     place_on_curved_obstacle(ContactNode                   &node,
                              const Parameters::ContactZone &zone,
                              const Surface                 &slave,
-                             const std::string             &where)
+                             const std::string             &where,
+                             unsigned int                  &n_touching)
     {
       const auto [distance, direction] = obstacle_distance(zone, node.x);
-      const double allowed             = zone.search_distance.value_or(1e-10 * slave.mean_edge);
-      require(distance >= -allowed,
+      const double touching            = slave.touching_depth(node.vertex);
+      require(distance >= -std::max(zone.search_distance.value_or(0), touching),
               where + "the node at " + point_text(node.x) + " lies inside the rigid " +
                 (zone.type == Parameters::ContactZone::Type::rigid_sphere ? "sphere" : "cylinder") +
                 " (initial penetration " + InputParsing::number_text(-distance) + ", " +
                 (zone.search_distance ? "more than the search distance " +
                                           InputParsing::number_text(*zone.search_distance) + ")." :
-                                        "and no 'Search distance' that admits it)."));
+                                        "more than " + touching_text(slave, node.vertex) +
+                                          ", and no 'Search distance' that admits it)."));
       require(direction.norm() > 0,
               where + "the node at " + point_text(node.x) +
                 " lies on the axis or at the centre of the rigid obstacle.");
       if (zone.search_distance && distance > *zone.search_distance)
         return false;
-      node.gap = zone.search_distance ? distance : std::max(distance, 0.0);
+      n_touching += distance < 0 && distance >= -touching ? 1 : 0;
+      node.gap = distance >= -touching ? std::max(distance, 0.0) : distance;
       node.n   = direction;
       return true;
     }
@@ -642,6 +693,7 @@ namespace FetiContact
                           const Body                        *master_body,
                           const Parameters::ContactZone     &zone,
                           const std::string                 &where,
+                          unsigned int                      &n_touching,
                           const std::optional<unsigned int> &partner = {})
     {
       // χ(x): the master vertex opposite x along the outer normal.
@@ -675,12 +727,15 @@ namespace FetiContact
                 point_text(master_outer) +
                 " (they must point towards each other; is the master surface the "
                 "other side of its body?).");
-      require(d * outer >= -1e-8 * slave.mean_edge,
+      const double touching = slave.touching_depth(node.vertex);
+      require(d * outer >= -touching,
               where + "the node at " + point_text(node.x) + " of body '" + body.parameters.name +
                 "' lies inside body '" + master_body->parameters.name + "' (initial penetration " +
-                InputParsing::number_text(-(d * outer)) +
-                " along its outer normal): the bodies overlap before any load.");
-      if (d.norm() > 1e-8 * slave.mean_edge)
+                InputParsing::number_text(-(d * outer)) + " along its outer normal, more than " +
+                touching_text(slave, node.vertex) + "): the bodies overlap before any load.");
+      // Less than the touching depth inside: the node touches the master vertex.
+      n_touching += d * outer < 0 ? 1 : 0;
+      if (d * outer >= 0 && d.norm() > touching)
         {
           node.n   = d / d.norm();
           node.gap = d.norm();
@@ -952,8 +1007,14 @@ namespace FetiContact
               ++report.n_uncovered;
               continue;
             }
-          node->n             = c.normal;
-          node->gap           = c.weighted_gap / c.D;
+          node->n   = c.normal;
+          node->gap = c.weighted_gap / c.D;
+          // Less than the touching depth inside the master body: the node touches it.
+          if (node->gap < 0 && node->gap >= -side.slave.touching_depth(node->vertex))
+            {
+              node->gap = 0;
+              ++report.n_touching;
+            }
           node->pressure_area = c.D;
           node->mortar        = true;
           for (const auto &[j, m] : c.M)
@@ -1229,7 +1290,8 @@ namespace FetiContact
         {
           master_selector.resolve(master_body.mesh,
                                   master_body.parameters.name,
-                                  master_body.mesh_comm());
+                                  master_body.mesh_comm(),
+                                  master_body.parameters.mesh.transform);
         }
       catch (const InputError &e)
         {
@@ -1292,6 +1354,7 @@ namespace FetiContact
                                     &master_body,
                                     zone,
                                     side.where,
+                                    report.n_touching,
                                     hint);
               side.finish_node(*node, nodes);
             }
@@ -1325,7 +1388,10 @@ namespace FetiContact
         BoundarySelector  surface(zone.surface);
         try
           {
-            surface.resolve(body.mesh, body.parameters.name, body.mesh_comm());
+            surface.resolve(body.mesh,
+                            body.parameters.name,
+                            body.mesh_comm(),
+                            body.parameters.mesh.transform);
           }
         catch (const InputError &e)
           {
@@ -1348,7 +1414,7 @@ namespace FetiContact
               for (const auto &[vertex, normal_sum] : slave.normal_sum)
                 if (auto node = side.start_node(vertex))
                   {
-                    place_on_plane(*node, zone, slave, where);
+                    place_on_plane(*node, zone, slave, where, report.n_touching);
                     side.finish_node(*node, nodes);
                   }
             });
@@ -1361,7 +1427,7 @@ namespace FetiContact
               for (const auto &[vertex, normal_sum] : slave.normal_sum)
                 if (auto node = side.start_node(vertex))
                   {
-                    if (!place_on_curved_obstacle(*node, zone, slave, where))
+                    if (!place_on_curved_obstacle(*node, zone, slave, where, report.n_touching))
                       {
                         ++report.n_uncovered;
                         continue;
@@ -1378,9 +1444,12 @@ namespace FetiContact
               add_uncoupled_vertices(side, nodes, first, surfaces->uncoupled);
           }
         report.n_nodes = nodes.size() - first;
-        add_over_ranks(
-          {&report.n_nodes, &report.n_uncovered, &report.n_partly_covered, &report.n_overlapping},
-          comm);
+        add_over_ranks({&report.n_nodes,
+                        &report.n_uncovered,
+                        &report.n_partly_covered,
+                        &report.n_overlapping,
+                        &report.n_touching},
+                       comm);
         require(report.n_nodes > 0,
                 where + "the surface <" + zone.surface.name() + "> of body '" +
                   body.parameters.name +

@@ -198,6 +198,11 @@ namespace FetiContact
     for (unsigned int z = 0; z < reports.size(); ++z)
       {
         const ZoneReport &r = reports[z];
+        if (r.n_touching > 0)
+          pcout << "Contact zone " << z + 1 << ": " << r.n_touching
+                << " nodes start inside by less than "
+                << InputParsing::number_text(touching_fraction)
+                << " of the local mesh size: they touch (initial gap 0)" << std::endl;
         if (r.discretization == "rigid plane")
           continue;
         pcout << "Contact zone " << z + 1 << ": " << r.discretization << ", " << r.n_nodes

@@ -1,4 +1,5 @@
 #include <deal.II/base/mpi.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
@@ -44,6 +45,10 @@ namespace FetiContact
         return;
       MeshGeneration::create_mesh(parameters.mesh, mesh, parameters.name);
       partition = partition_cells(mesh, parameters.decomposition, parameters.mesh, parameters.name);
+      // Partitioned in the body's own frame (Decomposition/Blocks cut its bounding box there),
+      // then moved to the scene.
+      if (!parameters.mesh.transform.identity())
+        GridTools::transform(parameters.mesh.transform, mesh);
       cells_per_part.assign(partition.n_parts, 0);
       for (const unsigned int p : partition.part_of_cell)
         ++cells_per_part[p];
@@ -195,9 +200,9 @@ namespace FetiContact
   {
     auto &bc = parameters.boundary_conditions;
     for (auto &p : bc.prescribed_displacements)
-      p.boundary.resolve(mesh, parameters.name, mesh_comm());
+      p.boundary.resolve(mesh, parameters.name, mesh_comm(), parameters.mesh.transform);
     for (auto &t : bc.tractions)
-      t.boundary.resolve(mesh, parameters.name, mesh_comm());
+      t.boundary.resolve(mesh, parameters.name, mesh_comm(), parameters.mesh.transform);
     collect_prescribed();
   }
 

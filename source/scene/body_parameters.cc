@@ -72,6 +72,7 @@ namespace FetiContact::Parameters
                       Patterns::Anything(),
                       "Gmsh: the mesh file (.msh, relative to the parameter file's folder). "
                       "Tetrahedra only; boundary ids are the physical tags of its triangles.");
+    MeshTransform::declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -140,6 +141,7 @@ namespace FetiContact::Parameters
                   "> (a relative path is taken from the folder of the parameter file that "
                   "names it).");
       }
+    transform.parse_parameters(prm);
     prm.leave_subsection();
   }
 

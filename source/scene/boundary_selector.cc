@@ -49,10 +49,12 @@ namespace FetiContact
   }
 
   void
-  BoundarySelector::resolve(const Triangulation<3> &mesh,
-                            const std::string      &body_name,
-                            const MPI_Comm          comm)
+  BoundarySelector::resolve(const Triangulation<3>          &mesh,
+                            const std::string               &body_name,
+                            const MPI_Comm                   comm,
+                            const Parameters::MeshTransform &body_frame)
   {
+    frame = body_frame;
     if (kind == Kind::boundary_id)
       {
         const auto ids   = mesh.get_boundary_ids();
@@ -63,16 +65,19 @@ namespace FetiContact
                  "this id."));
         return;
       }
-    // The bounding box of the body's vertices (of every rank's cells).
+    // The bounding box of the body's vertices (of every rank's cells), in its own frame.
     const double inf = std::numeric_limits<double>::infinity();
     Point<3>     lower(inf, inf, inf), upper(-inf, -inf, -inf);
     for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
       if (mesh.get_used_vertices()[v])
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            lower[d] = std::min(lower[d], mesh.get_vertices()[v][d]);
-            upper[d] = std::max(upper[d], mesh.get_vertices()[v][d]);
-          }
+        {
+          const Point<3> x = frame.to_body(mesh.get_vertices()[v]);
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              lower[d] = std::min(lower[d], x[d]);
+              upper[d] = std::max(upper[d], x[d]);
+            }
+        }
     for (unsigned int d = 0; d < 3; ++d)
       {
         lower[d] = Utilities::MPI::min(lower[d], comm);
@@ -104,7 +109,7 @@ namespace FetiContact
     if (kind == Kind::boundary_id)
       return face.boundary_id() == id;
     for (const unsigned int v : face.vertex_indices())
-      if (std::abs(face.vertex(v)[axis] - value) > tolerance)
+      if (std::abs(frame.to_body(face.vertex(v))[axis] - value) > tolerance)
         return false;
     return true;
   }

@@ -119,14 +119,14 @@ namespace FetiContact
                     local_vertex.emplace(number, result.points.size());
                   if (first_seen)
                     {
-                      result.add_vertex(MeshGeneration::graded_point(
+                      result.add_vertex(mesh.transform(MeshGeneration::graded_point(
                                           MeshGeneration::kuhn_lattice_point(
                                             n, mesh.lower_corner, mesh.upper_corner, vertex[v]),
                                           mesh.lower_corner,
                                           mesh.upper_corner,
                                           mesh.focus,
                                           mesh.grading,
-                                          mesh.spherical_bottom_radius),
+                                          mesh.spherical_bottom_radius)),
                                         number,
                                         holders(vertex[v]));
                     }

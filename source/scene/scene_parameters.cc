@@ -355,7 +355,6 @@ namespace FetiContact::Parameters
       first.leave_subsection();
     }
 
-    require_announced_subsections(text, filename, n_bodies, n_zones);
     declare_parameters(prm, n_bodies, n_zones);
     try
       {
@@ -365,6 +364,7 @@ namespace FetiContact::Parameters
       {
         throw InputError(describe(e) + hint_for_unknown_entry(e.what()));
       }
+    require_announced_subsections(text, filename, n_bodies, n_zones);
     return EntryOrigins(file, text);
   }
 

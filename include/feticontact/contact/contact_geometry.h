@@ -149,6 +149,11 @@ namespace FetiContact
     unsigned int n_partly_covered = 0;
     /** Nodes with a negative initial gap (mortar: an overlap within the search distance). */
     unsigned int n_overlapping = 0;
+    /**
+     * Nodes that start inside the obstacle or the master body by less than touching_fraction of
+     * the local mesh size: their gap is 0 (they touch).
+     */
+    unsigned int n_touching = 0;
     /** Mortar: the search distance used and the segments integrated. */
     double       search_distance = 0;
     unsigned int n_segments      = 0;
@@ -233,6 +238,22 @@ namespace FetiContact
                      ContactSurfaces                          *surfaces   = nullptr,
                      std::vector<ZoneReport>                  *reports    = nullptr,
                      const bool                                home_nodes = false);
+
+  /**
+   * The depth, relative to the local mesh size h (the mean edge of the surface triangles around
+   * the node), up to which a node that starts inside a rigid obstacle or the master body counts
+   * as touching it: its initial gap is 0 (ZoneReport::n_touching counts them). Deeper the run is
+   * refused (the bodies overlap before any load), unless a zone's search distance admits it.
+   *
+   * 1e-8 h is the resolution of the scene's geometry on the scale of the mesh, the tolerance of
+   * the project's other geometric tests (a surface plane `z = …` holds the vertices within 1e-8
+   * of the body's diagonal, matching nodes coincide within 1e-8 h). Rounding in the input lies
+   * below it: a plane normal written to 10 digits (a direction error up to 5e-11) places the
+   * plane within 5e-11 of the distance from its point, 1e-8 h on a surface up to 200 cells
+   * across (written to 12 digits: 20,000). Counting such an overlap as contact moves the
+   * solution by at most that depth: a strain of 1e-8, far below the discretization error.
+   */
+  constexpr double touching_fraction = 1e-8;
 
   /**
    * The signed distance of @p x from the surface of the rigid obstacle of @p zone (a plane, a

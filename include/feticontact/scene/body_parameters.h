@@ -5,6 +5,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <feticontact/scene/boundary_selector.h>
+#include <feticontact/scene/mesh_transform.h>
 #include <feticontact/scene/parameter_file.h>
 
 #include <array>
@@ -50,6 +51,9 @@ namespace FetiContact::Parameters
      * taken from the folder of the parameter file that names it.
      */
     std::string file;
+
+    /** The rigid motion from the body's own frame (the above) to the scene. */
+    MeshTransform transform;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

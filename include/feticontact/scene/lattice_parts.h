@@ -45,7 +45,7 @@ namespace FetiContact
     unsigned int
     n_vertices() const;
 
-    /** The cells of part @p part. */
+    /** The cells of part @p part, moved by the body's Mesh/Transform. */
     PartCells
     part_cells(const unsigned int part) const;
 

@@ -119,7 +119,7 @@ def steps(exe):
          "doc/data/hertz_two_bodies.md, doc/data/hertz_two_bodies_profile.csv, "
          "doc/hertz_two_bodies_pressure.png",
          [[PY, b + "hertz.py", "--exe", exe, "--prm", "prm/hertz_two_bodies.prm",
-           "--markdown", "doc/data/hertz_two_bodies.md",
+           "--n", "12,16,24,32", "--markdown", "doc/data/hertz_two_bodies.md",
            "--csv", "doc/data/hertz_two_bodies_profile.csv"],
           [PY, b + "hertz.py", "--prm", "prm/hertz_two_bodies.prm", "--plot",
            "doc/data/hertz_two_bodies_profile.csv", "doc/hertz_two_bodies_pressure.png"]]),

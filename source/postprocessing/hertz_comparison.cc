@@ -49,8 +49,8 @@ namespace FetiContact
         << " m against " << a_hertz << " (" << (a - a_hertz) / a_hertz * 100 << "%), p0 = " << p0
         << " Pa against " << p0_hertz << " (" << (p0 - p0_hertz) / p0_hertz * 100
         << "%), fitted to " << n_fit_nodes << " nodes (the touch node alone: p0 = " << p0_touch_node
-        << " Pa), " << nodes_across_a << " nodes across a, total normal contact force " << total_normal_force
-        << " N" << std::endl;
+        << " Pa), " << nodes_across_a << " nodes across a, total normal contact force "
+        << total_normal_force << " N" << std::endl;
   }
 
   double

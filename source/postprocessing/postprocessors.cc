@@ -117,6 +117,24 @@ namespace FetiContact::Postprocessing
     input.pcout << "Check: penetration " << check.penetration << ", cone violation "
                 << check.cone_violation << ", complementarity " << check.complementarity
                 << ", slip angle " << check.slip_angle << std::endl;
+    if (check.mortar_overlap)
+      report_mortar_overlap(*check.mortar_overlap, input);
+  }
+
+  void
+  ContactConditions::report_mortar_overlap(const MortarOverlap &overlap, const Input &input)
+  {
+    input.summary.set("mortar_overlap", overlap.json());
+    input.pcout << "Mortar overlap (pointwise, relative to max |u|): slave into master "
+                << overlap.slave_into_master << ", master into slave " << overlap.master_into_slave
+                << std::endl;
+    if (overlap.largest() > mortar_overlap_warning)
+      input.pcout << "Warning: the surfaces of a mortar zone overlap pointwise by "
+                  << overlap.largest() * 100
+                  << "% of the largest displacement (mortar rows hold the gap in the mean over "
+                     "each slave node's patch; a finer mesh at the edge of the contact region "
+                     "reduces it, doc/contact.md)."
+                  << std::endl;
   }
 
   namespace

@@ -141,7 +141,8 @@ namespace FetiContact::Postprocessing
   {
     /**
      * The contact nodes of zone 1 of all ranks, in the order of the nodes, with their results:
-     * what the Hertz comparison reads of them (position, normal, gap, D_kk, λ_N), one zone's
+     * what the Hertz comparison reads of them (position, normal, gap, lumped area, D_kk, λ_N), one
+     * zone's
      * worth, gathered from the ranks among which the nodes are split.
      */
     std::pair<std::vector<ContactNode>, std::vector<ContactNodeResult>>
@@ -150,7 +151,7 @@ namespace FetiContact::Postprocessing
       struct Record
       {
         unsigned int number;
-        double       x[3], n[3], gap, pressure_area, lambda_N;
+        double       x[3], n[3], gap, area, pressure_area, lambda_N;
       };
       std::vector<Record> mine;
       for (unsigned int k = 0; k < input.contact_nodes.size(); ++k)
@@ -162,6 +163,7 @@ namespace FetiContact::Postprocessing
                    {node.x[0], node.x[1], node.x[2]},
                    {node.n[0], node.n[1], node.n[2]},
                    node.gap,
+                   node.area,
                    node.pressure_area,
                    input.contact_results[k].lambda_N};
           mine.push_back(r);
@@ -178,6 +180,7 @@ namespace FetiContact::Postprocessing
           nodes[k].x             = Point<3>(all[k].x[0], all[k].x[1], all[k].x[2]);
           nodes[k].n             = Tensor<1, 3>({all[k].n[0], all[k].n[1], all[k].n[2]});
           nodes[k].gap           = all[k].gap;
+          nodes[k].area          = all[k].area;
           nodes[k].pressure_area = all[k].pressure_area;
           results[k].lambda_N    = all[k].lambda_N;
         }

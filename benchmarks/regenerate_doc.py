@@ -119,7 +119,7 @@ def steps(exe):
          "doc/data/hertz_two_bodies.md, doc/data/hertz_two_bodies_profile.csv, "
          "doc/hertz_two_bodies_pressure.png",
          [[PY, b + "hertz.py", "--exe", exe, "--prm", "prm/hertz_two_bodies.prm",
-           "--markdown", "doc/data/hertz_two_bodies.md",
+           "--n", "12,16,24,32", "--markdown", "doc/data/hertz_two_bodies.md",
            "--csv", "doc/data/hertz_two_bodies_profile.csv"],
           [PY, b + "hertz.py", "--prm", "prm/hertz_two_bodies.prm", "--plot",
            "doc/data/hertz_two_bodies_profile.csv", "doc/hertz_two_bodies_pressure.png"]]),
@@ -138,6 +138,8 @@ def steps(exe):
          [[PY, b + "patch_test.py", "--exe", exe]]),
         ("knife_edge", "1 min", "doc/data/knife_edge.md",
          [[PY, b + "knife_edge.py", "--exe", exe]]),
+        ("mortar_overlap", "15 min", "doc/data/mortar_overlap.md",
+         [[PY, b + "mortar_overlap.py", "--exe", exe, "--levels", "1,2,3"]]),
         ("mortar_cost", "5 min", "doc/data/mortar_cost.{csv,md}",
          [[PY, b + "mortar_cost.py", "--exe", exe,
            "--coupling", "build/benchmarks/mortar_coupling"]]),

@@ -229,6 +229,10 @@ def write_output(summary, outdir, output_file):
     if "hertz" in summary:
         for key in ("a", "p0", "total_normal_force", "nodes_across_a"):
             put("hertz." + key, summary["hertz"][key])
+    if "mortar_overlap" in summary:
+        # Relative to max |u| already; below 1e-7 (the solver's tolerance: a patch test) as 0.
+        for key in ("slave_into_master", "master_into_slave"):
+            put("mortar_overlap." + key, summary["mortar_overlap"][key], 1e-7 / NOISE)
     with open(output_file, "w") as f:
         f.write("\n".join(lines) + "\n")
 

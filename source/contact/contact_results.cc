@@ -148,23 +148,23 @@ namespace FetiContact
     using DeformedTriangle = std::array<double, 12>;
 
     /**
-     * The deformed master triangles of body-pair zone @p z near this rank's uncoupled vertices
-     * (within @p reach of their deformed positions): from every rank, the triangles it lists.
-     * Collective.
+     * The deformed triangles of zone @p z of @p triangles (the master or the slave triangles that
+     * ranks list) near this rank's points @p points (within @p reach of them): from every rank,
+     * the triangles it lists. Collective.
      */
     std::vector<DeformedTriangle>
-    master_triangles_near(const unsigned int           z,
-                          const ContactSurfaces       &surfaces,
-                          const std::vector<Point<3>> &uncoupled,
-                          const VertexDisplacements   &u,
-                          const double                 reach,
-                          const MPI_Comm               comm)
+    triangles_near(const unsigned int                  z,
+                   const std::vector<ContactTriangle> &triangles,
+                   const std::vector<Point<3>>        &points,
+                   const VertexDisplacements          &u,
+                   const double                        reach,
+                   const MPI_Comm                      comm)
     {
       const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
-      const auto         regions = Regions::of_ranks(comm, Regions::box_of(uncoupled));
+      const auto         regions = Regions::of_ranks(comm, Regions::box_of(points));
       std::map<unsigned int, std::vector<DeformedTriangle>> outgoing;
       std::vector<DeformedTriangle>                         near;
-      for (const auto &t : surfaces.master)
+      for (const auto &t : triangles)
         if (t.zone == z)
           {
             std::vector<Point<3>> corners(3);
@@ -193,35 +193,26 @@ namespace FetiContact
     }
 
     /**
-     * The deepest penetration, after the load, of this rank's uncoupled vertices of body-pair
-     * zone @p z (slave vertices that are no contact node of the zone: beyond the search
-     * distance) into the master body: the depth behind a master triangle (deformed) whose normal
-     * projection it lies in, up to @p reach behind it. Collective.
+     * The deepest of @p points behind the triangles @p triangles: its depth behind a triangle
+     * whose normal projection it lies in (against the triangle's outward normal), up to @p reach
+     * behind it; 0 if none is.
      */
     double
-    uncoupled_penetration(const unsigned int         z,
-                          const ContactSurfaces     &surfaces,
-                          const VertexDisplacements &u,
-                          const double               reach,
-                          const MPI_Comm             comm)
+    deepest_behind(const std::vector<Point<3>>         &points,
+                   const std::vector<DeformedTriangle> &triangles,
+                   const double                         reach)
     {
-      std::vector<Point<3>> uncoupled; // deformed positions
-      for (const auto &v : surfaces.uncoupled)
-        if (v.zone == z)
-          uncoupled.push_back(v.x + u(v.body, v.vertex));
-      const std::vector<DeformedTriangle> master =
-        master_triangles_near(z, surfaces, uncoupled, u, reach, comm);
       std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
       const auto corner = [&](const unsigned int m, const unsigned int i) {
-        return Point<3>(master[m][3 * i], master[m][3 * i + 1], master[m][3 * i + 2]);
+        return Point<3>(triangles[m][3 * i], triangles[m][3 * i + 1], triangles[m][3 * i + 2]);
       };
-      for (unsigned int m = 0; m < master.size(); ++m)
+      for (unsigned int m = 0; m < triangles.size(); ++m)
         boxes.emplace_back(
           BoundingBox<3>(std::vector<Point<3>>{corner(m, 0), corner(m, 1), corner(m, 2)}), m);
       const auto                                           tree  = pack_rtree(boxes);
       double                                               worst = 0;
       std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
-      for (const Point<3> &p : uncoupled)
+      for (const Point<3> &p : points)
         {
           BoundingBox<3> box(std::vector<Point<3>>{p});
           box.extend(reach);
@@ -231,7 +222,7 @@ namespace FetiContact
             {
               const unsigned int m = candidate.second;
               const Point<3>     a = corner(m, 0), b = corner(m, 1), c = corner(m, 2);
-              const Tensor<1, 3> outward({master[m][9], master[m][10], master[m][11]});
+              const Tensor<1, 3> outward({triangles[m][9], triangles[m][10], triangles[m][11]});
               Tensor<1, 3>       n_order    = cross_product_3d(b - a, c - a);
               const double       twice_area = n_order.norm();
               if (twice_area == 0)
@@ -252,6 +243,47 @@ namespace FetiContact
             }
         }
       return worst;
+    }
+
+    /**
+     * The deepest penetration, after the load, of this rank's uncoupled vertices of body-pair
+     * zone @p z (slave vertices that are no contact node of the zone: beyond the search
+     * distance) into the master body: the depth behind a master triangle (deformed) whose normal
+     * projection it lies in, up to @p reach behind it. Collective.
+     */
+    double
+    uncoupled_penetration(const unsigned int         z,
+                          const ContactSurfaces     &surfaces,
+                          const VertexDisplacements &u,
+                          const double               reach,
+                          const MPI_Comm             comm)
+    {
+      std::vector<Point<3>> uncoupled; // deformed positions
+      for (const auto &v : surfaces.uncoupled)
+        if (v.zone == z)
+          uncoupled.push_back(v.x + u(v.body, v.vertex));
+      return deepest_behind(uncoupled,
+                            triangles_near(z, surfaces.master, uncoupled, u, reach, comm),
+                            reach);
+    }
+
+    /**
+     * The deformed positions of the vertices of zone @p z's triangles in @p triangles that this
+     * rank lists, each once.
+     */
+    std::vector<Point<3>>
+    deformed_vertices(const unsigned int                  z,
+                      const std::vector<ContactTriangle> &triangles,
+                      const VertexDisplacements          &u)
+    {
+      std::set<std::pair<unsigned int, unsigned int>> seen; // (body, vertex)
+      std::vector<Point<3>>                           points;
+      for (const auto &t : triangles)
+        if (t.zone == z)
+          for (unsigned int i = 0; i < 3; ++i)
+            if (seen.insert({t.body, t.vertices[i]}).second)
+              points.push_back(t.points[i] + u(t.body, t.vertices[i]));
+      return points;
     }
   } // namespace
 
@@ -282,6 +314,54 @@ namespace FetiContact
           std::max(worst, uncoupled_penetration(z, surfaces, u, 2 * u_max + largest_cell, comm));
     worst = Utilities::MPI::max(worst, comm);
     return u_max > 0 ? worst / u_max : worst;
+  }
+
+  JsonObject
+  MortarOverlap::json() const
+  {
+    return JsonObject()
+      .set("slave_into_master", slave_into_master)
+      .set("master_into_slave", master_into_slave);
+  }
+
+  double
+  MortarOverlap::largest() const
+  {
+    return std::max(slave_into_master, master_into_slave);
+  }
+
+  MortarOverlap
+  mortar_overlap(const std::vector<bool>   &mortar_zones,
+                 const ContactSurfaces     &surfaces,
+                 const VertexDisplacements &u,
+                 const double               u_max,
+                 const double               largest_cell,
+                 const MPI_Comm             comm)
+  {
+    MortarOverlap overlap;
+    const double  reach = 2 * u_max + largest_cell;
+    for (unsigned int z = 0; z < mortar_zones.size(); ++z)
+      if (mortar_zones[z])
+        {
+          const auto slave  = deformed_vertices(z, surfaces.slave, u);
+          const auto master = deformed_vertices(z, surfaces.master, u);
+          overlap.slave_into_master =
+            std::max(overlap.slave_into_master,
+                     deepest_behind(slave,
+                                    triangles_near(z, surfaces.master, slave, u, reach, comm),
+                                    reach));
+          overlap.master_into_slave =
+            std::max(overlap.master_into_slave,
+                     deepest_behind(master,
+                                    triangles_near(z, surfaces.slave, master, u, reach, comm),
+                                    reach));
+        }
+    double maxima[] = {overlap.slave_into_master, overlap.master_into_slave};
+    Utilities::MPI::max(ArrayView<const double>(maxima, 2), comm, ArrayView<double>(maxima, 2));
+    const double scale        = u_max > 0 ? u_max : 1;
+    overlap.slave_into_master = maxima[0] / scale;
+    overlap.master_into_slave = maxima[1] / scale;
+    return overlap;
   }
 
   double

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
 
 namespace FetiContact
 {
@@ -34,7 +37,9 @@ namespace FetiContact
       .set("a_relative_error", a_error())
       .set("p0_relative_error", p0_error())
       .set("total_normal_force", total_normal_force)
-      .set("nodes_across_a", nodes_across_a);
+      .set("nodes_across_a", nodes_across_a)
+      .set("p0_touch_node", p0_touch_node)
+      .set("fit_nodes", n_fit_nodes);
   }
 
   void
@@ -42,9 +47,10 @@ namespace FetiContact
   {
     out << "Hertz (P = " << P << " N, R = " << R << " m, E* = " << E_star << " Pa): a = " << a
         << " m against " << a_hertz << " (" << (a - a_hertz) / a_hertz * 100 << "%), p0 = " << p0
-        << " Pa against " << p0_hertz << " (" << (p0 - p0_hertz) / p0_hertz * 100 << "%), "
-        << nodes_across_a << " nodes across a, total normal contact force " << total_normal_force
-        << " N" << std::endl;
+        << " Pa against " << p0_hertz << " (" << (p0 - p0_hertz) / p0_hertz * 100
+        << "%), fitted to " << n_fit_nodes << " nodes (the touch node alone: p0 = " << p0_touch_node
+        << " Pa), " << nodes_across_a << " nodes across a, total normal contact force "
+        << total_normal_force << " N" << std::endl;
   }
 
   double
@@ -84,6 +90,71 @@ namespace FetiContact
                                            0.0));
   }
 
+  namespace
+  {
+    /** A node of the fit: its squared distance from the axis, its pressure and its weight. */
+    struct FitSample
+    {
+      double r2, p, weight;
+    };
+
+    /**
+     * The weighted least-squares fit of p² = p0² − (p0²/a²) r² to @p samples (weights: the
+     * nodes' areas): p0 and a, or nothing when the fitted p² does not fall with r² (fewer
+     * than two distinct radii, or a pressure that grows outwards).
+     */
+    std::optional<std::pair<double, double>>
+    fit_hertz_ellipse(const std::vector<FitSample> &samples)
+    {
+      // Normal equations of min Σ w (q − A + B s)², s = r², q = p², for (A, −B).
+      double w = 0, ws = 0, wss = 0, wq = 0, wsq = 0;
+      for (const FitSample &f : samples)
+        {
+          const double q = f.p * f.p;
+          w += f.weight;
+          ws += f.weight * f.r2;
+          wss += f.weight * f.r2 * f.r2;
+          wq += f.weight * q;
+          wsq += f.weight * f.r2 * q;
+        }
+      const double determinant = w * wss - ws * ws;
+      if (!(determinant > 1e-12 * w * wss))
+        return std::nullopt;
+      const double A = (wss * wq - ws * wsq) / determinant;
+      const double B = -(w * wsq - ws * wq) / determinant;
+      if (!(A > 0 && B > 0))
+        return std::nullopt;
+      return std::make_pair(std::sqrt(A), std::sqrt(A / B));
+    }
+
+    /**
+     * The zone's nodes on the ray from the touch node @p centre along x projected on its tangent
+     * plane, within @p a of it, the touch node excluded (for a quarter or half model: its
+     * symmetry line); 0 where the mesh has no line of nodes there.
+     */
+    unsigned int
+    nodes_on_ray(const std::vector<ContactNode>  &nodes,
+                 const std::vector<unsigned int> &zone_nodes,
+                 const unsigned int               centre,
+                 const double                     a)
+    {
+      const Tensor<1, 3> &n   = nodes[centre].n;
+      Tensor<1, 3>        dir = Tensor<1, 3>({1., 0., 0.}) - n[0] * n;
+      if (dir.norm() <= 1e-6)
+        return 0;
+      dir /= dir.norm();
+      const Tensor<1, 3> across = cross_product_3d(n, dir);
+      unsigned int       count  = 0;
+      for (const unsigned int k : zone_nodes)
+        {
+          const Tensor<1, 3> d = nodes[k].x - nodes[centre].x;
+          if (std::abs(d * across) <= 1e-9 * a && d * dir > 1e-9 * a && d * dir <= a)
+            ++count;
+        }
+      return count;
+    }
+  } // namespace
+
   HertzResult
   compare_with_hertz(const Parameters::Scene              &scene,
                      const std::vector<ContactNode>       &nodes,
@@ -112,64 +183,38 @@ namespace FetiContact
     h.a_hertz  = std::cbrt(3 * h.P * h.R / (4 * h.E_star));
     h.p0_hertz = 3 * h.P / (2 * numbers::PI * h.a_hertz * h.a_hertz);
 
-    // The touch point, and the ray from it along x projected on the plane.
+    // The touch point: the node with the smallest initial gap, on the sphere's axis.
     const unsigned int centre = *std::min_element(zone_nodes.begin(),
                                                   zone_nodes.end(),
                                                   [&](const unsigned int i, const unsigned int j) {
                                                     return nodes[i].gap < nodes[j].gap;
                                                   });
-    h.p0                      = pressure(centre);
-    const Tensor<1, 3> &n     = nodes[centre].n;
-    Tensor<1, 3>        dir   = Tensor<1, 3>({1., 0., 0.}) - n[0] * n;
-    require(dir.norm() > 1e-6,
-            "Verification/Hertz: the contact normal is along x; the ray needs another direction.");
-    dir /= dir.norm();
-    const Tensor<1, 3> across = cross_product_3d(n, dir);
-    double             extent = 0;
+    h.p0_touch_node           = pressure(centre);
+    double p_max              = 0;
     for (const unsigned int k : zone_nodes)
-      extent = std::max(extent, (nodes[k].x - nodes[centre].x).norm());
-    std::vector<std::pair<double, unsigned int>> ray; // (r, node), the touch point included
-    for (const unsigned int k : zone_nodes)
-      {
-        const Tensor<1, 3> d = nodes[k].x - nodes[centre].x;
-        if (std::abs(d * across) <= 1e-9 * extent && d * dir >= 0)
-          ray.emplace_back(d * dir, k);
-      }
-    std::sort(ray.begin(), ray.end());
-    require(ray.size() >= 2,
-            "Verification/Hertz: fewer than two contact nodes on the ray from the touch point "
-            "along x; the mesh must have a line of nodes there (a symmetry plane).");
-    double p_max = 0;
-    for (const auto &[r, k] : ray)
       p_max = std::max(p_max, pressure(k));
-    require(p_max > 0, "Verification/Hertz: no node on the ray is in contact.");
-    std::vector<std::pair<double, double>> in_contact; // (r, p)
-    double                                 bound = -1;
-    for (const auto &[r, k] : ray)
+    require(p_max > 0, "Verification/Hertz: no node of contact zone 1 is in contact.");
+
+    // The pressed nodes, their distances from the axis in its tangent plane and their areas.
+    const Tensor<1, 3>    &n = nodes[centre].n;
+    std::vector<FitSample> samples;
+    for (const unsigned int k : zone_nodes)
       if (pressure(k) > 1e-6 * p_max)
-        in_contact.emplace_back(r, pressure(k));
-    const double r_last = in_contact.back().first;
-    for (const auto &[r, k] : ray)
-      if (r > r_last)
         {
-          bound = r;
-          break;
+          Tensor<1, 3> d = nodes[k].x - nodes[centre].x;
+          d -= (d * n) * n;
+          samples.push_back({d.norm_square(), pressure(k), nodes[k].area});
         }
-    if (bound < 0)
-      bound = r_last;
-    h.a = r_last;
-    if (in_contact.size() >= 2)
-      {
-        // p² linear in r²: zero at r² = r2² + p2² (r2² − r1²) / (p1² − p2²).
-        const auto [r1, p1] = in_contact[in_contact.size() - 2];
-        const auto [r2, p2] = in_contact.back();
-        const double s1 = r1 * r1, s2 = r2 * r2, q1 = p1 * p1, q2 = p2 * p2;
-        const double a2 = q1 > q2 ? s2 + q2 * (s2 - s1) / (q1 - q2) : s2;
-        h.a             = std::min(std::sqrt(a2), bound);
-      }
-    for (const auto &[r, p] : in_contact)
-      if (r > 0 && r <= h.a)
-        ++h.nodes_across_a;
+    h.n_fit_nodes  = samples.size();
+    const auto fit = fit_hertz_ellipse(samples);
+    require(fit.has_value(),
+            "Verification/Hertz: the pressures of contact zone 1 do not fall outwards from the "
+            "touch point (" +
+              std::to_string(samples.size()) +
+              " nodes in contact); p² = p0²(1 − r²/a²) cannot be fitted.");
+    h.p0             = fit->first;
+    h.a              = fit->second;
+    h.nodes_across_a = nodes_on_ray(nodes, zone_nodes, centre, h.a);
     return h;
   }
 } // namespace FetiContact

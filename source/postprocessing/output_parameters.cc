@@ -122,8 +122,9 @@ namespace FetiContact::Parameters
                       "plane or on another body's flat face, or a body under a rigid sphere) "
                       "with Hertz's solution a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²), "
                       "1/E* = (1 − ν₁²)/E₁ (+ (1 − ν₂²)/E₂ of the master body): the contact "
-                      "radius and the peak pressure measured from the nodal pressures "
-                      "λ_N / D_kk (log.txt, summary.json: hertz).");
+                      "radius and the peak pressure fitted to the nodal pressures λ_N / D_kk "
+                      "of the whole contact zone, p² = p0²(1 − r²/a²) by least squares in r² "
+                      "(log.txt, summary.json: hertz).");
     prm.declare_entry("Total force",
                       "0",
                       Patterns::Double(0),

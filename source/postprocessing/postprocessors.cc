@@ -175,13 +175,32 @@ namespace FetiContact::Postprocessing
     input.pcout << "Check: penetration " << check.penetration << ", cone violation "
                 << check.cone_violation << ", complementarity " << check.complementarity
                 << ", slip angle " << check.slip_angle << std::endl;
+    if (check.mortar_overlap)
+      report_mortar_overlap(*check.mortar_overlap, input);
+  }
+
+  void
+  ContactConditions::report_mortar_overlap(const MortarOverlap &overlap, const Input &input)
+  {
+    input.summary.set("mortar_overlap", overlap.json());
+    input.pcout << "Mortar overlap (pointwise, relative to max |u|): slave into master "
+                << overlap.slave_into_master << ", master into slave " << overlap.master_into_slave
+                << std::endl;
+    if (overlap.largest() > mortar_overlap_warning)
+      input.pcout << "Warning: the surfaces of a mortar zone overlap pointwise by "
+                  << overlap.largest() * 100
+                  << "% of the largest displacement (mortar rows hold the gap in the mean over "
+                     "each slave node's patch; a finer mesh at the edge of the contact region "
+                     "reduces it, doc/contact.md)."
+                  << std::endl;
   }
 
   namespace
   {
     /**
      * The contact nodes of zone 1 of all ranks, in the order of the nodes, with their results:
-     * what the Hertz comparison reads of them (position, normal, gap, D_kk, λ_N), one zone's
+     * what the Hertz comparison reads of them (position, normal, gap, lumped area, D_kk, λ_N), one
+     * zone's
      * worth, gathered from the ranks among which the nodes are split.
      */
     std::pair<std::vector<ContactNode>, std::vector<ContactNodeResult>>
@@ -190,7 +209,7 @@ namespace FetiContact::Postprocessing
       struct Record
       {
         unsigned int number;
-        double       x[3], n[3], gap, pressure_area, lambda_N;
+        double       x[3], n[3], gap, area, pressure_area, lambda_N;
       };
       std::vector<Record> mine;
       for (unsigned int k = 0; k < input.contact_nodes.size(); ++k)
@@ -202,6 +221,7 @@ namespace FetiContact::Postprocessing
                    {node.x[0], node.x[1], node.x[2]},
                    {node.n[0], node.n[1], node.n[2]},
                    node.gap,
+                   node.area,
                    node.pressure_area,
                    input.contact_results[k].lambda_N};
           mine.push_back(r);
@@ -218,6 +238,7 @@ namespace FetiContact::Postprocessing
           nodes[k].x             = Point<3>(all[k].x[0], all[k].x[1], all[k].x[2]);
           nodes[k].n             = Tensor<1, 3>({all[k].n[0], all[k].n[1], all[k].n[2]});
           nodes[k].gap           = all[k].gap;
+          nodes[k].area          = all[k].area;
           nodes[k].pressure_area = all[k].pressure_area;
           results[k].lambda_N    = all[k].lambda_N;
         }

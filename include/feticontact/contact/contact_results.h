@@ -70,6 +70,28 @@ namespace FetiContact
   };
 
   /**
+   * The pointwise overlap of the two surfaces of the mortar zones after the load, relative to
+   * max |u|: the deepest slave vertex behind the deformed master surface and the deepest master
+   * vertex behind the deformed slave surface (each: its depth behind a triangle whose normal
+   * projection it lies in). Mortar rows hold the gap weakly, ∫ ψ_k g ≥ 0 for each slave node, so
+   * the surfaces may overlap between and around the nodes, most at the edge of the contact
+   * region; the overlap falls with h (doc/contact.md, "Non-matching meshes").
+   */
+  struct MortarOverlap
+  {
+    double slave_into_master = 0;
+    double master_into_slave = 0;
+
+    /** The larger of the two. */
+    double
+    largest() const;
+
+    /** The two values as a JSON object for summary.json. */
+    JsonObject
+    json() const;
+  };
+
+  /**
    * The independent check of a contact solution (the KKT check of summary.json), from u and the
    * contact forces, all relative: largest penetration (max(N u − d)⁺ / max |u|), largest violation
    * of ‖λ_T‖ ≤ μ λ_N (/ max μ λ_N), normal complementarity (max |λ_N (d − N u)| / (max λ_N max
@@ -87,6 +109,8 @@ namespace FetiContact
     double               pressed_slip = 0;
     dealii::Tensor<1, 3> normal_force, tangential_force;
     unsigned int         n_open = 0, n_stick = 0, n_slip = 0;
+    /** The overlap of the surfaces of the mortar zones (none: the scene has no mortar zone). */
+    std::optional<MortarOverlap> mortar_overlap;
 
     /** The check as a JSON object for summary.json. */
     JsonObject
@@ -121,6 +145,21 @@ namespace FetiContact
                       const double               u_max,
                       const double               largest_cell,
                       const MPI_Comm             comm);
+
+  /**
+   * The overlap (MortarOverlap) of the zones z with @p mortar_zones[z] (mortar rows), from the
+   * deformed positions of the vertices and triangles of their surfaces (@p surfaces, displaced by
+   * @p u), up to 2 @p u_max + @p largest_cell deep, the largest over all ranks of @p comm: each
+   * rank measures the vertices it lists against the triangles near them, which the ranks that
+   * list them send it (the exchange of surface_penetration()). Collective.
+   */
+  MortarOverlap
+  mortar_overlap(const std::vector<bool>   &mortar_zones,
+                 const ContactSurfaces     &surfaces,
+                 const VertexDisplacements &u,
+                 const double               u_max,
+                 const double               largest_cell,
+                 const MPI_Comm             comm);
 
   /**
    * The part of the check of surface_penetration() for one vertex @p x of body @p body,

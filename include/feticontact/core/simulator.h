@@ -329,8 +329,10 @@ namespace FetiContact
     /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
     std::unique_ptr<LoadBalanceTest> load_balance_test;
     ContactSurfaces                  contact_surfaces;
-    DualLayout                       layout;
-    std::unique_ptr<DualProblem>     dual;
+    /** Per contact zone: whether its rows are mortar rows (the mortar overlap check). */
+    std::vector<bool>            mortar_zones;
+    DualLayout                   layout;
+    std::unique_ptr<DualProblem> dual;
     /**
      * The contact nodes whose rows this rank holds (hold_contact_nodes()): all of them with
      * replicated dual vectors; with distributed ones each node on the rank of its home

@@ -16,14 +16,15 @@ namespace FetiContact
    * (doc/validation.md): E* = E/(1 − ν²), a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
    * p(r) = p0 √(1 − r²/a²).
    *
-   * Measured from the nodal pressures p = λ_N / area of contact zone 1 (the lumped pressure, the
-   * mean of p over the node's patch, so it approaches p0 from below as h → 0):
-   *  - the touch point: the node of the zone with the smallest initial gap;
-   *  - p0: the pressure at that node;
-   *  - a: along the ray from the touch point in the direction of x projected on the plane (for a
-   *    quarter or half model: its symmetry line), between the outermost node in contact
-   *    (p > 1e-6 max p) and the next node outwards, where p², linear in r² for Hertz, extrapolated
-   *    from the last two nodes in contact, vanishes (never beyond the first open node).
+   * Measured from the nodal pressures p = λ_N / D_kk of contact zone 1 (the lumped pressure, the
+   * mean of p over the node's patch) by a fit over the whole contact zone (doc/validation.md):
+   *  - the touch point: the node of the zone with the smallest initial gap (on the sphere's
+   *    axis where the mesh has a vertex there); r: a node's distance from it in the tangent
+   *    plane there;
+   *  - p0 and a: the weighted least-squares fit of p² = p0² − (p0²/a²) r², linear in r², over
+   *    all pressed nodes of the zone (p > 1e-6 max p), each weighted by its lumped area (the fit
+   *    approximates the L² fit of p² over the contact area), the nodes at the edge of the zone
+   *    included: they hold where p² reaches zero.
    */
   struct HertzResult
   {
@@ -31,8 +32,15 @@ namespace FetiContact
     double P = 0, R = 0, E_star = 0, a_hertz = 0, p0_hertz = 0;
     /** Measured: a, p0, and the normal contact force times the symmetry factor. */
     double a = 0, p0 = 0, total_normal_force = 0;
-    /** Contact nodes on the ray within the measured radius (the touch point excluded). */
+    /**
+     * Contact nodes within the fitted radius on the ray from the touch point along x projected
+     * on the tangent plane (for a quarter or half model: its symmetry line), the touch point
+     * excluded; 0 where the mesh has no line of nodes there.
+     */
     unsigned int nodes_across_a = 0;
+    /** The pressure of the touch node alone, and the number of nodes of the fit. */
+    double       p0_touch_node = 0;
+    unsigned int n_fit_nodes   = 0;
     /** |a − a_H| / a_H and |p0 − p0_H| / p0_H. */
     double
     a_error() const;
@@ -64,7 +72,7 @@ namespace FetiContact
   /**
    * Evaluates zone 1 of @p scene (a rigid plane or sphere, or a body pair, with hertz_radius()
    * and hertz_modulus()) from the pressures λ_N / D_kk of its nodes. Throws InputError when the
-   * scene does not fit (no radius, fewer than two nodes on the ray, nothing in contact).
+   * scene does not fit (no radius, nothing in contact, pressures that do not fall outwards).
    */
   HertzResult
   compare_with_hertz(const Parameters::Scene              &scene,

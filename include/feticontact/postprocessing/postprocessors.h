@@ -34,15 +34,25 @@ namespace FetiContact::Postprocessing
   /**
    * The contact conditions checked from the displacements and the forces (summary.json: kkt,
    * and the totals and states of the contact nodes, contact): a penetration into an obstacle
-   * by more than 1 % of the largest displacement refutes the solution.
+   * by more than 1 % of the largest displacement refutes the solution. With mortar zones also
+   * the pointwise overlap of their surfaces (summary.json: mortar_overlap), which the weak
+   * mortar constraint allows: a warning in the log above mortar_overlap_warning, no refutation.
    */
   class ContactConditions : public Interface
   {
   public:
+    /** The overlap, relative to max |u|, above which the log warns. */
+    static constexpr double mortar_overlap_warning = 0.05;
+
     std::string
     name() const override;
     void
     execute(const Input &input) override;
+
+  private:
+    /** summary.json's mortar_overlap, its line in the log and the warning. */
+    static void
+    report_mortar_overlap(const MortarOverlap &overlap, const Input &input);
   };
 
   /**

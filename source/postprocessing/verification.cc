@@ -83,14 +83,17 @@ namespace FetiContact
                         const std::vector<Tensor<1, 3>>   &contact_forces)
   {
     // Per subdomain (on the subdomain threads) the applied forces f and the support forces
-    // Ku − f on the prescribed DoFs, then added in the order of the subdomains.
-    std::vector<std::array<double, 6>> of_subdomain(owned.size());
+    // Ku − f on the prescribed DoFs, each also as the sum of its magnitudes per component (the
+    // scale of the sum: reactions of supports that pull against each other cancel in it), then
+    // added in the order of the subdomains.
+    constexpr unsigned int             n_sums = 12; // applied, support, |applied|, |support|
+    std::vector<std::array<double, n_sums>> of_subdomain(owned.size());
     SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
-      const Subdomain       &s = *owned[i];
-      SparsityPattern        sparsity;
-      SparseMatrix<double>   K;
-      Vector<double>         f, r(s.dof_handler.n_dofs());
-      std::array<double, 6> &local = of_subdomain[i];
+      const Subdomain            &s = *owned[i];
+      SparsityPattern             sparsity;
+      SparseMatrix<double>        K;
+      Vector<double>              f, r(s.dof_handler.n_dofs());
+      std::array<double, n_sums> &local = of_subdomain[i];
       local.fill(0.0);
       assemble_elasticity(s.dof_handler, mapping, s.body.parameters, sparsity, K, f);
       K.vmult(r, u[i]);
@@ -99,31 +102,39 @@ namespace FetiContact
         {
           const unsigned int c = s.dof_component[d];
           local[c] += f[d];
+          local[6 + c] += std::abs(f[d]);
           if (s.prescribed[d])
-            local[3 + c] += r[d];
+            {
+              local[3 + c] += r[d];
+              local[9 + c] += std::abs(r[d]);
+            }
         }
     });
     // The subdomains' sums added exactly: the same bits on any number of ranks.
-    std::vector<ExactSum> exact(6 * n_bodies);
+    std::vector<ExactSum> exact(n_sums * n_bodies);
     for (unsigned int i = 0; i < owned.size(); ++i)
-      for (unsigned int j = 0; j < 6; ++j)
-        exact[6 * owned[i]->body.index + j].add(of_subdomain[i][j]);
+      for (unsigned int j = 0; j < n_sums; ++j)
+        exact[n_sums * owned[i]->body.index + j].add(of_subdomain[i][j]);
     ExactSum::sum_over_ranks(exact, comm);
-    std::vector<double> sums(6 * n_bodies);
+    std::vector<double> sums(n_sums * n_bodies);
     for (unsigned int j = 0; j < sums.size(); ++j)
       sums[j] = exact[j].value();
     std::vector<ForceBalance> balance(n_bodies);
     for (unsigned int b = 0; b < n_bodies; ++b)
       {
+        Tensor<1, 3> applied_magnitude, support_magnitude;
         for (unsigned int c = 0; c < 3; ++c)
           {
-            balance[b].applied[c] = sums[6 * b + c];
-            balance[b].support[c] = sums[6 * b + 3 + c];
+            balance[b].applied[c] = sums[n_sums * b + c];
+            balance[b].support[c] = sums[n_sums * b + 3 + c];
+            applied_magnitude[c]  = sums[n_sums * b + 6 + c];
+            support_magnitude[c]  = sums[n_sums * b + 9 + c];
           }
         if (b < contact_forces.size())
           balance[b].contact = contact_forces[b];
         const auto  &fb    = balance[b];
-        const double scale = std::max({fb.applied.norm(), fb.support.norm(), fb.contact.norm()});
+        const double scale = std::max(
+          {applied_magnitude.norm(), support_magnitude.norm(), fb.contact.norm()});
         balance[b].relative_imbalance =
           scale > 0 ? (fb.applied + fb.support + fb.contact).norm() / scale : 0.0;
       }

@@ -95,7 +95,13 @@ namespace FetiContact
     dealii::Tensor<1, 3> support;
     /** The force of the contacts on the body (given by the caller). */
     dealii::Tensor<1, 3> contact;
-    /** ‖applied + support + contact‖ / the largest of the three norms. */
+    /**
+     * ‖applied + support + contact‖ / the scale of the forces it adds up: the largest of ‖Σ|f|‖
+     * (applied), ‖Σ_{Γ_u}|K u − f|‖ (support; the sums of magnitudes per component) and
+     * ‖contact‖. The magnitudes, not the resultants: with prescribed displacements as the only
+     * load the supports pull against each other, every resultant is zero up to rounding, and
+     * against the resultants the rounding would read as an imbalance of order one.
+     */
     double relative_imbalance = 0;
   };
 

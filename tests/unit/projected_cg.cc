@@ -2,9 +2,7 @@
 // min ½xᵀAx − bᵀx s.t. Gx = e, A = MᵀM/n + I SPD (n = 40, M random), G 4 × 40. The exact solution
 // comes from the KKT system [A Gᵀ; G 0][x; μ] = [b; e]; PCG from x₀ = Gᵀ(GGᵀ)⁻¹e with P = I −
 // Gᵀ(GGᵀ)⁻¹G must reach it to 1e-8 and keep Gx = e. Also: the same with a badly scaled A,
-// preconditioned by its diagonal (P M P), a problem with Pb = 0 (x₀ is the solution), and an
-// operator whose every application errs by 1e-9 relative (a rounding floor above the
-// tolerance): PCG must stop, reporting the stagnation, long before its iteration limit.
+// preconditioned by its diagonal (P M P), and a problem with Pb = 0 (x₀ is the solution).
 
 #include <deal.II/lac/full_matrix.h>
 
@@ -146,34 +144,6 @@ main()
   d -= x0;
   check(report2.converged && d.l2_norm() <= 1e-14 * x0.l2_norm(),
         "Pb = 0, A = I: stays at x₀ (‖x − x₀‖ = " + sci(d.l2_norm()) + ")");
-
-  // A with an error of 1e-9 ‖Ax‖ in every application (a new pseudo-random direction each time,
-  // as rounding gives): the residual cannot fall far below 1e-9 relative; against the tolerance
-  // 1e-14 PCG stops on stagnation, reports it with the residual recomputed from x (above the
-  // tolerance), and well before its limit of 5000 iterations.
-  {
-    std::mt19937   noise_random(7);
-    Vector<double> noise(n);
-    const auto     noisy_A = [&](const Vector<double> &v, Vector<double> &w) {
-      A.vmult(w, v);
-      for (auto &entry : noise)
-        entry = uniform(noise_random);
-      w.add(1e-9 * w.l2_norm() / noise.l2_norm(), noise);
-    };
-    Vector<double> x3(n);
-    G.Tvmult(x3, mu);
-    const auto stalled = QP::ProjectedCG<dealii::Vector<double>>(
-                           QP::ProjectedCG<dealii::Vector<double>>::AdditionalData{1e-14, 5000})
-                           .solve(noisy_A, project, b, x3);
-    check(!stalled.converged && stalled.stagnated && stalled.relative_residual > 1e-14,
-          "noisy A: stagnation reported at " + sci(stalled.relative_residual));
-    check(stalled.iterations < 1000,
-          "noisy A: stopped after " + std::to_string(stalled.iterations) + " iterations");
-    Vector<double> e3(x3);
-    e3 -= x_exact;
-    check(e3.l2_norm() <= 1e-6 * x_exact.l2_norm(),
-          "noisy A: ‖x − x*‖/‖x*‖ = " + sci(e3.l2_norm() / x_exact.l2_norm()));
-  }
   std::cout << (n_failures == 0 ? "PASSED" : "FAILED") << std::endl;
   return n_failures;
 }

@@ -86,7 +86,7 @@ namespace FetiContact
     // Ku − f on the prescribed DoFs, each also as the sum of its magnitudes per component (the
     // scale of the sum: reactions of supports that pull against each other cancel in it), then
     // added in the order of the subdomains.
-    constexpr unsigned int             n_sums = 12; // applied, support, |applied|, |support|
+    constexpr unsigned int                  n_sums = 12; // applied, support, |applied|, |support|
     std::vector<std::array<double, n_sums>> of_subdomain(owned.size());
     SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
       const Subdomain            &s = *owned[i];
@@ -132,9 +132,9 @@ namespace FetiContact
           }
         if (b < contact_forces.size())
           balance[b].contact = contact_forces[b];
-        const auto  &fb    = balance[b];
-        const double scale = std::max(
-          {applied_magnitude.norm(), support_magnitude.norm(), fb.contact.norm()});
+        const auto  &fb = balance[b];
+        const double scale =
+          std::max({applied_magnitude.norm(), support_magnitude.norm(), fb.contact.norm()});
         balance[b].relative_imbalance =
           scale > 0 ? (fb.applied + fb.support + fb.contact).norm() / scale : 0.0;
       }

@@ -586,6 +586,29 @@ namespace FetiContact
           << report.iterations << " iterations, relative projected gradient " << std::scientific
           << std::setprecision(3) << report.relative_residual << std::defaultfloat << std::endl;
     summary.set("pcg_relative_residual", report.relative_residual);
+    message = projected_cg_message(report);
+    summary.set("solver_message", message);
+  }
+
+  std::string
+  Simulator::projected_cg_message(const QP::SolverReport &report) const
+  {
+    const double tolerance = parameters.feti.projected_cg.tolerance;
+    if (report.converged)
+      return "converged";
+    if (report.stagnated)
+      return "projected CG stagnated after " + std::to_string(report.iterations) +
+             " iterations at the relative projected gradient " +
+             InputParsing::number_text(report.relative_residual) + " (recomputed from λ), above " +
+             "FETI/Relative tolerance = " + InputParsing::number_text(tolerance) +
+             ": its least value did not halve over the last quarter of the iterations, so the "
+             "rounding of F = B K⁺ Bᵀ bounds the attainable accuracy (ill-conditioned subdomain "
+             "matrices, e.g. a thin plate); a tolerance at or above that value is attainable";
+    return "projected CG did not converge in FETI/Maximum iterations = " +
+           std::to_string(parameters.feti.projected_cg.max_iterations) +
+           " iterations (relative projected gradient " +
+           InputParsing::number_text(report.relative_residual) + ", tolerance " +
+           InputParsing::number_text(tolerance) + ")";
   }
 
   void

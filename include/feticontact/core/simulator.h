@@ -19,6 +19,7 @@
 #include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
+#include <feticontact/qp/projected_cg.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
@@ -185,6 +186,12 @@ namespace FetiContact
     template <typename VectorType>
     void
     solve_linear();
+    /**
+     * The closing message of projected CG: "converged", or why it stopped (stagnation at the
+     * rounding floor of F above the tolerance, or the iteration limit), with its numbers.
+     */
+    std::string
+    projected_cg_message(const QP::SolverReport &report) const;
     /** ContactSolver on dual vectors of the kind `FETI/Dual vectors` names. */
     void
     solve_contact();

@@ -15,6 +15,11 @@ namespace FetiContact::QP
     bool         converged               = false;
     /** ‖projected gradient‖ / reference at the end. */
     double relative_residual = 0;
+    /**
+     * Whether the solver stopped because its residual stagnated above the tolerance (the
+     * rounding of the operator bounds the attainable accuracy; ProjectedCG), not at its limit.
+     */
+    bool stagnated = false;
   };
 
   /** The parameters of projected CG (ProjectedCG::AdditionalData). */
@@ -43,7 +48,14 @@ namespace FetiContact::QP
    * ‖P(Ax − b)‖ ≤ tolerance · max(‖P b‖, 64 ε (‖b‖ + ‖Ax₀‖) / tolerance): relative to the
    * projected right-hand side, but never below the rounding level of the data (ε the machine
    * epsilon), so that a problem whose x₀ already solves it stops at once instead of iterating
-   * on noise. Knows nothing of meshes: A and P are functions; instantiated for
+   * on noise.
+   *
+   * Stagnation: when the least ‖P(Ax − b)‖ has not halved for max(100, k/4) iterations (k the
+   * iterations so far), the residual has reached the floor that the rounding of A x leaves
+   * (with an ill-conditioned A, e.g. the subdomain matrices of a thin plate, above the
+   * tolerance): the solver recomputes P(Ax − b) from x once and stops, converged if that meets
+   * the tolerance, else with SolverReport::stagnated, instead of iterating on at the floor until
+   * max_iterations. Knows nothing of meshes: A and P are functions; instantiated for
    * dealii::Vector<double> and DistributedVector.
    *
    * An object with its AdditionalData (declared in the caller's prm subsection) whose solve()

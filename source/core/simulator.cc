@@ -14,6 +14,7 @@
 #include <feticontact/core/simulator.h>
 #include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/postprocessing/postprocessors.h>
+#include <feticontact/postprocessing/stresses.h>
 #include <feticontact/postprocessing/verification.h>
 #include <feticontact/qp/projected_cg.h>
 
@@ -692,6 +693,7 @@ namespace FetiContact
                                       evaluation.u_not_finite,
                                       evaluation.u_max,
                                       evaluation.interface_jump,
+                                      evaluation.largest_strain,
                                       held_contact.nodes,
                                       held_contact.layout,
                                       contact_comm,
@@ -844,6 +846,12 @@ namespace FetiContact
     const double jump            = largest_equality_residual();
     evaluation.lambda_not_finite = multipliers_not_finite();
     evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
+    if (evaluation.u_not_finite == 0)
+      for (unsigned int i = 0; i < owned.size(); ++i)
+        for (const auto &strain : cell_strains(*owned[i], mapping, u[i]))
+          for (const double e : eigenvalues(strain))
+            evaluation.largest_strain = std::max(evaluation.largest_strain, std::abs(e));
+    evaluation.largest_strain = Utilities::MPI::max(evaluation.largest_strain, comm);
     evaluation.contact_forces.on_body.resize(bodies.size());
     evaluation.contact_forces.of_zone.resize(parameters.contact.zones.size());
     if (n_contact_nodes > 0)

@@ -241,7 +241,7 @@ namespace FetiContact
       /** The displacements of the vertices of the contact surfaces. */
       VertexDisplacements surface_u;
       /** max |u| over all vertices, and the displacement components that are not finite. */
-      double       u_max = 0, interface_jump = 0;
+      double       u_max = 0, interface_jump = 0, largest_strain = 0;
       unsigned int u_not_finite = 0;
       /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
       double vertex_penetration = 0;

@@ -55,6 +55,11 @@ namespace FetiContact::Postprocessing
      */
     double interface_jump;
     /**
+     * The largest absolute principal strain of any cell of any subdomain (0 when some value is
+     * not finite).
+     */
+    double largest_strain;
+    /**
      * The contact nodes of this rank, with their rows (hold_contact_nodes()): all nodes with
      * replicated dual vectors; with distributed ones each node on one rank, that of its home
      * subdomain (the lowest copy of its slave vertex). contact_comm: the ranks among which the

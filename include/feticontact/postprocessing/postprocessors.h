@@ -13,18 +13,38 @@
 namespace FetiContact::Postprocessing
 {
   /**
-   * The constraints of the solution: the interface jump (summary.json: interface_jump), the
+   * The constraints of the solution: the interface jump (summary.json: interface_jump) and the
    * displacements and multipliers that are not finite numbers (values_not_finite), which refute
    * the solution: overflow gives infinities and NaNs, which every later comparison would let
-   * pass; and the largest strain (largest_strain), which refutes it above 0.1: the program
-   * solves linear elasticity and contact linearized about the initial geometry (small strain),
-   * and larger strains (loads or moduli in other units, a body pushed through its obstacle)
-   * have no meaning there. It runs before the contact conditions, so that a run out of small
-   * strain is reported as such and not as a penetration.
+   * pass.
    */
   class ConstraintCheck : public Interface
   {
   public:
+    std::string
+    name() const override;
+    void
+    execute(const Input &input) override;
+  };
+
+  /**
+   * The largest strain (summary.json: largest_strain), which refutes the solution above 0.1:
+   * the program solves linear elasticity with contact about the initial geometry (small
+   * strain), and larger strains (loads or moduli in other units) have no meaning there. It runs
+   * after the contact conditions, whose penetration message names the strains too (note()), so
+   * that a body pushed through its obstacle is reported as a penetration and a scene in other
+   * units as outside small strain.
+   */
+  class SmallStrainCheck : public Interface
+  {
+  public:
+    /** The largest strain that small-strain theory is taken to cover. */
+    static constexpr double limit = 0.1;
+
+    /** For another check's message: the strains if they exceed the limit, else "". */
+    static std::string
+    note(const Input &input);
+
     std::string
     name() const override;
     void

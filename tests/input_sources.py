@@ -137,6 +137,10 @@ def cgroup(exe, prm_dir, work):
         print("no memory cgroup can be created here: skipped")
         return 77
     try:
+        # A process must be able to join it (cgroup v2 refuses some placements).
+        if subprocess.run(["sh", "-c", 'echo $$ > "%s/cgroup.procs"' % folder]).returncode != 0:
+            print("no process can join the memory cgroup here: skipped")
+            return 77
         prm = os.path.join(prm_dir, "brick_contact.prm")
         # About 780 MiB on one rank (doc/performance.md): above the limit, far below the machine.
         cmd = ["sh", "-c", 'echo $$ > "%s/cgroup.procs" && exec "$@"' % folder, "sh", exe,

@@ -139,7 +139,8 @@ namespace FetiContact::Parameters
                 "Mesh/File: the mesh file <" + given + ">" + origins.where("Mesh/File") +
                   " does not exist: looked for <" + tried +
                   "> (a relative path is taken from the folder of the parameter file that "
-                  "names it).");
+                  "names it, from the working directory for a --set option or a parameter file "
+                  "read from a pipe).");
       }
     transform.parse_parameters(prm);
     prm.leave_subsection();

@@ -3,7 +3,7 @@
 that each converges on the mortar scenes.
 
     /usr/bin/python3 benchmarks/accuracy_presets.py [--exe build/feticontact] [--prm prm]
-        [--scenes tests/scenes] [--k 8] [--markdown doc/data/accuracy_presets.md] [--work DIR]
+        [--scenes tests/scenes] [--k 8] [--markdown doc/reports/data/accuracy_presets.md] [--work DIR]
 
 Part 1, on the paper's brick (prm/kucera_table_2.prm, Subdivisions 3k, k, k, Algorithm mpgp):
 each preset against a reference solve of the same mesh at MSA = QP = 1e-12:
@@ -112,7 +112,7 @@ def main():
     prm_dir = option("--prm", os.path.join(ROOT, "prm"))
     scenes_dir = option("--scenes", os.path.join(ROOT, "tests", "scenes"))
     k = int(option("--k", "8"))
-    markdown = option("--markdown", os.path.join(ROOT, "doc", "data", "accuracy_presets.md"))
+    markdown = option("--markdown", os.path.join(ROOT, "doc", "reports", "data", "accuracy_presets.md"))
     work = option("--work", tempfile.mkdtemp(prefix="accuracy_presets_"))
     lines = [f"The presets on the brick at k = {k} (prm/kucera_table_2.prm, Algorithm mpgp), "
              "against a reference solve at 1e-12:", ""]

@@ -7,9 +7,9 @@ below which solving harder buys nothing.
     python3 benchmarks/accuracy_sweep.py [--exe build/feticontact] [--k 8,16,24]
         [--tolerances 1e-2,1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10] [--repeats 3]
         [--repeats-large 1] [--algorithm mpgp] [--reference-tolerance 1e-12] [--timeout 7200]
-        [--csv doc/data/accuracy_sweep.csv] [--markdown doc/data/accuracy_sweep.md]
+        [--csv doc/reports/data/accuracy_sweep.csv] [--markdown doc/reports/data/accuracy_sweep.md]
         [--work DIR] [--keep-measured] [--add-repeats N]
-    /usr/bin/python3 benchmarks/accuracy_sweep.py --plot doc/data/accuracy_sweep.csv doc/accuracy_sweep.png
+    /usr/bin/python3 benchmarks/accuracy_sweep.py --plot doc/reports/data/accuracy_sweep.csv doc/reports/accuracy_sweep.png
 
 One tolerance t sets both relative tolerances, `MSA relative tolerance = t` and `QP relative
 tolerance = t` (doc/formulation.md, "Relative tolerances"). For each k and t:
@@ -307,8 +307,8 @@ def main():
     algorithm = option("--algorithm", "mpgp")
     reference_tolerance = float(option("--reference-tolerance", "1e-12"))
     timeout = float(option("--timeout", "7200"))
-    csv_path = option("--csv", "doc/data/accuracy_sweep.csv")
-    md_path = option("--markdown", "doc/data/accuracy_sweep.md")
+    csv_path = option("--csv", "doc/reports/data/accuracy_sweep.csv")
+    md_path = option("--markdown", "doc/reports/data/accuracy_sweep.md")
     keep = option("--work", tempfile.mkdtemp(prefix="accuracy_sweep_"))
     command = "python3 " + " ".join(sys.argv)
 

@@ -4,8 +4,8 @@ of each code and the difference of their displacements, on the same mesh.
 
     /usr/bin/python3 benchmarks/against_getfem.py [--exe build/feticontact]
         [--cases F0.3_k8,F0.3_k12,F0.3_k16,F0.3_k24,F0.1_k12] [--repeats 3]
-        [--repeats-large 1] [--csv doc/data/against_getfem.csv]
-        [--markdown doc/data/against_getfem.md] [--plot doc/against_getfem.png] [--report-only]
+        [--repeats-large 1] [--csv doc/reports/data/against_getfem.csv]
+        [--markdown doc/reports/data/against_getfem.md] [--plot doc/reports/against_getfem.png] [--report-only]
 
 The scene is prm/brick_contact.prm: the steel brick (0,3)×(0,1)×(0,1) m, E = 2.12e11 Pa,
 ν = 0.277, clamped on x = 0, tractions (2e7, 0, −1e8) Pa on z = 1 and (0, 3e7, 0) Pa on x = 3,
@@ -71,13 +71,13 @@ Options:
                          F0.3_k12,F0.3_k16,F0.3_k24,F0.1_k12)
   --repeats N            runs of each case with k ≤ 16 (default 3)
   --repeats-large N      runs of each case with k > 16 (default 1)
-  --csv PATH             one row per run (default doc/data/against_getfem.csv); rewritten after
+  --csv PATH             one row per run (default doc/reports/data/against_getfem.csv); rewritten after
                          every run: rows of the chosen cases are replaced, others kept
-  --markdown PATH        the table (default doc/data/against_getfem.md): per case the medians
+  --markdown PATH        the table (default doc/reports/data/against_getfem.md): per case the medians
                          of the wall times, their ratio GetFEM / project, the displacement
                          difference (largest over the runs), n_A and the Newton iterations
   --plot PATH            wall time against n, log-log, both codes, ratios annotated
-                         (default doc/against_getfem.png)
+                         (default doc/reports/against_getfem.png)
   --report-only          rebuild the table and the plot from the CSV without running anything
 
 Both processes run with their own defaults on whatever the machine offers (the project with its
@@ -517,13 +517,13 @@ def main():
     cases = option("--cases", ",".join(DEFAULT_CASES)).split(",")
     repeats = int(option("--repeats", "3"))
     repeats_large = int(option("--repeats-large", "1"))
-    paths = {"--csv": (option("--csv", os.path.join(ROOT, "doc", "data", "against_getfem.csv")),
-                       os.path.join(ROOT, "doc", "data", "against_getfem.csv")),
+    paths = {"--csv": (option("--csv", os.path.join(ROOT, "doc", "reports", "data", "against_getfem.csv")),
+                       os.path.join(ROOT, "doc", "reports", "data", "against_getfem.csv")),
              "--markdown": (option("--markdown",
-                                   os.path.join(ROOT, "doc", "data", "against_getfem.md")),
-                            os.path.join(ROOT, "doc", "data", "against_getfem.md")),
-             "--plot": (option("--plot", os.path.join(ROOT, "doc", "against_getfem.png")),
-                        os.path.join(ROOT, "doc", "against_getfem.png"))}
+                                   os.path.join(ROOT, "doc", "reports", "data", "against_getfem.md")),
+                            os.path.join(ROOT, "doc", "reports", "data", "against_getfem.md")),
+             "--plot": (option("--plot", os.path.join(ROOT, "doc", "reports", "against_getfem.png")),
+                        os.path.join(ROOT, "doc", "reports", "against_getfem.png"))}
     csv_path, markdown, plot = (p for p, _ in paths.values())
     for name in cases:
         if parse_case(name) is None:

@@ -4,7 +4,7 @@ AVX2 kernels and with the AVX-512 kernels, and the time of both on the brick.
 
     /usr/bin/python3 benchmarks/blas_kernels.py [--exe build/feticontact] [--prm-dir prm]
         [--kernels Haswell,SkylakeX] [--repeats 3] [--k 16]
-        [--csv doc/data/blas_kernels.csv] [--markdown doc/data/blas_kernels.md] [--report-only]
+        [--csv doc/reports/data/blas_kernels.csv] [--markdown doc/reports/data/blas_kernels.md] [--report-only]
 
 OpenBLAS picks its kernels by the CPU at run time; OPENBLAS_CORETYPE overrides the choice
 (Haswell: AVX2; SkylakeX: AVX-512, which needs a CPU with AVX-512). CHOLMOD factorizes and
@@ -37,8 +37,8 @@ PRM_DIR = option("--prm-dir", "prm")
 KERNELS = option("--kernels", "Haswell,SkylakeX").split(",")
 REPEATS = int(option("--repeats", "3"))
 K = int(option("--k", "16"))
-CSV = option("--csv", "doc/data/blas_kernels.csv")
-MARKDOWN = option("--markdown", "doc/data/blas_kernels.md")
+CSV = option("--csv", "doc/reports/data/blas_kernels.csv")
+MARKDOWN = option("--markdown", "doc/reports/data/blas_kernels.md")
 FIELDS = ["case", "kernel", "run", "n", "outer_iterations", "n_A", "du_relative", "factorization",
           "solve"]
 

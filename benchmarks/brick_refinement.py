@@ -7,9 +7,9 @@ n, m, Time, Iter, n_A = n_A^QPP + n_A^QPQ, beside the paper's own numbers; Table
 of the quadratic-constraint solvers beside the polygonal baselines s = 2 and s = 4.
 
     python3 benchmarks/brick_refinement.py [--exe build/feticontact] [--k 4,6,8,10,12,16,20,24]
-        [--repeats 3] [--limit "algorithm 2=12"] [--timeout 1800] [--csv doc/data/brick_refinement.csv]
-        [--markdown doc/data/brick_refinement.md] [--only "algorithm 2,mpgp"] [--merge] [--report-only]
-    /usr/bin/python3 benchmarks/brick_refinement.py --plot doc/data/brick_refinement.csv doc/brick_refinement.png
+        [--repeats 3] [--limit "algorithm 2=12"] [--timeout 1800] [--csv doc/reports/data/brick_refinement.csv]
+        [--markdown doc/reports/data/brick_refinement.md] [--only "algorithm 2,mpgp"] [--merge] [--report-only]
+    /usr/bin/python3 benchmarks/brick_refinement.py --plot doc/reports/data/brick_refinement.csv doc/brick_refinement.png
 
 Every run is `feticontact prm/kucera_table_2.prm` with the mesh, friction coefficient and
 algorithm overridden (`--set`), default tolerances (QP 1e-8, MSA 1e-6, relative), no VTU output.
@@ -87,8 +87,8 @@ def measure():
         if "=" in item:
             name, value = item.split("=")
             limits[name.strip()] = int(value)
-    csv_path = option("--csv", "doc/data/brick_refinement.csv")
-    md_path = option("--markdown", "doc/data/brick_refinement.md")
+    csv_path = option("--csv", "doc/reports/data/brick_refinement.csv")
+    md_path = option("--markdown", "doc/reports/data/brick_refinement.md")
 
     cases = []  # (friction, algorithm label, algorithm, polygon)
     for friction in (0.1, 0.3):

@@ -4,10 +4,10 @@ c = a (1 − Q/(μP))^(1/3), and full sliding for Q > μP.
 
     python3 benchmarks/cattaneo_mindlin.py [--exe build/feticontact] [--n 16]
         [--ratios 0,0.2,0.4,0.6,0.8,0.9] [--sliding 1.2] [--poisson 0.3]
-        [--markdown doc/data/cattaneo_mindlin.md] [--csv doc/data/cattaneo_mindlin.csv]
+        [--markdown doc/reports/data/cattaneo_mindlin.md] [--csv doc/reports/data/cattaneo_mindlin.csv]
         [--prm prm/cattaneo_mindlin_pair.prm]
-    /usr/bin/python3 benchmarks/cattaneo_mindlin.py --plot doc/data/cattaneo_mindlin.csv \\
-        doc/cattaneo_mindlin.png
+    /usr/bin/python3 benchmarks/cattaneo_mindlin.py --plot doc/reports/data/cattaneo_mindlin.csv \\
+        doc/reports/cattaneo_mindlin.png
 
 --prm prm/cattaneo_mindlin_pair.prm: the indenter on an elastic steel block (mortar rows) instead
 of the rigid flat; the block's subdivisions are 5/4 of the indenter's, both bodies get --poisson,
@@ -182,8 +182,8 @@ def main():
     rows = []
     for n in ns:
         rows += measure(exe, n, ratios, sliding)
-    write(rows, option("--csv", "doc/data/cattaneo_mindlin.csv"),
-          option("--markdown", "doc/data/cattaneo_mindlin.md"), "python3 " + " ".join(sys.argv))
+    write(rows, option("--csv", "doc/reports/data/cattaneo_mindlin.csv"),
+          option("--markdown", "doc/reports/data/cattaneo_mindlin.md"), "python3 " + " ".join(sys.argv))
 
 
 if __name__ == "__main__":

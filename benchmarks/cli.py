@@ -3,7 +3,7 @@
 Every script documents its options in its docstring; `arguments(__doc__, values, flags)` checks
 sys.argv against them before anything runs, so that `--help` prints the docstring and a misspelt
 option stops the script instead of starting a long run with defaults (which would overwrite the
-tables in doc/data/).
+tables in doc/reports/data/).
 """
 import sys
 

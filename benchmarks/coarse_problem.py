@@ -4,7 +4,7 @@
 
     /usr/bin/python3 benchmarks/coarse_problem.py [--binary build/benchmarks/coarse_problem]
         [--sizes 4,8,12,16,20,24] [--np 1,2,4] [--repeats 3]
-        [--csv doc/data/coarse_problem.csv] [--markdown doc/data/coarse_problem.md]
+        [--csv doc/reports/data/coarse_problem.csv] [--markdown doc/reports/data/coarse_problem.md]
 
 Runs benchmarks/coarse_problem.cc (a cube of N³ cubic subdomains with six rigid modes each and
 the rows of a coarse TFETI mesh) once per rank count of --np (`mpirun --oversubscribe -np P`
@@ -52,7 +52,7 @@ def main():
             rows += run(binary, ranks, sizes, int(option("--repeats", "3")), method)
         for r in rows[-len(METHODS) * len(sizes.split(",")):]:
             print(r, flush=True)
-    with open(option("--csv", "doc/data/coarse_problem.csv"), "w", newline="") as f:
+    with open(option("--csv", "doc/reports/data/coarse_problem.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
@@ -84,7 +84,7 @@ def main():
                    + " / ".join(f"{float(x['solve_seconds']):.2g}" for x in m) + " | "
                    + " / ".join(f"{float(x['peak_mib_rank0']):.0f}" for x in m) + " | "
                    + others + " |")
-    with open(option("--markdown", "doc/data/coarse_problem.md"), "w") as f:
+    with open(option("--markdown", "doc/reports/data/coarse_problem.md"), "w") as f:
         f.write("\n".join(out) + "\n")
     print("\n".join(out))
 

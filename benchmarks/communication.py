@@ -4,7 +4,7 @@ a fixed global size.
 
     python3 benchmarks/communication.py [--exe build/feticontact] [--prm prm/brick_contact.prm]
         [--k 16] [--blocks 8,2,2] [--np 1,2,4,8,16] [--dual-vectors replicated]
-        [--csv doc/data/communication.csv] [--markdown doc/data/communication.md] [--report-only]
+        [--csv doc/reports/data/communication.csv] [--markdown doc/reports/data/communication.md] [--report-only]
 
 Every case runs the program once on `mpirun -np N --oversubscribe` (one MSA step: the volumes
 and the memory do not depend on the number of iterations) and reads from summary.json, per
@@ -43,8 +43,8 @@ K = int(option("--k", "16"))
 BLOCKS = option("--blocks", "8,2,2")
 NP = [int(n) for n in option("--np", "1,2,4,8,16").split(",")]
 DUAL_VECTORS = option("--dual-vectors", "replicated")
-CSV = option("--csv", "doc/data/communication.csv")
-MD = option("--markdown", "doc/data/communication.md")
+CSV = option("--csv", "doc/reports/data/communication.csv")
+MD = option("--markdown", "doc/reports/data/communication.md")
 
 FIELDS = ["np", "m_total", "n_subdomains", "slot_neighbours_max", "slots_received_max",
           "gathered_values_max", "ghost_neighbours_max", "ghosts_received_max",

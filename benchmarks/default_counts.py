@@ -4,7 +4,7 @@ with nothing set but the mesh and the friction coefficient μ, for several k and
 
     /usr/bin/python3 benchmarks/default_counts.py [--exe build/feticontact]
         [--k 4,8,12,16,20,24,32,48] [--friction 0.3,0.1]
-        [--csv doc/data/default_counts.csv] [--markdown doc/data/default_counts.md]
+        [--csv doc/reports/data/default_counts.csv] [--markdown doc/reports/data/default_counts.md]
         [--merge] [--report-only]
 
 Each (μ, k) is one run of
@@ -17,7 +17,7 @@ Each (μ, k) is one run of
 (`n_primal`), the subdomains, n_A (`hessian_multiplications.total`), the MSA iterations
 (`outer_iterations`) and the solve time. The counts do not depend on the machine's speed but on
 the rounding of OpenBLAS's kernels (regenerate_doc.py runs with the AVX2 kernels;
-doc/data/blas_kernels.md); the solve time does (one run, whatever threads the machine offers). The CSV is rewritten after every run;
+doc/reports/data/blas_kernels.md); the solve time does (one run, whatever threads the machine offers). The CSV is rewritten after every run;
 --merge keeps the rows of (μ, k) not run again; --report-only rewrites the table from the CSV.
 Standard library only.
 """
@@ -80,8 +80,8 @@ def main():
     exe = os.path.abspath(option("--exe", os.path.join(ROOT, "build", "feticontact")))
     ks = [int(v) for v in option("--k", "4,8,12,16,20,24,32,48").split(",") if v]
     frictions = [v for v in option("--friction", "0.3,0.1").split(",") if v]
-    csv_path = option("--csv", os.path.join(ROOT, "doc", "data", "default_counts.csv"))
-    md_path = option("--markdown", os.path.join(ROOT, "doc", "data", "default_counts.md"))
+    csv_path = option("--csv", os.path.join(ROOT, "doc", "reports", "data", "default_counts.csv"))
+    md_path = option("--markdown", os.path.join(ROOT, "doc", "reports", "data", "default_counts.md"))
     rows = []
     if ("--merge" in sys.argv or "--report-only" in sys.argv) and os.path.exists(csv_path):
         with open(csv_path, newline="", encoding="utf-8") as f:

@@ -2,7 +2,7 @@
 """Replicated against distributed dual vectors (`FETI/Dual vectors`), side by side.
 
     /usr/bin/python3 benchmarks/dual_vectors.py [--exe build/feticontact] [--np 1,2]
-        [--repeats 3] [--csv doc/data/dual_vectors.csv] [--markdown doc/data/dual_vectors.md]
+        [--repeats 3] [--csv doc/reports/data/dual_vectors.csv] [--markdown doc/reports/data/dual_vectors.md]
         [--report-only]
 
 Every case runs with both settings in alternation, --repeats times, on every number of ranks of
@@ -28,8 +28,8 @@ arguments(__doc__, ["--exe", "--np", "--repeats", "--csv", "--markdown"], ["--re
 EXE = option("--exe", "build/feticontact")
 NP = [int(n) for n in option("--np", "1,2").split(",")]
 REPEATS = int(option("--repeats", "3"))
-CSV = option("--csv", "doc/data/dual_vectors.csv")
-MD = option("--markdown", "doc/data/dual_vectors.md")
+CSV = option("--csv", "doc/reports/data/dual_vectors.csv")
+MD = option("--markdown", "doc/reports/data/dual_vectors.md")
 FIELDS = ["case", "np", "vectors", "m_total", "count", "solve_s", "per_count_ms",
           "peak_rss_mib_max", "received_per_F_max"]
 QUIET = ["Output/Write vtu=false"]

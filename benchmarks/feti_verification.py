@@ -2,7 +2,7 @@
 """FETI against the monolithic solve on the brick without contact (doc/formulation.md, "The brick benchmark").
 
 Runs build/feticontact on prm/brick.prm for k = 4 and 8 with several decompositions, both
-Dirichlet treatments and 1, 2, 3 MPI ranks, and writes the table doc/data/feti_verification.md
+Dirichlet treatments and 1, 2, 3 MPI ranks, and writes the table doc/reports/data/feti_verification.md
 (n, subdomains, rigid modes, m, PCG iterations, relative difference to the monolithic solve,
 interface jump, force imbalance). Usage (from the repository root, after building):
 
@@ -62,8 +62,8 @@ for k, name, treatment, np, s in rows:
                  f"| {s['monolithic_difference']:.1e} | {s['interface_jump']:.1e} "
                  f"| {s['equilibrium']['largest_relative_imbalance']:.1e} "
                  f"| {s.get('coarse_residual_before_restoration', 0):.1e} |")
-os.makedirs("doc/data", exist_ok=True)
-with open("doc/data/feti_verification.md", "w") as f:
+os.makedirs("doc/reports/data", exist_ok=True)
+with open("doc/reports/data/feti_verification.md", "w") as f:
     f.write("<!-- written by: python3 benchmarks/feti_verification.py -->\n")
     f.write("\n".join(lines) + "\n")
 print("\n".join(lines))

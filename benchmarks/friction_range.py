@@ -5,7 +5,7 @@ and the effect of the two parameters meant for large F: relaxation of the slip-b
 steps` n).
 
     python3 benchmarks/friction_range.py [--exe build/feticontact] [--k 4,8] [--repeats 3]
-        [--single-above 60] [--markdown doc/data/friction_range.md]
+        [--single-above 60] [--markdown doc/reports/data/friction_range.md]
 
 Part 1: F = 0, 1e-8, 0.1, 0.3, 0.5, 1, 2 with every algorithm (default tolerances): status,
 Iter, n_A, time of the solve (median of --repeats runs), open/stick/slip counts.
@@ -70,7 +70,7 @@ def main():
     ks = [int(v) for v in option("--k", "4,8").split(",")]
     repeats = int(option("--repeats", "3"))
     single_above = float(option("--single-above", "60"))
-    md_path = option("--markdown", "doc/data/friction_range.md")
+    md_path = option("--markdown", "doc/reports/data/friction_range.md")
     out = ["<!-- written by benchmarks/friction_range.py -->", "",
            f"Command: `python3 {' '.join(sys.argv)}`; time: the contact solve, median of "
            f"{repeats} runs (one for a run that does not converge or takes more than "

@@ -2,9 +2,9 @@
 """Hertz contact (doc/validation.md): refinement study of prm/hertz.prm against the analytic solution.
 
     python3 benchmarks/hertz.py [--exe build/feticontact] [--n 12,16,24,32,40]
-        [--markdown doc/data/hertz.md] [--csv doc/data/hertz_profile.csv] [--work DIR]
+        [--markdown doc/reports/data/hertz.md] [--csv doc/reports/data/hertz_profile.csv] [--work DIR]
         [--prm prm/hertz_two_bodies.prm]
-    /usr/bin/python3 benchmarks/hertz.py --plot doc/data/hertz_profile.csv doc/hertz_pressure.png
+    /usr/bin/python3 benchmarks/hertz.py --plot doc/reports/data/hertz_profile.csv doc/reports/hertz_pressure.png
         [--prm prm/hertz_two_bodies.prm]
 
 --prm prm/hertz_two_bodies.prm studies the two elastic bodies of that scene (mortar rows) instead
@@ -83,8 +83,8 @@ def study():
     configure(option("--prm", PRM))
     exe = option("--exe", "build/feticontact")
     ns = [int(v) for v in option("--n", "12,16,24,32,40").split(",")]
-    md_path = option("--markdown", "doc/data/hertz.md")
-    csv_path = option("--csv", "doc/data/hertz_profile.csv")
+    md_path = option("--markdown", "doc/reports/data/hertz.md")
+    csv_path = option("--csv", "doc/reports/data/hertz_profile.csv")
     work = option("--work", tempfile.mkdtemp(prefix="hertz_"))
     factors = ", ".join(f"{n / 16:g}" for n in ns)
     command = [exe, "--set", f"Refinement study/Subdivision factors={factors}",

@@ -19,8 +19,8 @@ fixed point. The counts do not depend on the machine's speed, so runs may share 
 
 Usage: iteration_growth.py [--exe PATH] [--a 1,2,3,4,6] [--friction 0,0.3] [--jobs 1]
        [--penalty-factor 3]
-       [--csv doc/data/iteration_growth.csv] [--markdown doc/data/iteration_growth.md]
-       iteration_growth.py --plot doc/data/iteration_growth.csv doc/iteration_growth.png
+       [--csv doc/reports/data/iteration_growth.csv] [--markdown doc/reports/data/iteration_growth.md]
+       iteration_growth.py --plot doc/reports/data/iteration_growth.csv doc/reports/iteration_growth.png
 (the plot needs matplotlib: /usr/bin/python3 on Debian with python3-matplotlib)
 
 The executable is copied to a temporary file first, so that a rebuild during the run does not
@@ -177,8 +177,8 @@ def main():
     a_list = [int(x) for x in option("--a", "1,2,3,4,6").split(",") if x]
     frictions = [x for x in option("--friction", "0,0.3").split(",") if x]
     jobs = int(option("--jobs", "1"))
-    csv_path = option("--csv", os.path.join(HERE, "..", "doc", "data", "iteration_growth.csv"))
-    markdown = option("--markdown", os.path.join(HERE, "..", "doc", "data",
+    csv_path = option("--csv", os.path.join(HERE, "..", "doc", "reports", "data", "iteration_growth.csv"))
+    markdown = option("--markdown", os.path.join(HERE, "..", "doc", "reports", "data",
                                                  "iteration_growth.md"))
     command = "python3 benchmarks/iteration_growth.py " + " ".join(sys.argv[1:])
     with tempfile.TemporaryDirectory() as tmp:

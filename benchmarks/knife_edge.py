@@ -3,7 +3,7 @@
 "Edge of the contact region"):
 
     /usr/bin/python3 benchmarks/knife_edge.py [--exe build/feticontact]
-        [--markdown doc/data/knife_edge.md]
+        [--markdown doc/reports/data/knife_edge.md]
 
 The upper block of prm/two_blocks_nonmatching.prm moved to (1.5, 2.5) × (0, 1) × (0.5, 1), half
 over the end x = 2 of the lower block, and pressed by 5e7 Pa: the lower block's edge x = 2 is a
@@ -78,7 +78,7 @@ def main():
             print(slave, mesh, r, flush=True)
             out.append(f"| {slave} | {mesh} | {r['u_max']:.3g} | {r['separation']:.2g} | "
                        f"{r['separation'] / r['u_max']:.2g} | {r['n_A']} |")
-    with open(option("--markdown", "doc/data/knife_edge.md"), "w") as f:
+    with open(option("--markdown", "doc/reports/data/knife_edge.md"), "w") as f:
         f.write("\n".join(out) + "\n")
     print("\n".join(out))
 

@@ -2,7 +2,7 @@
 """Runs local_solver_benchmark for every local solver backend on the unit cube with
 N = 6, 10, 14, 21, 31 cubes per edge (3(N+1)^3 = 1029 ... 98304 DoFs), once with OpenBLAS's
 default number of threads and once with OPENBLAS_NUM_THREADS=1, and writes
-doc/data/local_solvers.csv and the plot doc/local_solvers.png (factorization time against DoFs).
+doc/reports/data/local_solvers.csv and the plot doc/local_solvers.png (factorization time against DoFs).
 
 A backend whose factorization took longer than --skip-after seconds (any repetition) at one size
 is not run at the larger sizes of that thread setting; those rows have status 'skipped'.
@@ -178,7 +178,7 @@ def main():
                         "--max-other-share (all other options as in the first run)")
     parser.add_argument("--max-wait", type=float, default=1200,
                         help="longest wait (s) for an idle machine before a run")
-    parser.add_argument("--csv", default=os.path.join(SOURCE, "doc", "data", "local_solvers.csv"))
+    parser.add_argument("--csv", default=os.path.join(SOURCE, "doc", "reports", "data", "local_solvers.csv"))
     parser.add_argument("--png", default=os.path.join(SOURCE, "doc", "local_solvers.png"))
     args = parser.parse_args()
 

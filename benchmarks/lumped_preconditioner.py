@@ -13,8 +13,8 @@ the other (never two at a time: paired runs on the two cores slow each other):
     the preconditioner.
 
 Usage: lumped_preconditioner.py [--exe PATH] [--linear-a 1,2,3,4]
-       [--friction 0,0.3] [--markdown doc/data/lumped_preconditioner.md]
-       [--csv doc/data/lumped_preconditioner.csv]
+       [--friction 0,0.3] [--markdown doc/reports/data/lumped_preconditioner.md]
+       [--csv doc/reports/data/lumped_preconditioner.csv]
 
 The executable is copied to a temporary file first, so that a rebuild during the run does not
 change it. OPENBLAS_NUM_THREADS=1.
@@ -76,11 +76,11 @@ def main():
     if contact_a:
         raise SystemExit("--contact-a: preconditioning MPGP in face was removed from the contact "
                          "solver (it lost on every scene: doc/performance.md, \"Defaults\"); "
-                         "its earlier tables stay in doc/data/lumped_preconditioner.md")
+                         "its earlier tables stay in doc/reports/data/lumped_preconditioner.md")
     frictions = [x for x in option("--friction", "0,0.3").split(",") if x]
-    markdown = option("--markdown", os.path.join(HERE, "..", "doc", "data",
+    markdown = option("--markdown", os.path.join(HERE, "..", "doc", "reports", "data",
                                                  "lumped_preconditioner.md"))
-    csv_path = option("--csv", os.path.join(HERE, "..", "doc", "data",
+    csv_path = option("--csv", os.path.join(HERE, "..", "doc", "reports", "data",
                                             "lumped_preconditioner.csv"))
     with tempfile.TemporaryDirectory() as tmp:
         exe = os.path.join(tmp, "feticontact")

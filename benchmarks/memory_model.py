@@ -3,8 +3,8 @@
 (include/feticontact/core/memory_estimate.h): measured peaks against the model's estimate.
 
     python3 benchmarks/memory_model.py [--exe build/feticontact] [--prm-dir prm]
-        [--cases all|quick] [--csv doc/data/memory_model.csv]
-        [--markdown doc/data/memory_model.md] [--report-only]
+        [--cases all|quick] [--csv doc/reports/data/memory_model.csv]
+        [--markdown doc/reports/data/memory_model.md] [--report-only]
 
 Every case runs the program once (one MSA step, `Contact solver/Maximum MSA iterations = 1`:
 the meshes, the factors and the QP vectors all exist by then, and later steps allocate nothing
@@ -35,8 +35,8 @@ arguments(__doc__, ["--exe", "--prm-dir", "--cases", "--csv", "--markdown"], ["-
 
 EXE = option("--exe", "build/feticontact")
 PRM = option("--prm-dir", "prm")
-CSV = option("--csv", "doc/data/memory_model.csv")
-MD = option("--markdown", "doc/data/memory_model.md")
+CSV = option("--csv", "doc/reports/data/memory_model.csv")
+MD = option("--markdown", "doc/reports/data/memory_model.md")
 
 
 def brick(k, blocks):

@@ -3,7 +3,7 @@
 
     /usr/bin/python3 benchmarks/mortar_cost.py [--exe build/feticontact]
         [--coupling build/benchmarks/mortar_coupling] [--sizes 20,40,80,160,316] [--repeats 3]
-        [--markdown doc/data/mortar_cost.md] [--csv doc/data/mortar_cost.csv]
+        [--markdown doc/reports/data/mortar_cost.md] [--csv doc/reports/data/mortar_cost.csv]
 
 1. The search and integrals alone (benchmarks/mortar_coupling.cc): a flat slave square of N × N
    cells against a master of 1.4 N × 1.4 N cells with the other diagonals, median of --repeats;
@@ -61,7 +61,7 @@ def main():
                         ["Body 1/Mesh/Subdivisions=64, 32, 16", "Body 2/Mesh/Subdivisions=24, 24, 12"])]
     for r in shares:
         print(r, flush=True)
-    with open(option("--csv", "doc/data/mortar_cost.csv"), "w", newline="") as f:
+    with open(option("--csv", "doc/reports/data/mortar_cost.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
@@ -80,7 +80,7 @@ def main():
     for r in shares:
         out.append(f"| {r['scene']} | {r['unknowns']:,} | {r['nodes']:,} | {r['rows']:.3g} | "
                    f"{r['total']:.3g} | {100 * r['share']:.1f} % | {r['n_A']} |")
-    with open(option("--markdown", "doc/data/mortar_cost.md"), "w") as f:
+    with open(option("--markdown", "doc/reports/data/mortar_cost.md"), "w") as f:
         f.write("\n".join(out) + "\n")
     print("\n".join(out))
 

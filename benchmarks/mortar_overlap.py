@@ -3,7 +3,7 @@
 (doc/contact.md, "Non-matching meshes"):
 
     /usr/bin/python3 benchmarks/mortar_overlap.py [--exe build/feticontact]
-        [--markdown doc/data/mortar_overlap.md] [--levels 1,2,4] [--scenes two_blocks,punch,knife_edge]
+        [--markdown doc/reports/data/mortar_overlap.md] [--levels 1,2,4] [--scenes two_blocks,punch,knife_edge]
 
 Each scene with either surface as the slave, on its meshes and with every Subdivisions multiplied
 by the levels (h / level). From summary.json: `mortar_overlap.slave_into_master` and
@@ -88,7 +88,7 @@ def main():
                        f"{s['kkt']['penetration']:.1e} | {'yes' if warned else 'no'} |")
                 print(row, flush=True)
                 out.append(row)
-    path = option("--markdown", "doc/data/mortar_overlap.md")
+    path = option("--markdown", "doc/reports/data/mortar_overlap.md")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
     print(f"wrote {path}")

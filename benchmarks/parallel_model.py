@@ -6,8 +6,8 @@ costs measured on this machine.
         [--mpi-costs build/benchmarks/mpi_costs] [--h 8,16] [--dofs-per-rank 100000]
         [--ranks 1,10,100,1000,10000] [--reductions 7.8] [--latency-factor 1,10]
         [--ranks-per-node 32] [--repeats 3]
-        [--communication doc/data/communication.csv] [--coarse doc/data/coarse_problem.csv]
-        [--csv doc/data/parallel_model.csv] [--markdown doc/data/parallel_model.md]
+        [--communication doc/reports/data/communication.csv] [--coarse doc/reports/data/coarse_problem.csv]
+        [--csv doc/reports/data/parallel_model.csv] [--markdown doc/reports/data/parallel_model.md]
         [--report-only]
 
 Measured here, each the median of --repeats rounds (the CSV keeps them; --report-only rebuilds
@@ -74,10 +74,10 @@ REDUCTIONS = float(option("--reductions", "7.8"))
 LATENCY = [float(f) for f in option("--latency-factor", "1,10").split(",")]
 PER_NODE = int(option("--ranks-per-node", "32"))
 REPEATS = int(option("--repeats", "3"))
-COMMUNICATION = option("--communication", "doc/data/communication.csv")
-COARSE = option("--coarse", "doc/data/coarse_problem.csv")
-CSV = option("--csv", "doc/data/parallel_model.csv")
-MARKDOWN = option("--markdown", "doc/data/parallel_model.md")
+COMMUNICATION = option("--communication", "doc/reports/data/communication.csv")
+COARSE = option("--coarse", "doc/reports/data/coarse_problem.csv")
+CSV = option("--csv", "doc/reports/data/parallel_model.csv")
+MARKDOWN = option("--markdown", "doc/reports/data/parallel_model.md")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OPENBLAS_NUM_THREADS="1", DEAL_II_NUM_THREADS="1")
 
@@ -204,7 +204,7 @@ def report():
              f"latency α = {values['latency'] * 1e6:.2f} µs and {values['per_value'] * 1e9:.2f} ns "
              f"per value (2 ranks, shared memory); replicated coarse solve "
              f"t_c = {solve_a:.3g} N_s^{solve_b:.2f} s and factor memory "
-             f"m_c = {mem_a:.3g} N_s^{mem_b:.2f} MiB (doc/data/coarse_problem.csv); interface "
+             f"m_c = {mem_a:.3g} N_s^{mem_b:.2f} MiB (doc/reports/data/coarse_problem.csv); interface "
              f"values per application of F V = {c_volume:.0f} s^(2/3) × (H/h / 8)²; "
              f"{REDUCTIONS:g} reductions per multiplication.", "",
              "| H/h | DoFs per subdomain | applications of F per multiplication f_F "

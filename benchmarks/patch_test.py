@@ -2,7 +2,7 @@
 """The contact patch test on non-matching meshes (doc/validation.md, "Non-matching meshes"):
 
     /usr/bin/python3 benchmarks/patch_test.py [--exe build/feticontact]
-        [--markdown doc/data/patch_test.md] [--plot doc/patch_test.png]
+        [--markdown doc/reports/data/patch_test.md] [--plot doc/reports/patch_test.png]
 
 Runs prm/patch_test.prm (5 × 5 cubes on 7 × 7) frictionless and with μ = 0.5, and
 prm/patch_test_unstructured.prm (two Gmsh meshes) frictionless and with μ = 0.5, each at
@@ -128,10 +128,10 @@ def main():
                        f"{r['p_error']:.2g} | {statuses} | {r['n_A']} |")
             print(out[-1], flush=True)
             results.append((label, mu, r))
-    with open(option("--markdown", "doc/data/patch_test.md"), "w") as f:
+    with open(option("--markdown", "doc/reports/data/patch_test.md"), "w") as f:
         f.write("\n".join(out) + "\n")
     print("\n".join(out))
-    plot(results, option("--plot", "doc/patch_test.png"))
+    plot(results, option("--plot", "doc/reports/patch_test.png"))
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 """P1 locking as ν → 1/2 on the paper's brick (doc/formulation.md, "The brick benchmark"; μ = 0.3, MPGP, default tolerances).
 
     python3 benchmarks/poisson_locking.py [--exe build/feticontact] [--k 4,8,16]
-        [--nu 0,0.3,0.45,0.49,0.499] [--markdown doc/data/poisson_locking.md]
+        [--nu 0,0.3,0.45,0.49,0.499] [--markdown doc/reports/data/poisson_locking.md]
 
 For each ν and k (Subdivisions 3k, k, k) the brick is solved and the displacement of its free
 corner (3, 1, 1), a vertex of every mesh, is compared with that on the finest mesh: linear
@@ -55,7 +55,7 @@ def main():
     exe = option("--exe", "build/feticontact")
     ks = [int(v) for v in option("--k", "4,8,16").split(",")]
     nus = [float(v) for v in option("--nu", "0,0.3,0.45,0.49,0.499").split(",")]
-    md_path = option("--markdown", "doc/data/poisson_locking.md")
+    md_path = option("--markdown", "doc/reports/data/poisson_locking.md")
     results = {}
     for nu in nus:
         for k in ks:

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The brick with Coulomb friction F = 0.3 on the Gmsh mesh tests/meshes/brick_k4.msh,
 solved by every contact algorithm and compared with the independent reference solution
-stored in tests/reference/ (GetFEM 5.4, nodal contact, Newton to 1e-12; tests/reference/README.md). Writes doc/data/reference_comparison.md.
+stored in tests/reference/ (GetFEM 5.4, nodal contact, Newton to 1e-12; tests/reference/README.md). Writes doc/reports/data/reference_comparison.md.
 
     python3 benchmarks/reference_comparison.py [--exe build/feticontact]
 
@@ -59,8 +59,8 @@ for tolerances, algorithm, diff, s in rows:
     lines.append(f"| {tolerances} | {algorithm} | {diff:.1e} | {s['outer_iterations']} | {s['smalbe_iterations']} "
                  f"| {h['total']} ({h['bound']} + {h['disc']}) | {c['open']} / {c['stick']} / {c['slip']} "
                  f"| {k['penetration']:.1e} | {k['cone_violation']:.1e} | {s['times']['solve']:.2f} |")
-os.makedirs("doc/data", exist_ok=True)
-with open("doc/data/reference_comparison.md", "w") as f:
+os.makedirs("doc/reports/data", exist_ok=True)
+with open("doc/reports/data/reference_comparison.md", "w") as f:
     f.write("<!-- written by: python3 benchmarks/reference_comparison.py -->\n")
     f.write("\n".join(lines) + "\n")
 print("\n".join(lines))

@@ -8,14 +8,14 @@ linear solve beside the contact solve.
     python3 benchmarks/scaling.py [--exe build/feticontact]
         [--monolithic build/benchmarks/monolithic_solve] [--cells-per-subdomain 8]
         [--a 1,2,3,4,5,6] [--np 1,2] [--paper-k 8,16] [--coarse-a 1,3,5,7] [--repeats 1]
-        [--csv doc/data/scaling.csv] [--linear-csv doc/data/scaling_linear.csv]
-        [--markdown doc/data/scaling.md] [--merge] [--report-only] [--linear-only]
+        [--csv doc/reports/data/scaling.csv] [--linear-csv doc/reports/data/scaling_linear.csv]
+        [--markdown doc/reports/data/scaling.md] [--merge] [--report-only] [--linear-only]
         [--expansion "projected cg"] [--hessian-norm-bound max]
         [--inexact-msa-factor 0.001] [--recursive-gradient-tolerance 0.1]
         [--arc-scale "mean diagonal"] [--penalty-factor 3] [--multiplier-step 1.5]
         [--add-summary SERIES,A,C,NP,PATH/summary.json]
         [--pair-a 2,3] [--alternate]
-    /usr/bin/python3 benchmarks/scaling.py --plot doc/data/scaling.csv doc/scaling.png
+    /usr/bin/python3 benchmarks/scaling.py --plot doc/reports/data/scaling.csv doc/scaling.png
 
 Weak scaling ("fixed H/h"): the brick (0,3)×(0,1)×(0,1) with h = 1/k, k = a × c (c =
 --cells-per-subdomain), split into 3a × a × a cubic subdomains of c × c × c cells, for every a
@@ -472,9 +472,9 @@ def main():
     paper_k = [int(v) for v in option("--paper-k", "8,16").split(",") if v]
     coarse_a = [int(v) for v in option("--coarse-a", "1,3,5,7").split(",") if v]
     repeats = int(option("--repeats", "1"))
-    csv_path = option("--csv", "doc/data/scaling.csv")
-    linear_path = option("--linear-csv", "doc/data/scaling_linear.csv")
-    md_path = option("--markdown", "doc/data/scaling.md")
+    csv_path = option("--csv", "doc/reports/data/scaling.csv")
+    linear_path = option("--linear-csv", "doc/reports/data/scaling_linear.csv")
+    md_path = option("--markdown", "doc/reports/data/scaling.md")
     command = "python3 " + " ".join(sys.argv)
     merge = "--merge" in sys.argv or "--report-only" in sys.argv
     rows = load(csv_path) if merge and os.path.exists(csv_path) else []

@@ -5,8 +5,8 @@ solving its own subdomains, on two ranks: the brick of benchmarks/scaling.py (fi
 (the penalty factor of --penalty-factor if given).
 
     python3 benchmarks/shared_local_work.py [--exe build/feticontact] [--a 3,4]
-        [--fractions 0.25,0] [--pairs 6] [--penalty-factor 3] [--csv doc/data/shared_local_work.csv]
-        [--markdown doc/data/shared_local_work.md]
+        [--fractions 0.25,0] [--pairs 6] [--penalty-factor 3] [--csv doc/reports/data/shared_local_work.csv]
+        [--markdown doc/reports/data/shared_local_work.md]
 
 For every a of --a, --pairs rounds; each round runs every fraction of --fractions once, in that
 order, so that a drift of the machine's speed touches all fractions alike. Rows of the CSV: one
@@ -83,8 +83,8 @@ def main():
     sizes = [int(a) for a in option("--a", "3,4").split(",")]
     fractions = option("--fractions", "0.25,0").split(",")
     pairs = int(option("--pairs", "6"))
-    csv_path = option("--csv", "doc/data/shared_local_work.csv")
-    md_path = option("--markdown", "doc/data/shared_local_work.md")
+    csv_path = option("--csv", "doc/reports/data/shared_local_work.csv")
+    md_path = option("--markdown", "doc/reports/data/shared_local_work.md")
     command = ("python3 benchmarks/shared_local_work.py --exe " + exe + " --a " +
                ",".join(map(str, sizes)) + " --fractions " + ",".join(fractions) + " --pairs " +
                str(pairs) + " --csv " + csv_path + " --markdown " + md_path)

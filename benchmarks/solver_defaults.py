@@ -5,7 +5,7 @@ two_blocks, hertz and cattaneo_mindlin.
 
     /usr/bin/python3 benchmarks/solver_defaults.py [--exe build/feticontact] [--prm prm]
         [--cases brick_F0.3_k8,...] [--variants defaults,...] [--repeats 1] [--time-limit 300]
-        [--csv doc/data/solver_defaults.csv] [--markdown doc/data/solver_defaults.md]
+        [--csv doc/reports/data/solver_defaults.csv] [--markdown doc/reports/data/solver_defaults.md]
         [--report-only]
 
 Every case is run with the defaults (`variant` "defaults": nothing set in `subsection Contact
@@ -186,8 +186,8 @@ def main():
     variants = option("--variants", ",".join(VARIANTS)).split(",")
     repeats = int(option("--repeats", "1"))
     time_limit = float(option("--time-limit", "300"))
-    csv_path = option("--csv", os.path.join(ROOT, "doc", "data", "solver_defaults.csv"))
-    markdown = option("--markdown", os.path.join(ROOT, "doc", "data", "solver_defaults.md"))
+    csv_path = option("--csv", os.path.join(ROOT, "doc", "reports", "data", "solver_defaults.csv"))
+    markdown = option("--markdown", os.path.join(ROOT, "doc", "reports", "data", "solver_defaults.md"))
     for name in cases:
         if name not in CASES:
             raise SystemExit(f"unknown case '{name}'; known: {', '.join(CASES)}")

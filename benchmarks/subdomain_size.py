@@ -6,7 +6,7 @@ F, the factorization and the solve.
 
     /usr/bin/python3 benchmarks/subdomain_size.py [--exe build/feticontact] [--k 16,24]
         [--friction 0.3,0.1] [--edges 2,3,4,6,8,12] [--metis-edges 4,8] [--repeats 3]
-        [--csv doc/data/subdomain_size.csv] [--markdown doc/data/subdomain_size.md]
+        [--csv doc/reports/data/subdomain_size.csv] [--markdown doc/reports/data/subdomain_size.md]
         [--merge] [--report-only]
 
 An edge c gives `Blocks` = (round(3k/c), round(k/c), round(k/c)), subdomains of about 3(c + 1)³
@@ -93,8 +93,8 @@ def main():
     metis_edges = [int(c) for c in option("--metis-edges", "4,8").split(",")]
     cases = [("blocks", c) for c in edges] + [("metis", c) for c in metis_edges]
     repeats = int(option("--repeats", "3"))
-    csv_path = option("--csv", os.path.join(ROOT, "doc", "data", "subdomain_size.csv"))
-    markdown = option("--markdown", os.path.join(ROOT, "doc", "data", "subdomain_size.md"))
+    csv_path = option("--csv", os.path.join(ROOT, "doc", "reports", "data", "subdomain_size.csv"))
+    markdown = option("--markdown", os.path.join(ROOT, "doc", "reports", "data", "subdomain_size.md"))
     rows = []
     if os.path.exists(csv_path):
         with open(csv_path, newline="", encoding="utf-8") as f:

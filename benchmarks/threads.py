@@ -5,7 +5,7 @@ with the time of one application of F, the local work, the factorization, the so
 process wall time, and whether the two give the same displacements to the last bit.
 
     /usr/bin/python3 benchmarks/threads.py [--exe build/feticontact] [--k 8,16,24]
-        [--threads 1,2] [--repeats 3] [--markdown doc/data/threads.md]
+        [--threads 1,2] [--repeats 3] [--markdown doc/reports/data/threads.md]
 
 Times are medians of --repeats runs (summary.json; `wall` is the process wall time measured
 here, start-up and output included). Standard library only.
@@ -53,7 +53,7 @@ def main():
     ks = [int(k) for k in option("--k", "8,16,24").split(",")]
     thread_counts = [int(t) for t in option("--threads", "1,2").split(",")]
     repeats = int(option("--repeats", "3"))
-    markdown = option("--markdown", os.path.join(ROOT, "doc", "data", "threads.md"))
+    markdown = option("--markdown", os.path.join(ROOT, "doc", "reports", "data", "threads.md"))
     lines = ["| k | n | subdomains | threads | n_A | one F [ms] | local work [s] | assembly [s] | "
              "factorization [s] | solve [s] | wall [s] | F speed-up | same bits |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]

@@ -3,8 +3,8 @@
 
     /usr/bin/python3 benchmarks/weak_scaling.py [--exe build/feticontact]
         [--prm prm/brick_contact.prm] [--cubes 16] [--np 1,2,4,8,16]
-        [--dual-vectors replicated] [--csv doc/data/weak_scaling.csv]
-        [--markdown doc/data/weak_scaling.md] [--report-only]
+        [--dual-vectors replicated] [--csv doc/reports/data/weak_scaling.csv]
+        [--markdown doc/reports/data/weak_scaling.md] [--report-only]
 
 On np ranks the brick of --prm is a bar of np blocks of --cubes³ cubes (`Subdivisions =
 np·C, C, C`, `Decomposition/Method = blocks`, `Blocks = np, 1, 1`): every rank holds one subdomain
@@ -32,8 +32,8 @@ PRM = option("--prm", "prm/brick_contact.prm")
 CUBES = int(option("--cubes", "16"))
 NP = [int(n) for n in option("--np", "1,2,4,8,16").split(",")]
 DUAL_VECTORS = option("--dual-vectors", "replicated")
-CSV = option("--csv", "doc/data/weak_scaling.csv")
-MD = option("--markdown", "doc/data/weak_scaling.md")
+CSV = option("--csv", "doc/reports/data/weak_scaling.csv")
+MD = option("--markdown", "doc/reports/data/weak_scaling.md")
 FIELDS = ["np", "n_primal", "m_total", "peak_rss_mib_max", "peak_rss_mib_min", "estimated_mib",
           "meshes_mib"]
 

@@ -4,11 +4,11 @@
 // points (three components each) on every face between two subdomains, one on every edge and
 // corner shared with a diagonal neighbour, and four Dirichlet points on every face on x = 0.
 // Three ways to factorize and solve it, side by side in one run (median of R):
-//   replicated   every rank gathers G (CoarseProblem::initialize: all entries on every rank, GGᵀ
-//                assembled and factorized by CHOLMOD on every rank) and solves alone
-//                (FETI/Coarse factor = per rank);
-//   per-node     the same, but the first rank of the node alone assembles and factorizes GGᵀ and
-//                the node's ranks solve with the one factor in shared memory (per node);
+//   replicated   CoarseProblem: every rank holds G in the columns that touch its subdomains,
+//                assembles the rows of GGᵀ of its modes, and the rows are gathered; every rank
+//                factorizes GGᵀ by CHOLMOD and solves alone (FETI/Coarse factor = per rank);
+//   per-node     the same, but the first rank of the node alone factorizes GGᵀ and the node's
+//                ranks solve with the one factor in shared memory (per node);
 //   distributed  GGᵀ assembled in distributed form (each rank the rows of its block of
 //                subdomains, from the columns of B that touch them) into an Epetra matrix and
 //                factorized and solved by MUMPS through Trilinos Amesos.
@@ -29,6 +29,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <feticontact/feti/coarse_problem.h>
+#include <feticontact/feti/dual_distribution.h>
 
 #include <algorithm>
 #include <array>
@@ -209,8 +210,8 @@ namespace
   }
 
   /**
-   * Every rank gathers G, and GGᵀ is factorized by CHOLMOD (CoarseProblem) on every rank or once
-   * per node (@p storage).
+   * G by the columns that touch each rank's subdomains, GGᵀ gathered and factorized by CHOLMOD
+   * (CoarseProblem) on every rank or once per node (@p storage).
    */
   Row
   replicated(const MPI_Comm                     comm,
@@ -221,37 +222,58 @@ namespace
     const unsigned int rank = Utilities::MPI::this_mpi_process(comm);
     const unsigned int size = Utilities::MPI::n_mpi_processes(comm);
     const unsigned int N    = n * n * n;
-    // This rank contributes the columns whose first subdomain is in its block.
-    const auto mine = [&](const unsigned int s) { return s * size / N == rank; };
-    const auto cols = columns(n, [&](const unsigned int s) { return mine(s); });
-    // Column numbering: a global count needs the other ranks' counts.
-    unsigned int own = 0;
-    for (const auto &c : cols)
-      own += mine(c.a) ? 1 : 0;
-    unsigned int first = 0;
-    MPI_Exscan(&own, &first, 1, MPI_UNSIGNED, MPI_SUM, comm);
-    if (rank == 0)
-      first = 0;
-    const unsigned int                total = Utilities::MPI::sum(own, comm);
+    // A rank owns a contiguous block of subdomains and the columns whose first subdomain is in
+    // it; the columns are numbered in the order columns() makes them (by first subdomain).
+    const auto                owner_of = [&](const unsigned int s) { return s * size / N; };
+    const auto                mine     = [&](const unsigned int s) { return owner_of(s) == rank; };
+    const auto                all      = columns(n, [](const unsigned int) { return true; });
+    std::vector<unsigned int> owned, relevant;
+    std::vector<int>          relevant_owner;
     std::vector<CoarseProblem::Entry> entries;
-    unsigned int                      column = first;
-    for (const auto &c : cols)
-      if (mine(c.a))
+    unsigned int                      first_subdomain = N, end_subdomain = 0;
+    for (unsigned int s = 0; s < N; ++s)
+      if (mine(s))
         {
-          for (const auto &[mode, value] : column_entries(n, c))
-            entries.push_back({mode, column, value});
-          ++column;
+          first_subdomain = std::min(first_subdomain, s);
+          end_subdomain   = s + 1;
         }
+    for (unsigned int j = 0; j < all.size(); ++j)
+      {
+        const Column &c = all[j];
+        if (mine(c.a))
+          owned.push_back(j);
+        if (mine(c.a) || (c.glue && mine(c.b)))
+          {
+            relevant.push_back(j);
+            relevant_owner.push_back(owner_of(c.a));
+            for (const auto &[mode, value] : column_entries(n, c))
+              entries.push_back({mode, j, value});
+          }
+      }
+    const unsigned int     total = all.size();
+    const DualDistribution distribution(comm, owned, relevant, relevant_owner, total);
+    if (first_subdomain > end_subdomain)
+      first_subdomain = end_subdomain;
+    // The ranks' mode ranges must follow each other: a rank without subdomains starts where the
+    // previous one ends.
+    unsigned int first_mode = 0, n_own_modes = 6 * (end_subdomain - first_subdomain);
+    MPI_Exscan(&n_own_modes, &first_mode, 1, MPI_UNSIGNED, MPI_SUM, comm);
+    if (rank == 0)
+      first_mode = 0;
     std::vector<double> setup, solve;
-    double              norm      = 0;
-    const double        g_entries = Utilities::MPI::sum(double(entries.size()), comm);
-    std::size_t         shared    = 0;
+    double              norm        = 0;
+    double              own_entries = 0;
+    for (const auto &e : entries)
+      own_entries += mine(all[e.column].a);
+    const double g_entries = Utilities::MPI::sum(own_entries, comm);
+    std::size_t  shared    = 0;
     for (unsigned int r = 0; r < repeats; ++r)
       {
         CoarseProblem coarse(storage);
         MPI_Barrier(comm);
         auto start = Clock::now();
-        coarse.initialize(comm, entries, 6 * N, total);
+        coarse.initialize(
+          distribution, entries, 6 * N, total, first_mode, first_mode + n_own_modes);
         MPI_Barrier(comm);
         setup.push_back(seconds_since(start));
         Vector<double> x(6 * N);

@@ -5,16 +5,14 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  template <typename VectorType>
-  CombinedLoop<VectorType>::CombinedLoop(
-    TrescaProblem<VectorType>                             &tresca,
-    const Parameters::ContactSolver                       &parameters,
-    std::function<std::vector<double>(const VectorType &)> slip_bound_of)
+  CombinedLoop::CombinedLoop(TrescaProblem                                         &tresca,
+                             const Parameters::ContactSolver                       &parameters,
+                             std::function<std::vector<double>(const DualVector &)> slip_bound_of)
     : tresca(tresca)
     , parameters(parameters)
     , slip_bound_of(std::move(slip_bound_of))
   {
-    moving_set.update    = [this](const VectorType &lambda) { update_radii(lambda); };
+    moving_set.update    = [this](const DualVector &lambda) { update_radii(lambda); };
     moving_set.unchanged = [this]() { return change <= this->parameters.msa_tolerance; };
     // At the start λ_N = 0 and g = 0 do not change either: final only after a few updates.
     moving_set.final = [this]() {
@@ -22,16 +20,14 @@ namespace FetiContact
     };
   }
 
-  template <typename VectorType>
   double
-  CombinedLoop<VectorType>::last_change() const
+  CombinedLoop::last_change() const
   {
     return change;
   }
 
-  template <typename VectorType>
   void
-  CombinedLoop<VectorType>::update_radii(const VectorType &lambda)
+  CombinedLoop::update_radii(const DualVector &lambda)
   {
     const auto                 target = slip_bound_of(lambda);
     const std::vector<double> &g_old  = tresca.slip_bounds();
@@ -43,12 +39,11 @@ namespace FetiContact
     tresca.set_slip_bounds(g);
   }
 
-  template <typename VectorType>
-  typename CombinedLoop<VectorType>::Outcome
-  CombinedLoop<VectorType>::run(VectorType                                        &lambda,
-                                Vector<double>                                    &nu,
-                                const double                                       msa_tolerance,
-                                const typename TrescaProblem<VectorType>::Monitor &monitor)
+  CombinedLoop::Outcome
+  CombinedLoop::run(DualVector                   &lambda,
+                    Vector<double>               &nu,
+                    const double                  msa_tolerance,
+                    const TrescaProblem::Monitor &monitor)
   {
     Outcome outcome;
     for (unsigned int call = 0; call < parameters.max_msa_iterations; ++call)
@@ -75,6 +70,4 @@ namespace FetiContact
     return outcome;
   }
 
-  template class CombinedLoop<Vector<double>>;
-  template class CombinedLoop<DistributedVector>;
 } // namespace FetiContact

@@ -12,12 +12,11 @@ namespace FetiContact
 {
   using namespace dealii;
 
-  template <typename VectorType>
-  ContactSolver<VectorType>::ContactSolver(const DualProblem               &dual,
-                                           const DualLayout                &layout,
-                                           const std::vector<ContactNode>  &nodes,
-                                           const Parameters::ContactSolver &parameters,
-                                           std::ostream                    &out)
+  ContactSolver::ContactSolver(const DualProblem               &dual,
+                               const DualLayout                &layout,
+                               const std::vector<ContactNode>  &nodes,
+                               const Parameters::ContactSolver &parameters,
+                               std::ostream                    &out)
     : layout(layout)
     , nodes(nodes)
     , parameters(parameters)
@@ -26,22 +25,19 @@ namespace FetiContact
             FrictionLaw::tresca(parameters.slip_bound) :
             FrictionLaw::coulomb())
     , tresca(dual, layout, nodes, parameters, out)
-    , combined(tresca, parameters, [this](const VectorType &lambda) {
+    , combined(tresca, parameters, [this](const DualVector &lambda) {
       return coulomb_bound(lambda);
     })
   {}
 
-  template <typename VectorType>
   void
-  ContactSolver<VectorType>::set_equilibrium_test(
-    std::function<LoadBalance(const std::vector<double> &)> test)
+  ContactSolver::set_equilibrium_test(std::function<LoadBalance(const std::vector<double> &)> test)
   {
     equilibrium_test = std::move(test);
   }
 
-  template <typename VectorType>
   std::vector<double>
-  ContactSolver<VectorType>::coulomb_bound(const VectorType &lambda_tilde) const
+  ContactSolver::coulomb_bound(const DualVector &lambda_tilde) const
   {
     // In the units of the forces, so that the nodes of one vertex in several zones add up
     // (slip_bounds()), then in those of each node's multipliers (forces / scale_of_node).
@@ -51,45 +47,42 @@ namespace FetiContact
     return g;
   }
 
-  template <typename VectorType>
-  typename TrescaProblem<VectorType>::Monitor
-  ContactSolver<VectorType>::monitor(Result &result)
+  TrescaProblem::Monitor
+  ContactSolver::monitor(Result &result)
   {
     // Algorithm 2 reports the change of the radius update inside its loop, MSA that of its last
     // step (0 in the first).
-    return
-      [this, &result](const typename QP::SMALBE<VectorType>::Step &step, const VectorType &lambda) {
-        const bool combined_loop =
-          parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2 &&
-          law.depends_on_normal_force();
-        HistoryRow row;
-        row.msa_iteration      = combined_loop ? 0 : msa_iteration;
-        row.smalbe_iteration   = tresca.statistics().smalbe_iterations + step.outer_iteration + 1;
-        row.feasibility        = step.relative_feasibility;
-        row.projected_gradient = step.relative_gradient;
-        row.slip_bound_change  = combined_loop     ? combined.last_change() :
-                                 msa_iteration > 0 ? last_change :
-                                                     0.0;
-        const auto counts      = tresca.status_counts(lambda);
-        row.open               = counts[0];
-        row.stick              = counts[1];
-        row.slip               = counts[2];
-        row.inner_iterations   = step.inner_iterations;
-        result.history.push_back(row);
-        out << "  "
-            << (row.msa_iteration > 0 ? "MSA " + std::to_string(row.msa_iteration) + ", " :
-                                        std::string())
-            << "SMALBE " << std::setw(3) << row.smalbe_iteration << ": ‖Gλ − e‖ " << std::scientific
-            << std::setprecision(2) << row.feasibility << ", ‖g^P‖ " << row.projected_gradient
-            << ", slip bound change " << row.slip_bound_change << std::defaultfloat
-            << ", open/stick/slip " << row.open << '/' << row.stick << '/' << row.slip << ", inner "
-            << row.inner_iterations << std::endl;
-      };
+    return [this, &result](const QP::SMALBE<DualVector>::Step &step, const DualVector &lambda) {
+      const bool combined_loop =
+        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2 &&
+        law.depends_on_normal_force();
+      HistoryRow row;
+      row.msa_iteration      = combined_loop ? 0 : msa_iteration;
+      row.smalbe_iteration   = tresca.statistics().smalbe_iterations + step.outer_iteration + 1;
+      row.feasibility        = step.relative_feasibility;
+      row.projected_gradient = step.relative_gradient;
+      row.slip_bound_change  = combined_loop     ? combined.last_change() :
+                               msa_iteration > 0 ? last_change :
+                                                   0.0;
+      const auto counts      = tresca.status_counts(lambda);
+      row.open               = counts[0];
+      row.stick              = counts[1];
+      row.slip               = counts[2];
+      row.inner_iterations   = step.inner_iterations;
+      result.history.push_back(row);
+      out << "  "
+          << (row.msa_iteration > 0 ? "MSA " + std::to_string(row.msa_iteration) + ", " :
+                                      std::string())
+          << "SMALBE " << std::setw(3) << row.smalbe_iteration << ": ‖Gλ − e‖ " << std::scientific
+          << std::setprecision(2) << row.feasibility << ", ‖g^P‖ " << row.projected_gradient
+          << ", slip bound change " << row.slip_bound_change << std::defaultfloat
+          << ", open/stick/slip " << row.open << '/' << row.stick << '/' << row.slip << ", inner "
+          << row.inner_iterations << std::endl;
+    };
   }
 
-  template <typename VectorType>
   void
-  ContactSolver<VectorType>::write_history(const std::vector<HistoryRow> &rows, std::ostream &csv)
+  ContactSolver::write_history(const std::vector<HistoryRow> &rows, std::ostream &csv)
   {
     csv << "msa_iteration,smalbe_iteration,feasibility,projected_gradient,"
            "slip_bound_change,open,stick,slip,inner_iterations\n";
@@ -99,9 +92,8 @@ namespace FetiContact
           << ',' << r.slip << ',' << r.inner_iterations << '\n';
   }
 
-  template <typename VectorType>
   bool
-  ContactSolver<VectorType>::slip_bounds_cannot_hold(Result &result) const
+  ContactSolver::slip_bounds_cannot_hold(Result &result) const
   {
     if (!equilibrium_test || layout.n_tangential == 0 ||
         parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2)
@@ -138,13 +130,12 @@ namespace FetiContact
     return true;
   }
 
-  template <typename VectorType>
-  typename QP::SMALBE<VectorType>::Statistics
-  ContactSolver<VectorType>::msa_step(Result &result, const double tolerance)
+  QP::SMALBE<DualVector>::Statistics
+  ContactSolver::msa_step(Result &result, const double tolerance)
   {
     if (slip_bounds_cannot_hold(result))
       {
-        typename QP::SMALBE<VectorType>::Statistics report;
+        QP::SMALBE<DualVector>::Statistics report;
         report.infeasible = true;
         return report;
       }
@@ -157,9 +148,8 @@ namespace FetiContact
     return report;
   }
 
-  template <typename VectorType>
-  typename ContactSolver<VectorType>::Result
-  ContactSolver<VectorType>::solve()
+  ContactSolver::Result
+  ContactSolver::solve()
   {
     Result result = solve_homogenized();
     tresca.recover(result.lambda, result.mu);
@@ -178,9 +168,8 @@ namespace FetiContact
     return result;
   }
 
-  template <typename VectorType>
   void
-  ContactSolver<VectorType>::solve_one_qp(Result &result)
+  ContactSolver::solve_one_qp(Result &result)
   {
     if (layout.n_tangential > 0)
       {
@@ -202,9 +191,8 @@ namespace FetiContact
             (report.inner_stalled ? " (its inner solves stalled at their iteration limit)" : "");
   }
 
-  template <typename VectorType>
-  typename ContactSolver<VectorType>::Result
-  ContactSolver<VectorType>::solve_homogenized()
+  ContactSolver::Result
+  ContactSolver::solve_homogenized()
   {
     qp_tolerance = parameters.qp_tolerance;
     Result result;
@@ -249,11 +237,8 @@ namespace FetiContact
     return result;
   }
 
-  template <typename VectorType>
   void
-  ContactSolver<VectorType>::solve_msa(Result      &result,
-                                       const double msa_tolerance,
-                                       const bool   cold_start)
+  ContactSolver::solve_msa(Result &result, const double msa_tolerance, const bool cold_start)
   {
     // MSA: a cold start begins with unbounded tangential multipliers (the contact sticks:
     // g = ∞, a problem that has a solution whenever the normal contact holds the bodies; g = 0,
@@ -276,7 +261,7 @@ namespace FetiContact
     // reported as "no equilibrium" the step is solved again to the final precision.
     struct Step
     {
-      VectorType          lambda;
+      DualVector          lambda;
       Vector<double>      mu;
       std::vector<double> g;
       double              omega = 1;
@@ -371,6 +356,4 @@ namespace FetiContact
                      InputParsing::number_text(last_change);
   }
 
-  template class ContactSolver<Vector<double>>;
-  template class ContactSolver<DistributedVector>;
 } // namespace FetiContact

@@ -16,10 +16,8 @@ namespace FetiContact
     constexpr double negligible_slip_bound = 1e-12;
   } // namespace
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::Statistics::count_steps(
-    const typename QP::MPGP<VectorType>::Statistics &r)
+  TrescaProblem::Statistics::count_steps(const QP::MPGP<DualVector>::Statistics &r)
   {
     cg_steps += r.cg_steps;
     expansion_steps += r.expansion_steps;
@@ -28,12 +26,11 @@ namespace FetiContact
     recursive_gradient_updates += r.recursive_gradient_updates;
   }
 
-  template <typename VectorType>
-  TrescaProblem<VectorType>::TrescaProblem(const DualProblem               &dual,
-                                           const DualLayout                &layout,
-                                           const std::vector<ContactNode>  &nodes,
-                                           const Parameters::ContactSolver &parameters,
-                                           std::ostream                    &out)
+  TrescaProblem::TrescaProblem(const DualProblem               &dual,
+                               const DualLayout                &layout,
+                               const std::vector<ContactNode>  &nodes,
+                               const Parameters::ContactSolver &parameters,
+                               std::ostream                    &out)
     : dual(dual)
     , layout(layout)
     , nodes(nodes)
@@ -68,26 +65,25 @@ namespace FetiContact
     estimate_scales(out);
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::build_problems()
+  TrescaProblem::build_problems()
   {
     // Homogenization for the projector variant: Gλ₀ = e, h − Fλ₀, ẽ − G̃λ₀ = 0. λ₀ is taken
     // from the gluing and Dirichlet rows alone when they restrain the floating subdomains, else
     // from those and the normal rows, and only else from all rows (CoarseProblem::
     // particular_solution): the bounds are then λ̃_N ≥ 0 and the discs centred at the origin,
     // where radii far below ‖λ₀‖ (μ = 1e-8, nodes without contact) are resolved.
-    unscaled.hessian     = [this](const VectorType &x, VectorType &y) { this->dual.apply_F(x, y); };
+    unscaled.hessian     = [this](const DualVector &x, DualVector &y) { this->dual.apply_F(x, y); };
     unscaled.linear_term = h;
     unscaled.set         = &set;
-    unscaled.G           = [this](const VectorType &x, Vector<double> &y) {
+    unscaled.G           = [this](const DualVector &x, Vector<double> &y) {
       this->dual.coarse.apply_G(x, y);
     };
-    unscaled.Gt = [this](const Vector<double> &x, VectorType &y) {
+    unscaled.Gt = [this](const Vector<double> &x, DualVector &y) {
       this->dual.coarse.apply_Gt(x, y);
     };
     unscaled.e = dual.e;
-    typename QP::Orthonormalization<VectorType>::Factor factor;
+    QP::Orthonormalization<DualVector>::Factor factor;
     factor.solve_L = [this](Vector<double> &v) {
       this->dual.coarse.apply_orthonormalizing_factor(v, false);
     };
@@ -111,31 +107,23 @@ namespace FetiContact
       }
   }
 
-  template <typename VectorType>
   unsigned int
-  TrescaProblem<VectorType>::tier(const unsigned int row) const
+  TrescaProblem::tier(const unsigned int row) const
   {
     return row < layout.first_normal() ? 2 : row < layout.first_equality() ? 1 : 0;
   }
 
-  template <typename VectorType>
-  VectorType
-  TrescaProblem<VectorType>::particular_solution(const Vector<double> &e) const
+  DualVector
+  TrescaProblem::particular_solution(const Vector<double> &e) const
   {
     const auto tier_of_row = [this](const unsigned int row) { return tier(row); };
-    if constexpr (LocalDualRows<VectorType>::distributed)
-      {
-        VectorType lambda;
-        dual.coarse.particular_solution(e, tier_of_row, lambda);
-        return lambda;
-      }
-    else
-      return dual.coarse.particular_solution(e, tier_of_row);
+    DualVector lambda;
+    dual.coarse.particular_solution(e, tier_of_row, lambda);
+    return lambda;
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::build_constraint_sets()
+  TrescaProblem::build_constraint_sets()
   {
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
@@ -154,22 +142,21 @@ namespace FetiContact
       }
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::estimate_scales(std::ostream &out)
+  TrescaProblem::estimate_scales(std::ostream &out)
   {
     // The equality constraint is used in the orthonormalized form G̃λ = ẽ (G̃G̃ᵀ = I), so ‖G̃‖ = 1.
     G_norm                 = dual.coarse.n_modes() > 0 ? 1.0 : 0.0;
-    const VectorType start = rows.c();
+    const DualVector start = rows.c();
     // The FETI part of the Hessian: F, or PFP in the projector variant. ‖F‖ bounds ‖PFP‖, but
     // with floating subdomains it also measures the local pseudo-inverses on the rigid body
     // modes, which P removes: with the projector SMALBE gets ‖PFP‖, the norm of the FETI part
     // of the Hessian it applies.
     if (parameters.penalty_projected_norm && projector)
       {
-        VectorType Pv;
-        feti_norm = 1.05 * QP::estimate_norm<VectorType>(
-                             [&](const VectorType &x, VectorType &y) {
+        DualVector Pv;
+        feti_norm = 1.05 * QP::estimate_norm<DualVector>(
+                             [&](const DualVector &x, DualVector &y) {
                                Pv = x;
                                apply_P(Pv);
                                dual.apply_F(Pv, y);
@@ -179,8 +166,8 @@ namespace FetiContact
                              projected_norm_iterations);
       }
     else
-      feti_norm = 1.05 * QP::estimate_norm<VectorType>([&](const VectorType &x,
-                                                           VectorType &y) { dual.apply_F(x, y); },
+      feti_norm = 1.05 * QP::estimate_norm<DualVector>([&](const DualVector &x,
+                                                           DualVector &y) { dual.apply_F(x, y); },
                                                        start,
                                                        10);
     rho = G_norm > 0 ? parameters.smalbe.penalty_factor * feti_norm / (G_norm * G_norm) : feti_norm;
@@ -201,34 +188,32 @@ namespace FetiContact
     // tr(PFP) = E[(Pv)ᵀF(Pv)] or tr(F), and exactly tr(ρG̃ᵀG̃) = ρ tr(G̃G̃ᵀ) = ρ × the number
     // of rigid modes (G̃ has orthonormal rows).
     const unsigned int m = layout.size();
-    VectorType         Pv;
-    const auto         PFP = [&](const VectorType &v, VectorType &y) {
+    DualVector         Pv;
+    const auto         PFP = [&](const DualVector &v, DualVector &y) {
       Pv = v;
       if (projector)
         apply_P(Pv);
       dual.apply_F(Pv, y);
     };
-    arc_scale = QP::estimate_mean_diagonal<VectorType>(PFP, start, arc_scale_probes) +
+    arc_scale = QP::estimate_mean_diagonal<DualVector>(PFP, start, arc_scale_probes) +
                 rho * G_norm * G_norm * dual.coarse.n_modes() / m;
     out << "  Arc preconditioner scale: mean diagonal of the Hessian " << std::scientific
         << std::setprecision(3) << arc_scale << " (" << arc_scale_probes
         << " probes), its norm bound " << hessian_norm << std::defaultfloat << std::endl;
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::apply_P(VectorType &v) const
+  TrescaProblem::apply_P(DualVector &v) const
   {
     Vector<double> Gv;
-    VectorType     Qv;
+    DualVector     Qv;
     dual.coarse.apply_G_orthonormal(v, Gv);
     dual.coarse.apply_Gt_orthonormal(Gv, Qv);
     v -= Qv;
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::set_slip_bounds(const std::vector<double> &g)
+  TrescaProblem::set_slip_bounds(const std::vector<double> &g)
   {
     slip_bound = g;
     // A slip bound below 1e-12 of the largest (compared as forces) comes from a normal force that
@@ -266,39 +251,34 @@ namespace FetiContact
       }
   }
 
-  template <typename VectorType>
   const std::vector<double> &
-  TrescaProblem<VectorType>::slip_bounds() const
+  TrescaProblem::slip_bounds() const
   {
     return slip_bound;
   }
 
-  template <typename VectorType>
   unsigned int
-  TrescaProblem<VectorType>::n_equality_constraints() const
+  TrescaProblem::n_equality_constraints() const
   {
     return original.e.size();
   }
 
-  template <typename VectorType>
-  const typename TrescaProblem<VectorType>::Statistics &
-  TrescaProblem<VectorType>::statistics() const
+  const TrescaProblem::Statistics &
+  TrescaProblem::statistics() const
   {
     return counts;
   }
 
-  template <typename VectorType>
-  VectorType
-  TrescaProblem<VectorType>::total(const VectorType &lambda_tilde) const
+  DualVector
+  TrescaProblem::total(const DualVector &lambda_tilde) const
   {
-    VectorType lambda(lambda_tilde);
+    DualVector lambda(lambda_tilde);
     lambda += lambda0;
     return lambda;
   }
 
-  template <typename VectorType>
   std::vector<double>
-  TrescaProblem<VectorType>::normal_forces(const VectorType &lambda_tilde) const
+  TrescaProblem::normal_forces(const DualVector &lambda_tilde) const
   {
     // A node's multipliers are its forces / scale_of_node.
     std::vector<double> normal_force(nodes.size(), 0.0);
@@ -310,10 +290,9 @@ namespace FetiContact
     return normal_force;
   }
 
-  template <typename VectorType>
   double
-  TrescaProblem<VectorType>::relative_change(const std::vector<double> &previous,
-                                             const std::vector<double> &next) const
+  TrescaProblem::relative_change(const std::vector<double> &previous,
+                                 const std::vector<double> &next) const
   {
     std::vector<ExactSum> sums(2); // ‖next − previous‖², ‖next‖²
     for (unsigned int k = 0; k < next.size(); ++k)
@@ -327,27 +306,25 @@ namespace FetiContact
     return norm > 0 ? std::sqrt(difference / norm) : 0.0;
   }
 
-  template <typename VectorType>
-  typename QP::MPGP<VectorType>::AdditionalData
-  TrescaProblem<VectorType>::mpgp_data() const
+  QP::MPGP<DualVector>::AdditionalData
+  TrescaProblem::mpgp_data() const
   {
-    typename QP::MPGP<VectorType>::AdditionalData data = parameters.mpgp;
-    data.step                                          = 1.9 / hessian_norm;
-    data.arc_scale                                     = arc_scale;
+    QP::MPGP<DualVector>::AdditionalData data = parameters.mpgp;
+    data.step                                 = 1.9 / hessian_norm;
+    data.arc_scale                            = arc_scale;
     return data;
   }
 
-  template <typename VectorType>
-  typename QP::MPGP<VectorType>::Statistics
-  TrescaProblem<VectorType>::solve_block(const QP::Operator<VectorType>                  &A,
-                                         const VectorType                                &b,
-                                         VectorType                                      &lambda,
-                                         const typename LocalDualRows<VectorType>::Block &block,
-                                         const QP::SeparableSet                          &block_set,
-                                         const double                                     tolerance,
-                                         unsigned int                                    &counter)
+  QP::MPGP<DualVector>::Statistics
+  TrescaProblem::solve_block(const QP::Operator<DualVector> &A,
+                             const DualVector               &b,
+                             DualVector                     &lambda,
+                             const LocalDualRows::Block     &block,
+                             const QP::SeparableSet         &block_set,
+                             const double                    tolerance,
+                             unsigned int                   &counter)
   {
-    VectorType full(lambda), Afull(lambda), x = block.vector(), rhs = block.vector();
+    DualVector full(lambda), Afull(lambda), x = block.vector(), rhs = block.vector();
     block.extract(lambda, x);
     // b_block − A_{block, other} λ_other.
     for (unsigned int i = block.begin; i < block.end; ++i)
@@ -360,32 +337,31 @@ namespace FetiContact
     else
       Afull = 0;
     block.extract(b, rhs);
-    VectorType A_other = block.vector();
+    DualVector A_other = block.vector();
     block.extract(Afull, A_other);
     rhs -= A_other;
     // A restricted to the block: pad with zeros, multiply, extract.
-    const QP::Operator<VectorType> A_block = [&](const VectorType &v, VectorType &y) {
+    const QP::Operator<DualVector> A_block = [&](const DualVector &v, DualVector &y) {
       full = 0;
       block.insert(v, full);
       A(full, Afull);
       ++counter;
       block.extract(Afull, y);
     };
-    typename QP::MPGP<VectorType>::AdditionalData data = mpgp_data();
-    data.tolerance                                     = tolerance;
-    const auto report = QP::MPGP<VectorType>(data).solve(A_block, rhs, block_set, x);
+    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
+    data.tolerance                            = tolerance;
+    const auto report = QP::MPGP<DualVector>(data).solve(A_block, rhs, block_set, x);
     block.insert(x, lambda);
     counts.count_steps(report);
     return report;
   }
 
-  template <typename VectorType>
   QP::SolverReport
-  TrescaProblem<VectorType>::gauss_seidel(const QP::Operator<VectorType> &A,
-                                          const VectorType               &b,
-                                          VectorType                     &lambda,
-                                          const double                    tolerance,
-                                          const MovingSet                *moving_set)
+  TrescaProblem::gauss_seidel(const QP::Operator<DualVector> &A,
+                              const DualVector               &b,
+                              DualVector                     &lambda,
+                              const double                    tolerance,
+                              const MovingSet                *moving_set)
   {
     const unsigned int n_T = layout.n_tangential;
     QP::SolverReport   report;
@@ -411,25 +387,24 @@ namespace FetiContact
     return report;
   }
 
-  template <typename VectorType>
-  typename QP::SMALBE<VectorType>::InnerReport
-  TrescaProblem<VectorType>::mpgp_inner_solve(const QP::Operator<VectorType> &A,
-                                              const VectorType               &b,
-                                              VectorType                     &x,
-                                              const double                    tolerance,
-                                              const VectorType               &gradient)
+  QP::SMALBE<DualVector>::InnerReport
+  TrescaProblem::mpgp_inner_solve(const QP::Operator<DualVector> &A,
+                                  const DualVector               &b,
+                                  DualVector                     &x,
+                                  const double                    tolerance,
+                                  const DualVector               &gradient)
   {
     unsigned int                   calls   = 0;
-    const QP::Operator<VectorType> counted = [&](const VectorType &v, VectorType &y) {
+    const QP::Operator<DualVector> counted = [&](const DualVector &v, DualVector &y) {
       A(v, y);
       ++calls;
     };
-    typename QP::MPGP<VectorType>::AdditionalData data = mpgp_data();
-    data.tolerance                                     = tolerance;
+    QP::MPGP<DualVector>::AdditionalData data = mpgp_data();
+    data.tolerance                            = tolerance;
     // MPGP starts from SMALBE's gradient and returns its own (no multiplication for either).
-    VectorType g(gradient);
-    const auto mpgp_report = QP::MPGP<VectorType>(data).solve(counted, b, set, x, &g);
-    typename QP::SMALBE<VectorType>::InnerReport report(mpgp_report);
+    DualVector g(gradient);
+    const auto mpgp_report = QP::MPGP<DualVector>(data).solve(counted, b, set, x, &g);
+    QP::SMALBE<DualVector>::InnerReport report(mpgp_report);
     report.capped = !mpgp_report.converged && mpgp_report.iterations >= data.max_iterations;
     counts.count_steps(mpgp_report);
     report.gradient.swap(g);
@@ -437,35 +412,33 @@ namespace FetiContact
     return report;
   }
 
-  template <typename VectorType>
-  typename QP::SMALBE<VectorType>::Statistics
-  TrescaProblem<VectorType>::solve(VectorType      &lambda,
-                                   Vector<double>  &nu,
-                                   const double     tolerance,
-                                   const Monitor   &monitor,
-                                   const MovingSet *moving_set)
+  QP::SMALBE<DualVector>::Statistics
+  TrescaProblem::solve(DualVector      &lambda,
+                       Vector<double>  &nu,
+                       const double     tolerance,
+                       const Monitor   &monitor,
+                       const MovingSet *moving_set)
   {
-    typename QP::SMALBE<VectorType>::AdditionalData data = parameters.smalbe;
-    data.tolerance                                       = tolerance;
-    data.feasibility_tolerance                           = tolerance;
-    data.rho                                             = rho;
-    data.F_norm                                          = feti_norm;
-    data.G_norm                                          = G_norm;
-    data.inner                                           = mpgp_data();
+    QP::SMALBE<DualVector>::AdditionalData data = parameters.smalbe;
+    data.tolerance                              = tolerance;
+    data.feasibility_tolerance                  = tolerance;
+    data.rho                                    = rho;
+    data.F_norm                                 = feti_norm;
+    data.G_norm                                 = G_norm;
+    data.inner                                  = mpgp_data();
     if (moving_set)
       data.max_inner_calls = 1;
     const bool split = parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_1 ||
                        parameters.algorithm == Parameters::ContactSolver::Algorithm::algorithm_2;
-    VectorType             last_lambda;
-    QP::SMALBE<VectorType> smalbe(data);
+    DualVector             last_lambda;
+    QP::SMALBE<DualVector> smalbe(data);
     if (split && layout.n_tangential > 0)
-      smalbe.set_inner_solver([&](const QP::Operator<VectorType> &A,
-                                  const VectorType               &b,
-                                  VectorType                     &x,
+      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
+                                  const DualVector               &b,
+                                  DualVector                     &x,
                                   const double                    inner_tolerance,
-                                  const VectorType & /*gradient*/) {
-        typename QP::SMALBE<VectorType>::InnerReport r =
-          gauss_seidel(A, b, x, inner_tolerance, moving_set);
+                                  const DualVector & /*gradient*/) {
+        QP::SMALBE<DualVector>::InnerReport r = gauss_seidel(A, b, x, inner_tolerance, moving_set);
         if (moving_set)
           {
             r.same_set  = moving_set->unchanged();
@@ -475,27 +448,26 @@ namespace FetiContact
         return r;
       });
     else
-      smalbe.set_inner_solver([&](const QP::Operator<VectorType> &A,
-                                  const VectorType               &b,
-                                  VectorType                     &x,
+      smalbe.set_inner_solver([&](const QP::Operator<DualVector> &A,
+                                  const DualVector               &b,
+                                  DualVector                     &x,
                                   const double                    inner_tolerance,
-                                  const VectorType               &gradient) {
-        typename QP::SMALBE<VectorType>::InnerReport r =
+                                  const DualVector               &gradient) {
+        QP::SMALBE<DualVector>::InnerReport r =
           mpgp_inner_solve(A, b, x, inner_tolerance, gradient);
         last_lambda = x;
         return r;
       });
     if (monitor)
       smalbe.set_monitor(
-        [&](const typename QP::SMALBE<VectorType>::Step &step) { monitor(step, last_lambda); });
-    const typename QP::SMALBE<VectorType>::Statistics report = smalbe.solve(problem, lambda, nu);
+        [&](const QP::SMALBE<DualVector>::Step &step) { monitor(step, last_lambda); });
+    const QP::SMALBE<DualVector>::Statistics report = smalbe.solve(problem, lambda, nu);
     counts.smalbe_iterations += report.iterations;
     return report;
   }
 
-  template <typename VectorType>
   void
-  TrescaProblem<VectorType>::recover(VectorType &lambda, Vector<double> &nu) const
+  TrescaProblem::recover(DualVector &lambda, Vector<double> &nu) const
   {
     if (homogenization)
       homogenization->recover(lambda);
@@ -512,7 +484,7 @@ namespace FetiContact
     if (projector_enforcement)
       {
         // The multiplier of the original problem from that of the projected one.
-        VectorType r = rows.vector();
+        DualVector r = rows.vector();
         dual.apply_F(lambda, r);
         r -= h;
         projector_enforcement->recover_multiplier(r, nu);
@@ -520,11 +492,10 @@ namespace FetiContact
     nu = orthonormalization->recover_multiplier(nu);
   }
 
-  template <typename VectorType>
   std::array<unsigned int, 3>
-  TrescaProblem<VectorType>::status_counts(const VectorType &lambda_tilde) const
+  TrescaProblem::status_counts(const DualVector &lambda_tilde) const
   {
-    const VectorType          lambda = total(lambda_tilde);
+    const DualVector          lambda = total(lambda_tilde);
     std::vector<unsigned int> counts_by_status(3, 0);
     // The normal force σ_k λ_N (σ_k ≠ 1 only with averaged contact rows) against the largest;
     // slip and stick compare multipliers of the same node.
@@ -550,10 +521,8 @@ namespace FetiContact
     return {{counts_by_status[0], counts_by_status[1], counts_by_status[2]}};
   }
 
-  template <typename VectorType>
   std::string
-  TrescaProblem<VectorType>::no_equilibrium_message(
-    const typename QP::SMALBE<VectorType>::Statistics &report) const
+  TrescaProblem::no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const
   {
     // The certificate in the original variables: with the projector SMALBE saw λ̃ ∈ Ω − λ₀ and
     // G̃λ̃ = 0, so αᵀẽ = αᵀG̃λ₀ and σ_Ω = σ_{Ω−λ₀} + αᵀG̃λ₀.
@@ -576,6 +545,4 @@ namespace FetiContact
     return text.str();
   }
 
-  template class TrescaProblem<Vector<double>>;
-  template class TrescaProblem<DistributedVector>;
 } // namespace FetiContact

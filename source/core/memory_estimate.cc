@@ -296,9 +296,8 @@ namespace FetiContact
     model_of(const Parameters::Scene &scene, const unsigned int n_ranks)
     {
       Model model;
-      model.n_ranks = n_ranks;
-      model.distributed =
-        scene.feti.dual_vectors == Parameters::Feti::DualVectors::distributed && n_ranks > 1;
+      model.n_ranks     = n_ranks;
+      model.distributed = n_ranks > 1;
       // (With distributed cells the monolithic comparison is skipped.)
       model.monolithic = scene.verification.compare_with_monolithic &&
                          scene.contact.zones.empty() && !model.distributed;

@@ -143,20 +143,17 @@ namespace FetiContact
   void
   Simulator::set_up_bodies()
   {
-    // With distributed dual vectors the bodies' cells are distributed too: rank 0 creates and
-    // partitions every mesh, and every rank keeps the cells of its own subdomains.
-    const bool distributed =
-      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
-    require(!distributed || n_ranks == 1 || !parameters.output.write_fclib,
+    // The bodies' cells are distributed: rank 0 creates and partitions every mesh, and every
+    // rank keeps the cells of its own subdomains.
+    require(n_ranks == 1 || !parameters.output.write_fclib,
             "Output/Write FCLIB problem: the export assembles the undecomposed bodies on rank 0, "
-            "and with 'FETI/Dual vectors = distributed' on several ranks no rank holds their "
-            "whole meshes: use 'Dual vectors = replicated' or one rank for it.");
+            "and on several ranks no rank holds their whole meshes: run the export on one rank.");
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
       {
         bodies.push_back(std::make_unique<Body>(parameters.bodies[b], b));
-        bodies.back()->create_and_partition(comm, distributed);
+        bodies.back()->create_and_partition(comm);
         first_subdomain.push_back(n_subdomains);
         n_subdomains += bodies.back()->partition.n_parts;
       }
@@ -185,16 +182,10 @@ namespace FetiContact
   {
     std::vector<ZoneReport> &reports = zone_reports;
     Timer                    search_timer;
-    // With distributed dual vectors (and bodies) every rank finds the nodes of its home
-    // vertices, whose rows it will hold.
-    const bool distributed =
-      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
+    // Every rank finds the nodes of its home vertices, whose rows it will hold.
     contact_nodes =
-      find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports, distributed);
-    if (distributed)
-      contact_comm = comm;
-    n_contact_nodes =
-      Utilities::MPI::sum(static_cast<unsigned int>(contact_nodes.size()), contact_comm);
+      find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports, true);
+    n_contact_nodes = Utilities::MPI::sum(static_cast<unsigned int>(contact_nodes.size()), comm);
     contact_rows_time += search_timer.wall_time();
     mortar_zones.clear();
     for (const ZoneReport &r : reports)
@@ -247,7 +238,7 @@ namespace FetiContact
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
     // The test of this rank's nodes, those the contact solver will hold (find_contact_nodes()
     // gives a rank the nodes of its home vertices).
-    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes, contact_comm);
+    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes, comm);
     const LoadBalance balance =
       tresca ? load_balance_test->tresca(
                  std::vector<double>(contact_nodes.size(), parameters.contact_solver.slip_bound)) :
@@ -282,8 +273,7 @@ namespace FetiContact
         for (const MasterPoint &m : node.master)
           ++touching[m.body];
       }
-    MPI_Allreduce(
-      MPI_IN_PLACE, touching.data(), touching.size(), MPI_UNSIGNED, MPI_SUM, contact_comm);
+    MPI_Allreduce(MPI_IN_PLACE, touching.data(), touching.size(), MPI_UNSIGNED, MPI_SUM, comm);
     for (const auto &body : bodies)
       {
         if (touching[body->index] > 0 || !in_contact(parameters.contact, body->index))
@@ -415,31 +405,21 @@ namespace FetiContact
     // λ = [λ_T; λ_N; λ_E]: contact rows first, then gluing and TFETI Dirichlet rows.
     const bool polygonal =
       parameters.contact_solver.algorithm == Parameters::ContactSolver::Algorithm::polygonal;
-    // With distributed dual vectors (and without shared local work, whose ranks may solve any
-    // subdomain) a rank keeps the rows that touch its subdomains: the contact rows of the nodes
-    // on them, each node's rows together (its home vertex's rank makes them and sends them to
-    // the ranks of the master side), and the equality rows of their vertices, made without any
-    // rank holding all.
-    const bool distributed =
-      parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed;
-    const bool shared = parameters.feti.shared_local_work > 0 &&
-                        SharedLocalWork::possible(comm, parameters.feti.local_solver);
-    const bool     local_rows = distributed && !shared && n_ranks > 1;
+    // A rank keeps the rows that touch its subdomains: the contact rows of the nodes on them,
+    // each node's rows together (its home vertex's rank makes them and sends them to the ranks
+    // of the master side), and the equality rows of their vertices, made without any rank
+    // holding all.
+    const bool     local_rows = n_ranks > 1;
     const unsigned directions = polygonal ? parameters.contact_solver.polygon_directions : 0;
     Timer          rows_timer;
-    rows = distributed ? build_shared_contact_rows(comm,
-                                                   contact_nodes,
-                                                   first_subdomain,
-                                                   owner,
-                                                   layout,
-                                                   directions,
-                                                   parameters.feti.average_contact_rows,
-                                                   !local_rows) :
-                         build_contact_rows(contact_nodes,
-                                            first_subdomain,
-                                            layout,
-                                            directions,
-                                            parameters.feti.average_contact_rows);
+    rows = build_shared_contact_rows(comm,
+                                     contact_nodes,
+                                     first_subdomain,
+                                     owner,
+                                     layout,
+                                     directions,
+                                     parameters.feti.average_contact_rows,
+                                     !local_rows);
     contact_rows_time += rows_timer.wall_time();
     const DualRows equality = local_rows ? build_local_equality_rows(comm, owned, owner, !primal) :
                                            build_equality_rows(comm, owned, !primal);
@@ -466,11 +446,7 @@ namespace FetiContact
     hold_contact_nodes_here();
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
           << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
-          << " rigid body modes, " << dual->size() << " dual unknowns ("
-          << (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed ?
-                "distributed" :
-                "replicated")
-          << ")" << std::endl;
+          << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
     check_log();
   }
 
@@ -478,26 +454,10 @@ namespace FetiContact
   Simulator::factorize_subdomains()
   {
     TimerOutput::Scope scope(timer, "factorization");
-    if (parameters.feti.shared_local_work > 0 &&
-        SharedLocalWork::possible(comm, parameters.feti.local_solver))
-      shared_work = std::make_unique<SharedLocalWork>(comm);
-    // The reserve whose factors go to shared memory: the last subdomains of this rank's range.
-    const std::size_t n_own =
-      owned.size() - std::lround(parameters.feti.shared_local_work * owned.size());
-    if (shared_work)
-      for (std::size_t i = 0; i < owned.size(); ++i)
-        {
-          owned[i]->factorize(parameters.feti.local_solver);
-          // The factor moves to shared memory at once, so that the next factorization reuses
-          // the memory CHOLMOD frees.
-          if (i >= n_own)
-            shared_work->take_factor(*owned[i]);
-        }
-    else
-      SubdomainThreads::for_each(
-        owned.size(),
-        [&](const unsigned int i) { owned[i]->factorize(parameters.feti.local_solver); },
-        LocalSolver::create(parameters.feti.local_solver)->thread_safe());
+    SubdomainThreads::for_each(
+      owned.size(),
+      [&](const unsigned int i) { owned[i]->factorize(parameters.feti.local_solver); },
+      LocalSolver::create(parameters.feti.local_solver)->thread_safe());
     std::vector<double> n_modes(first_subdomain.back(), 0.0);
     for (auto *s : owned)
       n_modes[s->global_index] = s->R.n();
@@ -515,9 +475,6 @@ namespace FetiContact
                                          owned,
                                          mode_offset,
                                          rows,
-                                         shared_work.get(),
-                                         parameters.feti.dual_vectors ==
-                                           Parameters::Feti::DualVectors::distributed,
                                          parameters.feti.coarse_factor ==
                                              Parameters::Feti::CoarseFactor::per_rank ?
                                            CoarseProblem::FactorStorage::per_rank :
@@ -542,27 +499,14 @@ namespace FetiContact
   void
   Simulator::solve_linear()
   {
-    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
-      solve_linear<DistributedVector>();
-    else
-      solve_linear<Vector<double>>();
-  }
-
-  template <typename VectorType>
-  void
-  Simulator::solve_linear()
-  {
-    TimerOutput::Scope              scope(timer, "solve");
-    const LocalDualRows<VectorType> rows(*dual);
-    VectorType                      solution = rows.vector();
-    if constexpr (LocalDualRows<VectorType>::distributed)
-      dual->coarse.least_norm_solution(dual->e, solution);
-    else
-      solution = dual->coarse.least_norm_solution(dual->e);
+    TimerOutput::Scope  scope(timer, "solve");
+    const LocalDualRows rows(*dual);
+    DualVector          solution = rows.vector();
+    dual->coarse.least_norm_solution(dual->e, solution);
     const auto report =
-      QP::ProjectedCG<VectorType>(parameters.feti.projected_cg)
-        .solve([this](const VectorType &x, VectorType &y) { dual->apply_F(x, y); },
-               [this](VectorType &x) { dual->coarse.project(x); },
+      QP::ProjectedCG<DualVector>(parameters.feti.projected_cg)
+        .solve([this](const DualVector &x, DualVector &y) { dual->apply_F(x, y); },
+               [this](DualVector &x) { dual->coarse.project(x); },
                rows.h(),
                solution,
                [this](unsigned int it, double residual) {
@@ -572,14 +516,11 @@ namespace FetiContact
                          << residual << std::defaultfloat << std::endl;
                },
                parameters.feti.lumped_preconditioner ?
-                 QP::Operator<VectorType>(
-                   [this](const VectorType &x, VectorType &y) { dual->apply_lumped(x, y); }) :
-                 QP::Operator<VectorType>());
+                 QP::Operator<DualVector>(
+                   [this](const DualVector &x, DualVector &y) { dual->apply_lumped(x, y); }) :
+                 QP::Operator<DualVector>());
     const double drift = dual->coarse.restore_feasibility(solution, dual->e);
-    if constexpr (std::is_same_v<VectorType, DistributedVector>)
-      lambda_distributed = std::move(solution);
-    else
-      lambda = std::move(solution);
+    lambda             = std::move(solution);
     summary.set("coarse_residual_before_restoration", drift);
     converged  = report.converged;
     iterations = report.iterations;
@@ -615,20 +556,10 @@ namespace FetiContact
   void
   Simulator::solve_contact()
   {
-    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
-      solve_contact<DistributedVector>();
-    else
-      solve_contact<Vector<double>>();
-  }
-
-  template <typename VectorType>
-  void
-  Simulator::solve_contact()
-  {
     TimerOutput::Scope scope(timer, "solve");
     // The solver works on the nodes whose rows this rank holds.
-    const HeldContactNodes   &held = held_contact;
-    ContactSolver<VectorType> solver(
+    const HeldContactNodes &held = held_contact;
+    ContactSolver           solver(
       *dual, held.layout, held.nodes, parameters.contact_solver, pcout.get_stream());
     if (load_balance_test && load_balance_test->has_free_motions())
       solver.set_equilibrium_test(
@@ -637,14 +568,11 @@ namespace FetiContact
     // The iteration history, also when the solver proved that no equilibrium exists.
     on_all_ranks([&]() {
       if (rank == 0)
-        ContactSolver<VectorType>::write_history(result.history,
-                                                 result_files.open(parameters.output.directory +
-                                                                   "/history.csv"));
+        ContactSolver::write_history(result.history,
+                                     result_files.open(parameters.output.directory +
+                                                       "/history.csv"));
     });
-    if constexpr (std::is_same_v<VectorType, DistributedVector>)
-      lambda_distributed = result.lambda;
-    else
-      lambda = result.lambda;
+    lambda = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
     // Fλ − h = −(Bu − c) + Gᵀα, so α = −μ makes Bu − c the negative of that gradient: zero on
     // the equality rows and the gaps on the contact rows.
@@ -696,7 +624,7 @@ namespace FetiContact
                                       evaluation.largest_strain,
                                       held_contact.nodes,
                                       held_contact.layout,
-                                      contact_comm,
+                                      comm,
                                       contact_surfaces,
                                       evaluation.contact_results,
                                       evaluation.contact_check,
@@ -727,42 +655,33 @@ namespace FetiContact
   Simulator::recover_primal()
   {
     TimerOutput::Scope scope(timer, "primal recovery");
-    if (lambda_distributed)
-      u = alpha_given ? dual->recover_primal(*lambda_distributed, alpha) :
-                        dual->recover_primal(*lambda_distributed);
-    else
-      u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
+    u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
   }
 
   void
   Simulator::hold_contact_nodes_here()
   {
-    if (parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed)
-      distributed_rows.emplace(*dual);
+    dual_rows.emplace(*dual);
     held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int k) {
       return holds_contact_node(contact_nodes[k]);
     });
     // The rows of a node belong to its home subdomain (DualRows::held_by): a rank holds the
     // normal rows of exactly its nodes. Checked by all ranks together, so that all stop.
-    std::string error;
-    if (distributed_rows)
-      {
-        const DistributedVector row_numbers = distributed_rows->vector();
-        unsigned int            n_normal    = 0;
-        for (unsigned int i = 0; i < row_numbers.locally_owned_size(); ++i)
-          n_normal += row_numbers.global_index(i) >= layout.first_normal() &&
-                      row_numbers.global_index(i) < layout.first_equality();
-        for (unsigned int k = 0; k < held_contact.nodes.size(); ++k)
-          if (distributed_rows->local_index(held_contact.layout.normal_row[k]) ==
-              numbers::invalid_unsigned_int)
-            error = "the rows of contact node " +
-                    std::to_string(held_contact.layout.node_number(k)) +
-                    " are not held by the rank of its home subdomain";
-        if (error.empty() && n_normal != held_contact.nodes.size())
-          error = "rank " + std::to_string(rank) + " holds " + std::to_string(n_normal) +
-                  " normal rows of contact nodes and " + std::to_string(held_contact.nodes.size()) +
-                  " contact nodes";
-      }
+    std::string      error;
+    const DualVector row_numbers = dual_rows->vector();
+    unsigned int     n_normal    = 0;
+    for (unsigned int i = 0; i < row_numbers.locally_owned_size(); ++i)
+      n_normal += row_numbers.global_index(i) >= layout.first_normal() &&
+                  row_numbers.global_index(i) < layout.first_equality();
+    for (unsigned int k = 0; k < held_contact.nodes.size(); ++k)
+      if (dual_rows->local_index(held_contact.layout.normal_row[k]) ==
+          numbers::invalid_unsigned_int)
+        error = "the rows of contact node " + std::to_string(held_contact.layout.node_number(k)) +
+                " are not held by the rank of its home subdomain";
+    if (error.empty() && n_normal != held_contact.nodes.size())
+      error = "rank " + std::to_string(rank) + " holds " + std::to_string(n_normal) +
+              " normal rows of contact nodes and " + std::to_string(held_contact.nodes.size()) +
+              " contact nodes";
     error = MPITools::first_error(comm, error);
     AssertThrow(error.empty(), ExcMessage("Contact nodes and their rows: " + error + "."));
   }
@@ -770,48 +689,33 @@ namespace FetiContact
   bool
   Simulator::holds_contact_node(const ContactNode &node) const
   {
-    return contact_comm == MPI_COMM_SELF ||
-           owner[first_subdomain[node.body] + node.copies.parts.front()] == rank;
+    return owner[first_subdomain[node.body] + node.copies.parts.front()] == rank;
   }
 
   double
   Simulator::contact_multiplier(const unsigned int row) const
   {
-    return lambda_distributed ? (*lambda_distributed)[distributed_rows->local_index(row)] :
-                                lambda[row];
+    return lambda[dual_rows->local_index(row)];
   }
 
   unsigned int
   Simulator::multipliers_not_finite() const
   {
     unsigned int n = 0;
-    if (lambda_distributed)
-      {
-        for (const double l : *lambda_distributed)
-          n += !std::isfinite(l);
-        return Utilities::MPI::sum(n, comm);
-      }
     for (const double l : lambda)
       n += !std::isfinite(l);
-    return n;
+    return Utilities::MPI::sum(n, comm);
   }
 
   double
   Simulator::largest_equality_residual() const
   {
-    double jump = 0;
-    if (lambda_distributed)
-      {
-        const DistributedVector residual = dual->distributed_constraint_residual(u);
-        for (unsigned int i = 0; i < residual.locally_owned_size(); ++i)
-          if (residual.global_index(i) >= layout.first_equality())
-            jump = std::max(jump, std::abs(residual[i]));
-        return Utilities::MPI::max(jump, comm);
-      }
-    const auto residual = dual->constraint_residual(u);
-    for (unsigned int r = layout.first_equality(); r < residual.size(); ++r)
-      jump = std::max(jump, std::abs(residual[r]));
-    return jump;
+    double           jump     = 0;
+    const DualVector residual = dual->constraint_residual(u);
+    for (unsigned int i = 0; i < residual.locally_owned_size(); ++i)
+      if (residual.global_index(i) >= layout.first_equality())
+        jump = std::max(jump, std::abs(residual[i]));
+    return Utilities::MPI::max(jump, comm);
   }
 
   Simulator::Evaluation
@@ -873,19 +777,15 @@ namespace FetiContact
       evaluation.u_max,
       evaluation.contact_check,
       tresca ? std::optional<double>(parameters.contact_solver.slip_bound) : std::nullopt,
-      contact_comm);
+      comm);
     // The independent check counts every vertex of the bodies in front of a rigid plane too.
     double largest_cell = 0;
     for (const Subdomain *s : owned)
       largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(s->mesh));
     largest_cell            = Utilities::MPI::max(largest_cell, comm);
     const double u_max      = evaluation.u_max;
-    const double on_surface = surface_penetration(parameters.contact,
-                                                  contact_surfaces,
-                                                  evaluation.surface_u,
-                                                  u_max,
-                                                  largest_cell,
-                                                  contact_comm);
+    const double on_surface = surface_penetration(
+      parameters.contact, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
     evaluation.contact_check.penetration =
       std::max({evaluation.contact_check.penetration,
                 on_surface,
@@ -893,12 +793,12 @@ namespace FetiContact
     // Mortar rows hold the gap weakly: the pointwise overlap of their surfaces, reported apart.
     if (std::find(mortar_zones.begin(), mortar_zones.end(), true) != mortar_zones.end())
       evaluation.contact_check.mortar_overlap = mortar_overlap(
-        mortar_zones, contact_surfaces, evaluation.surface_u, u_max, largest_cell, contact_comm);
+        mortar_zones, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
     evaluation.contact_forces = ContactForces::of(held_contact.nodes,
                                                   evaluation.contact_results,
                                                   bodies.size(),
                                                   parameters.contact.zones.size(),
-                                                  contact_comm);
+                                                  comm);
   }
 
   VertexDisplacements
@@ -1048,7 +948,6 @@ namespace FetiContact
       .set("slot_neighbours_per_rank", per_rank(v.slot_neighbours))
       .set("slots_sent_per_rank", per_rank(v.slots_sent))
       .set("slots_received_per_rank", per_rank(v.slots_received))
-      .set("gathered_values_per_rank", per_rank(v.gathered_values))
       .set("ghost_neighbours_per_rank", per_rank(v.ghost_neighbours))
       .set("ghosts_received_per_rank", per_rank(v.ghosts_received));
   }
@@ -1056,30 +955,10 @@ namespace FetiContact
   JsonObject
   Simulator::summarize_local_work() const
   {
-    // How the local work of the multiplications by F was split: shared by the node's ranks
-    // (SharedLocalWork: the subdomain solves each rank made, the shared memory it allocated),
-    // or every rank its own subdomains.
-    const SharedLocalWork    *shared = shared_work.get();
-    const std::vector<double> local_solves =
-      Utilities::MPI::all_gather(comm, static_cast<double>(dual->n_subdomain_solves));
-    const std::vector<double> shared_mib = Utilities::MPI::all_gather(
-      comm, shared ? static_cast<double>(shared->shared_bytes()) / (1024. * 1024.) : 0.);
-    JsonObject local_work;
-    local_work.set("shared", shared != nullptr)
-      .set("subdomain_solves_per_rank", local_solves)
-      .set("shared_mib_per_rank", shared_mib);
-    if (!shared)
-      return local_work;
-    pcout << "Local work: a reserve of " << std::lround(100 * parameters.feti.shared_local_work)
-          << " % of the subdomains shared by the node's " << n_ranks
-          << " ranks (FETI/Shared local work); subdomain solves per rank";
-    for (const double n : local_solves)
-      pcout << " " << static_cast<unsigned long>(n);
-    pcout << "; shared memory per rank (factors, B, slots)";
-    for (const double mib : shared_mib)
-      pcout << " " << std::fixed << std::setprecision(0) << mib << " MiB" << std::defaultfloat;
-    pcout << std::endl;
-    return local_work;
+    // The subdomain solves each rank made in the multiplications by F.
+    return JsonObject().set(
+      "subdomain_solves_per_rank",
+      Utilities::MPI::all_gather(comm, static_cast<double>(dual->n_subdomain_solves)));
   }
 
   void
@@ -1129,10 +1008,6 @@ namespace FetiContact
                      "primal" :
                      "total")
       .set_leading("local_solver", parameters.feti.local_solver)
-      .set_leading("dual_vectors",
-                   parameters.feti.dual_vectors == Parameters::Feti::DualVectors::distributed ?
-                     "distributed" :
-                     "replicated")
       .set_leading("local_work", local_work)
       .set_leading("times", times)
       .set_leading("memory", memory)

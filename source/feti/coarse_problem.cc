@@ -11,7 +11,6 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <type_traits>
 
 namespace FetiContact
 {
@@ -98,69 +97,6 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::initialize(const MPI_Comm            comm,
-                            const std::vector<Entry> &local_entries,
-                            const unsigned int        n_modes,
-                            const unsigned int        n_columns)
-  {
-    n_rows       = n_modes;
-    n_cols       = n_columns;
-    auto entries = MPITools::all_gather(comm, local_entries);
-    std::sort(entries.begin(), entries.end(), [](const Entry &a, const Entry &b) {
-      return a.mode < b.mode || (a.mode == b.mode && a.column < b.column);
-    });
-    row_start.assign(n_rows + 1, 0);
-    column.clear();
-    value.clear();
-    for (const auto &e : entries)
-      {
-        ++row_start[e.mode + 1];
-        column.push_back(e.column);
-        value.push_back(e.value);
-      }
-    for (unsigned int r = 0; r < n_rows; ++r)
-      row_start[r + 1] += row_start[r];
-    work.reinit(n_rows);
-
-    // The products with G and Gᵀ are split among the ranks: G x by blocks of modes (rows of G),
-    // Gᵀ x by blocks of dual unknowns (columns of G), each block with about equal numbers of
-    // entries. For the columns of its block a rank keeps G by columns, every column's entries in
-    // the order of increasing mode, so that (Gᵀx)_c is summed in the same order as by rows.
-    mode_blocks = BlockPartition::balanced(comm, row_start);
-    std::vector<unsigned int> entries_before_column(n_cols + 1, 0);
-    for (const unsigned int c : column)
-      ++entries_before_column[c + 1];
-    for (unsigned int c = 0; c < n_cols; ++c)
-      entries_before_column[c + 1] += entries_before_column[c];
-    column_blocks                      = BlockPartition::balanced(comm, entries_before_column);
-    const unsigned int first_column    = column_blocks.begin();
-    const unsigned int n_block_columns = column_blocks.end() - first_column;
-    block_column_start.assign(n_block_columns + 1, 0);
-    for (unsigned int c = 0; c <= n_block_columns; ++c)
-      block_column_start[c] =
-        entries_before_column[first_column + c] - entries_before_column[first_column];
-    block_column_mode.resize(block_column_start.back());
-    block_column_value.resize(block_column_start.back());
-    std::vector<unsigned int> next(block_column_start.begin(), block_column_start.end() - 1);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        if (column[k] >= first_column && column[k] < column_blocks.end())
-          {
-            const unsigned int j  = next[column[k] - first_column]++;
-            block_column_mode[j]  = r;
-            block_column_value[j] = value[k];
-          }
-    if (n_rows == 0)
-      return;
-
-    set_up_node(comm);
-    SparsityPattern      sp;
-    SparseMatrix<double> M;
-    assemble_GGt([](const unsigned int) { return true; }, sp, M);
-    factorize_GGt(M);
-  }
-
-  void
   CoarseProblem::factorize_GGt(const SparseMatrix<double> &M)
   {
     // The bodies' supports and contact nodes are checked before; what is left to name.
@@ -193,22 +129,20 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::initialize_distributed(const DualDistribution &d,
-                                        std::vector<Entry>      relevant_entries,
-                                        const unsigned int      n_modes,
-                                        const unsigned int      n_columns,
-                                        const unsigned int      first_mode,
-                                        const unsigned int      end_mode)
+  CoarseProblem::initialize(const DualDistribution &d,
+                            std::vector<Entry>      relevant_entries,
+                            const unsigned int      n_modes,
+                            const unsigned int      n_columns,
+                            const unsigned int      first_mode,
+                            const unsigned int      end_mode)
   {
-    n_rows           = n_modes;
-    n_cols           = n_columns;
-    distributed_only = true;
+    n_rows = n_modes;
+    n_cols = n_columns;
     work.reinit(n_rows);
     // The relevant columns by increasing column, each by increasing mode (the order in which
-    // initialize() adds the terms of GGᵀ and add_Gt those of Gᵀy). Two entries of one mode in
+    // assemble_GGt() adds the terms of GGᵀ and add_Gt those of Gᵀy). Two entries of one mode in
     // one column (a row of B with two terms in one subdomain: mortar rows) keep the order in
-    // which the subdomain's rank made them, the same on any number of ranks; initialize() leaves
-    // them as std::sort does, so there the two forms of G round differently.
+    // which the subdomain's rank made them, the same on any number of ranks.
     std::stable_sort(relevant_entries.begin(),
                      relevant_entries.end(),
                      [](const Entry &a, const Entry &b) {
@@ -252,17 +186,17 @@ namespace FetiContact
     set_up_node(d.layout()->comm);
     SparsityPattern      sp;
     SparseMatrix<double> M;
-    assemble_GGt_distributed([](const unsigned int) { return true; }, sp, M);
+    assemble_GGt([](const unsigned int) { return true; }, sp, M);
     factorize_GGt(M);
   }
 
   void
-  CoarseProblem::assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
-                                          SparsityPattern                         &sparsity,
-                                          SparseMatrix<double>                    &M) const
+  CoarseProblem::assemble_GGt(const std::function<bool(unsigned int)> &use_column,
+                              SparsityPattern                         &sparsity,
+                              SparseMatrix<double>                    &M) const
   {
-    // (G_S G_Sᵀ)_ab for this rank's modes a, the terms by increasing column d ∈ S as in
-    // assemble_GGt(): the same numbers. Then every rank's rows to every rank.
+    // (G_S G_Sᵀ)_ab = Σ_{d ∈ S} G_ad G_bd for this rank's modes a, the terms by increasing column
+    // d. Then every rank's rows to the ranks that factorize.
     std::map<std::pair<unsigned int, unsigned int>, double> own;
     for (unsigned int j = 0; j + 1 < relevant_start.size(); ++j)
       if (use_column(relevant_column[j]))
@@ -300,61 +234,10 @@ namespace FetiContact
   CoarseProblem::tiers_present(const std::function<unsigned int(unsigned int)> &tier) const
   {
     unsigned int mask = 0;
-    if (!distributed_only)
-      {
-        for (unsigned int c = 0; c < n_cols; ++c)
-          mask |= 1u << tier(c);
-        return mask;
-      }
     for (const unsigned int c : distribution->layout()->global_index)
       mask |= 1u << tier(c);
     MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, distribution->layout()->comm);
     return mask;
-  }
-
-  void
-  CoarseProblem::assemble_GGt(const std::function<bool(unsigned int)> &use_column,
-                              SparsityPattern                         &sparsity,
-                              SparseMatrix<double>                    &M) const
-  {
-    if (!factorizes())
-      return;
-    // (G_S G_Sᵀ)_ab = Σ_{d ∈ S} G_ad G_bd, from the columns of G.
-    std::vector<std::vector<std::pair<unsigned int, double>>> by_column(n_cols);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        if (use_column(column[k]))
-          by_column[column[k]].emplace_back(r, value[k]);
-    DynamicSparsityPattern dsp(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      dsp.add(r, r);
-    for (const auto &col : by_column)
-      for (const auto &[a, va] : col)
-        for (const auto &[b, vb] : col)
-          dsp.add(a, b);
-    sparsity.copy_from(dsp);
-    M.reinit(sparsity);
-    for (const auto &col : by_column)
-      for (const auto &[a, va] : col)
-        for (const auto &[b, vb] : col)
-          M.add(a, b, va * vb);
-  }
-
-  void
-  CoarseProblem::apply_G(const Vector<double> &x, Vector<double> &y) const
-  {
-    AssertThrow(!distributed_only,
-                ExcMessage("CoarseProblem: G is distributed; use distributed dual vectors."));
-    if (y.size() != n_rows)
-      y.reinit(n_rows, true);
-    for (unsigned int r = mode_blocks.begin(); r < mode_blocks.end(); ++r)
-      {
-        double s = 0;
-        for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-          s += value[k] * x[column[k]];
-        y[r] = s;
-      }
-    mode_blocks.gather(y.begin());
   }
 
   void
@@ -376,48 +259,25 @@ namespace FetiContact
       own_mode_column.push_back(d.relevant_index(column[k]));
     // G by the owned columns, modes increasing within each (as in add_Gt).
     const auto &own = d.layout()->global_index;
-    if (distributed_only)
+    // From the relevant columns, which include the owned ones.
+    own_column_start.assign(1, 0);
+    own_column_mode.clear();
+    own_column_value.clear();
+    for (const unsigned int c : own)
       {
-        // From the relevant columns, which include the owned ones.
-        own_column_start.assign(1, 0);
-        own_column_mode.clear();
-        own_column_value.clear();
-        for (const unsigned int c : own)
+        const auto it = std::lower_bound(relevant_column.begin(), relevant_column.end(), c);
+        if (it != relevant_column.end() && *it == c)
           {
-            const auto it = std::lower_bound(relevant_column.begin(), relevant_column.end(), c);
-            if (it != relevant_column.end() && *it == c)
-              {
-                const unsigned int j = it - relevant_column.begin();
-                own_column_mode.insert(own_column_mode.end(),
-                                       relevant_mode.begin() + relevant_start[j],
-                                       relevant_mode.begin() + relevant_start[j + 1]);
-                own_column_value.insert(own_column_value.end(),
-                                        relevant_value.begin() + relevant_start[j],
-                                        relevant_value.begin() + relevant_start[j + 1]);
-              }
-            own_column_start.push_back(own_column_mode.size());
+            const unsigned int j = it - relevant_column.begin();
+            own_column_mode.insert(own_column_mode.end(),
+                                   relevant_mode.begin() + relevant_start[j],
+                                   relevant_mode.begin() + relevant_start[j + 1]);
+            own_column_value.insert(own_column_value.end(),
+                                    relevant_value.begin() + relevant_start[j],
+                                    relevant_value.begin() + relevant_start[j + 1]);
           }
-        return;
+        own_column_start.push_back(own_column_mode.size());
       }
-    std::vector<unsigned int> local_of_column(n_cols, numbers::invalid_unsigned_int);
-    for (unsigned int i = 0; i < own.size(); ++i)
-      local_of_column[own[i]] = i;
-    own_column_start.assign(own.size() + 1, 0);
-    for (const unsigned int c : column)
-      if (local_of_column[c] != numbers::invalid_unsigned_int)
-        ++own_column_start[local_of_column[c] + 1];
-    for (unsigned int i = 0; i < own.size(); ++i)
-      own_column_start[i + 1] += own_column_start[i];
-    own_column_mode.resize(own_column_start.back());
-    own_column_value.resize(own_column_start.back());
-    std::vector<unsigned int> next(own_column_start.begin(), own_column_start.end() - 1);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-        if (const unsigned int i = local_of_column[column[k]]; i != numbers::invalid_unsigned_int)
-          {
-            own_column_mode[next[i]]    = r;
-            own_column_value[next[i]++] = value[k];
-          }
   }
 
   void
@@ -436,12 +296,6 @@ namespace FetiContact
         y[r] = s;
       }
     own_modes.gather(y.begin());
-  }
-
-  void
-  CoarseProblem::apply_Gt(const Vector<double> &x, Vector<double> &y) const
-  {
-    add_Gt(x, false, y);
   }
 
   void
@@ -467,37 +321,15 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::add_Gt(const Vector<double> &x, const bool add, Vector<double> &y) const
-  {
-    AssertThrow(!distributed_only,
-                ExcMessage("CoarseProblem: G is distributed; use distributed dual vectors."));
-    Assert(!add || y.size() == n_cols, ExcDimensionMismatch(y.size(), n_cols));
-    if (y.size() != n_cols)
-      y.reinit(n_cols, true);
-    const unsigned int first_column = column_blocks.begin();
-    for (unsigned int c = first_column; c < column_blocks.end(); ++c)
-      {
-        const unsigned int j = c - first_column;
-        double             s = add ? y[c] : 0.;
-        for (unsigned int k = block_column_start[j]; k < block_column_start[j + 1]; ++k)
-          s += block_column_value[k] * x[block_column_mode[k]];
-        y[c] = s;
-      }
-    column_blocks.gather(y.begin());
-  }
-
-  template <typename VectorType>
-  void
-  CoarseProblem::apply_G_orthonormal(const VectorType &x, Vector<double> &y) const
+  CoarseProblem::apply_G_orthonormal(const DistributedVector &x, Vector<double> &y) const
   {
     apply_G(x, y);
     if (n_rows > 0)
       GGt.solve_half(y, false);
   }
 
-  template <typename VectorType>
   void
-  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, VectorType &y) const
+  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, DistributedVector &y) const
   {
     Vector<double> z(x);
     if (n_rows > 0)
@@ -537,9 +369,8 @@ namespace FetiContact
       GGt.solve(x);
   }
 
-  template <typename VectorType>
   void
-  CoarseProblem::project(VectorType &x) const
+  CoarseProblem::project(DistributedVector &x) const
   {
     if (n_rows == 0)
       return;
@@ -550,30 +381,12 @@ namespace FetiContact
     add_Gt(work, true, x);
   }
 
-  Vector<double>
-  CoarseProblem::least_norm_solution(const Vector<double> &e) const
-  {
-    Vector<double> mu(e), lambda(n_cols);
-    solve_GGt(mu);
-    apply_Gt(mu, lambda);
-    return lambda;
-  }
-
   void
   CoarseProblem::least_norm_solution(const Vector<double> &e, DistributedVector &lambda) const
   {
     Vector<double> mu(e);
     solve_GGt(mu);
     apply_Gt(mu, lambda);
-  }
-
-  Vector<double>
-  CoarseProblem::particular_solution(const Vector<double>                            &e,
-                                     const std::function<unsigned int(unsigned int)> &tier) const
-  {
-    Vector<double> lambda(n_cols);
-    particular_solution_into(e, tier, lambda);
-    return lambda;
   }
 
   void
@@ -583,20 +396,10 @@ namespace FetiContact
   {
     Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
     lambda.reinit(distribution->layout());
-    particular_solution_into(e, tier, lambda);
-  }
-
-  template <typename VectorType>
-  void
-  CoarseProblem::particular_solution_into(const Vector<double>                            &e,
-                                          const std::function<unsigned int(unsigned int)> &tier,
-                                          VectorType &lambda) const
-  {
     const double e_norm = e.l2_norm();
     if (n_rows == 0 || e_norm == 0)
       return;
-    constexpr bool     distributed_vector = std::is_same_v<VectorType, DistributedVector>;
-    const unsigned int tiers              = tiers_present(tier);
+    const unsigned int tiers = tiers_present(tier);
     // The last tier takes every column: the factorization of GGᵀ that exists already.
     for (unsigned int t = 0; (tiers >> (t + 1)) != 0; ++t)
       {
@@ -605,10 +408,7 @@ namespace FetiContact
         const auto           use_column = [&](const unsigned int c) { return tier(c) <= t; };
         SparsityPattern      sp;
         SparseMatrix<double> M;
-        if (distributed_only)
-          assemble_GGt_distributed(use_column, sp, M);
-        else
-          assemble_GGt(use_column, sp, M);
+        assemble_GGt(use_column, sp, M);
         CholmodSolver factor;
         const bool    usable = on_factorizing_rank([&]() {
           for (unsigned int r = 0; r < n_rows; ++r)
@@ -640,18 +440,10 @@ namespace FetiContact
               factor.solve(r);
             if (node != MPI_COMM_NULL)
               MPI_Bcast(r.begin(), r.size(), MPI_DOUBLE, 0, node);
-            if constexpr (distributed_vector)
-              {
-                for (unsigned int i = 0; i < lambda.locally_owned_size(); ++i)
-                  if (use_column(lambda.global_index(i)))
-                    for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
-                      lambda[i] += own_column_value[k] * r[own_column_mode[k]];
-              }
-            else
-              for (unsigned int m = 0; m < n_rows; ++m)
-                for (unsigned int k = row_start[m]; k < row_start[m + 1]; ++k)
-                  if (use_column(column[k]))
-                    lambda[column[k]] += value[k] * r[m];
+            for (unsigned int i = 0; i < lambda.locally_owned_size(); ++i)
+              if (use_column(lambda.global_index(i)))
+                for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
+                  lambda[i] += own_column_value[k] * r[own_column_mode[k]];
             apply_G(lambda, G_lambda);
             r = e;
             r -= G_lambda;
@@ -664,15 +456,11 @@ namespace FetiContact
         if (r.l2_norm() <= particular_solution_tolerance * e_norm)
           return;
       }
-    if constexpr (distributed_vector)
-      least_norm_solution(e, lambda);
-    else
-      lambda = least_norm_solution(e);
+    least_norm_solution(e, lambda);
   }
 
-  template <typename VectorType>
   double
-  CoarseProblem::restore_feasibility(VectorType &lambda, const Vector<double> &e) const
+  CoarseProblem::restore_feasibility(DistributedVector &lambda, const Vector<double> &e) const
   {
     if (n_rows == 0)
       return 0;
@@ -683,30 +471,19 @@ namespace FetiContact
     const double misfit = norm_e > 0 ? r.l2_norm() / norm_e : r.l2_norm();
     // λ + Gᵀ(GGᵀ)⁻¹r.
     solve_GGt(r);
-    VectorType correction;
+    DistributedVector correction;
     correction.reinit(lambda);
     apply_Gt(r, correction);
     lambda += correction;
     return misfit;
   }
 
-  template <typename VectorType>
   Vector<double>
-  CoarseProblem::coarse_coefficients(const VectorType &x) const
+  CoarseProblem::coarse_coefficients(const DistributedVector &x) const
   {
     Vector<double> alpha;
     apply_G(x, alpha);
     solve_GGt(alpha);
     return alpha;
   }
-#define FETICONTACT_INSTANTIATE_COARSE_PROBLEM(V)                                                 \
-  template void           CoarseProblem::apply_G_orthonormal(const V &, Vector<double> &) const;  \
-  template void           CoarseProblem::apply_Gt_orthonormal(const Vector<double> &, V &) const; \
-  template void           CoarseProblem::project(V &) const;                                      \
-  template double         CoarseProblem::restore_feasibility(V &, const Vector<double> &) const;  \
-  template Vector<double> CoarseProblem::coarse_coefficients(const V &) const;
-
-  FETICONTACT_INSTANTIATE_COARSE_PROBLEM(Vector<double>)
-  FETICONTACT_INSTANTIATE_COARSE_PROBLEM(DistributedVector)
-#undef FETICONTACT_INSTANTIATE_COARSE_PROBLEM
 } // namespace FetiContact

@@ -17,23 +17,16 @@ namespace FetiContact
                            const std::vector<Subdomain *>    &owned,
                            const std::vector<unsigned int>   &mode_offset,
                            const DualRows                    &rows,
-                           SharedLocalWork                   *shared,
-                           const bool                         distributed_coarse,
                            const CoarseProblem::FactorStorage coarse_factor)
     : coarse(coarse_factor)
     , comm(comm)
     , owned(owned)
     , n_all_rows(rows.n_all)
-    , replicated_products(!distributed_coarse || shared)
     , B(owned.size())
     , work(owned.size())
-    , shared(shared)
   {
     AssertThrow(std::is_sorted(rows.number.begin(), rows.number.end()),
                 ExcMessage("DualProblem: the rows must be in increasing order of their numbers."));
-    AssertThrow(!replicated_products || Utilities::MPI::min(rows.complete() ? 1u : 0u, comm) == 1,
-                ExcMessage("DualProblem: products with replicated dual vectors and the shared "
-                           "local work need all rows of B on every rank."));
 
     build_blocks(rows);
     // Every row sums its terms by increasing subdomain, within a subdomain in the order of the
@@ -50,19 +43,7 @@ namespace FetiContact
         });
       }
     const Owners owners = setup_row_sums(rows, mode_offset.size() - 1);
-    if (shared)
-      {
-        shared->share(owned, B, rows.entries.size());
-        slot_values = shared->slots();
-      }
-    else
-      {
-        slots.assign(rows.entries.size(), 0.);
-        slot_values = slots.data();
-      }
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      if (!shared || !shared->holds(owned[i]->global_index))
-        own_work.push_back(i);
+    slots.assign(rows.entries.size(), 0.);
     threaded = std::all_of(owned.begin(), owned.end(), [](Subdomain *s) {
       return s->local_solver()->thread_safe();
     });
@@ -112,43 +93,25 @@ namespace FetiContact
                         ArrayView<double>(e.begin(), e.size()));
     set_up_right_hand_sides(rows);
     const auto [first_own_mode, end_own_mode] = own_modes(mode_offset);
-    if (distributed_coarse)
-      coarse.initialize_distributed(*row_distribution,
-                                    relevant_G_entries(G_entries, rows, owners),
-                                    mode_offset.back(),
-                                    size(),
-                                    first_own_mode,
-                                    end_own_mode);
-    else
-      {
-        coarse.initialize(comm, G_entries, mode_offset.back(), size());
-        coarse.distribute(*row_distribution, first_own_mode, end_own_mode);
-      }
+    coarse.initialize(*row_distribution,
+                      relevant_G_entries(G_entries, rows, owners),
+                      mode_offset.back(),
+                      size(),
+                      first_own_mode,
+                      end_own_mode);
   }
 
   void
   DualProblem::set_up_right_hand_sides(const DualRows &rows)
   {
     // The slots hold B K⁺ f.
-    c_owned = row_distribution->vector();
+    c = row_distribution->vector();
     for (unsigned int j = 0; j < own_local.size(); ++j)
-      c_owned[j] = rows.c[own_local[j]];
-    if (replicated_products)
-      {
-        c.reinit(rows.n_rows());
-        std::copy(rows.c.begin(), rows.c.end(), c.begin());
-        sum_slots(h);
-        h -= c;
-        h_owned = row_distribution->restrict(h);
-      }
-    else
-      {
-        // The same sums, on this rank's rows only.
-        h_owned = row_distribution->vector();
-        exchange_slots();
-        sum_own_rows(h_owned.begin());
-        h_owned -= c_owned;
-      }
+      c[j] = rows.c[own_local[j]];
+    h = row_distribution->vector();
+    exchange_slots();
+    sum_own_rows(h.begin());
+    h -= c;
   }
 
   std::vector<CoarseProblem::Entry>
@@ -234,7 +197,7 @@ namespace FetiContact
   {
     const auto &b = B[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
-      slot_values[b.slot[k]] = b.value[k] * u[b.dof[k]];
+      slots[b.slot[k]] = b.value[k] * u[b.dof[k]];
   }
 
   unsigned int
@@ -249,7 +212,6 @@ namespace FetiContact
   DualProblem::Owners
   DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
   {
-    single_rank   = Utilities::MPI::n_mpi_processes(comm) == 1;
     Owners owners = row_owners(rows, n_subdomains);
     set_up_slot_exchanges(rows, owners);
     set_up_own_rows(rows, owners);
@@ -374,22 +336,6 @@ namespace FetiContact
           own_rows.push_back(rows.number[r]);
           own_local.push_back(r);
         }
-    own_sums.resize(own_rows.size());
-    if (replicated_products && !single_rank && !shared)
-      {
-        // The order of all rows in the gathered sums (rank by rank), for the replicated products.
-        row_count.assign(n_ranks, 0);
-        row_displacement.assign(n_ranks, 0);
-        for (unsigned int r = 0; r < n; ++r)
-          ++row_count[owners.row_rank[r]];
-        for (int p = 1; p < n_ranks; ++p)
-          row_displacement[p] = row_displacement[p - 1] + row_count[p - 1];
-        gathered_rows.resize(n);
-        std::vector<int> next(row_displacement);
-        for (unsigned int r = 0; r < n; ++r)
-          gathered_rows[next[owners.row_rank[r]]++] = r;
-        gathered_sums.resize(n);
-      }
   }
 
   void
@@ -435,56 +381,9 @@ namespace FetiContact
       }
     std::sort(slot_ranks.begin(), slot_ranks.end());
     v.slot_neighbours  = std::unique(slot_ranks.begin(), slot_ranks.end()) - slot_ranks.begin();
-    v.gathered_values  = single_rank ? 0 : size() - own_rows.size();
     v.ghost_neighbours = row_distribution->n_neighbours();
     v.ghosts_received  = row_distribution->n_received();
     return v;
-  }
-
-  void
-  DualProblem::sum_slots(Vector<double> &y) const
-  {
-    AssertThrow(replicated_products,
-                ExcMessage("DualProblem: the replicated products do not exist with distributed "
-                           "rows and coarse problem."));
-    if (y.size() != size())
-      y.reinit(size(), true);
-    const auto row_sum = [&](const unsigned int r) {
-      double sum = 0;
-      for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-        sum += slot_values[slot_order[k]];
-      return sum;
-    };
-    if (shared)
-      {
-        // Every rank adds up all rows from the shared slots, once all have written theirs;
-        // none writes again before all have read.
-        shared->synchronize();
-        shared->reset_counter();
-        for (unsigned int r = 0; r < size(); ++r)
-          y[r] = row_sum(r);
-        shared->synchronize();
-        return;
-      }
-    if (single_rank)
-      {
-        for (unsigned int r = 0; r < size(); ++r)
-          y[r] = row_sum(r);
-        return;
-      }
-    exchange_slots();
-    sum_own_rows(own_sums.data());
-    // Every rank gets all rows.
-    MPI_Allgatherv(own_sums.data(),
-                   own_sums.size(),
-                   MPI_DOUBLE,
-                   gathered_sums.data(),
-                   row_count.data(),
-                   row_displacement.data(),
-                   MPI_DOUBLE,
-                   comm);
-    for (unsigned int q = 0; q < gathered_rows.size(); ++q)
-      y[gathered_rows[q]] = gathered_sums[q];
   }
 
   void
@@ -504,7 +403,7 @@ namespace FetiContact
     for (auto &exchange : send_slots)
       {
         for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-          exchange.buffer[j] = slot_values[exchange.slots[j]];
+          exchange.buffer[j] = slots[exchange.slots[j]];
         MPI_Isend(exchange.buffer.data(),
                   exchange.buffer.size(),
                   MPI_DOUBLE,
@@ -516,7 +415,7 @@ namespace FetiContact
     MPI_Waitall(n_requests, requests.data(), MPI_STATUSES_IGNORE);
     for (const auto &exchange : receive_slots)
       for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-        slot_values[exchange.slots[j]] = exchange.buffer[j];
+        slots[exchange.slots[j]] = exchange.buffer[j];
   }
 
   void
@@ -527,41 +426,9 @@ namespace FetiContact
         const unsigned int r   = own_local[j];
         double             sum = 0;
         for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-          sum += slot_values[slot_order[k]];
+          sum += slots[slot_order[k]];
         sums[j] = sum;
       }
-  }
-
-  void
-  DualProblem::set_Bt(const unsigned int i, const Vector<double> &lambda, Vector<double> &x) const
-  {
-    x             = 0;
-    const auto &b = B[i];
-    for (unsigned int k = 0; k < b.row.size(); ++k)
-      x[b.dof[k]] += b.value[k] * lambda[b.row[k]];
-  }
-
-  void
-  DualProblem::apply_F(const Vector<double> &x, Vector<double> &y) const
-  {
-    const auto start = std::chrono::steady_clock::now();
-    // This rank's own subdomains, then (if the node's ranks share work) the reserves.
-    SubdomainThreads::for_each(
-      own_work.size(),
-      [&](const unsigned int j) {
-        const unsigned int i = own_work[j];
-        set_Bt(i, x, work[i]);
-        owned[i]->apply_generalized_inverse(work[i]);
-        set_B_slots(i, work[i]);
-      },
-      threaded);
-    n_subdomain_solves += own_work.size();
-    if (shared)
-      n_subdomain_solves += shared->apply(x);
-    F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    sum_slots(y);
-    ++n_F_applications;
-    F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   void
@@ -577,25 +444,8 @@ namespace FetiContact
   }
 
   void
-  DualProblem::apply_replicated(void (DualProblem::*product)(const Vector<double> &,
-                                                             Vector<double> &) const,
-                                const DistributedVector &x,
-                                DistributedVector       &y) const
-  {
-    Vector<double> full_y;
-    (this->*product)(row_distribution->gather(x), full_y);
-    y = row_distribution->restrict(full_y);
-  }
-
-  void
   DualProblem::apply_F(const DistributedVector &x, DistributedVector &y) const
   {
-    if (shared)
-      {
-        // The reserves of the node's ranks need all of x (every rank may solve any subdomain).
-        apply_replicated(&DualProblem::apply_F, x, y);
-        return;
-      }
     const auto start = std::chrono::steady_clock::now();
     row_distribution->import(x, x_relevant);
     apply_F_relevant(x_relevant, y);
@@ -626,11 +476,6 @@ namespace FetiContact
   void
   DualProblem::apply_lumped(const DistributedVector &x, DistributedVector &y) const
   {
-    if (shared)
-      {
-        apply_replicated(&DualProblem::apply_lumped, x, y);
-        return;
-      }
     const auto start = std::chrono::steady_clock::now();
     if (lumped_scale_relevant.size() != row_distribution->relevant_rows().size())
       {
@@ -639,7 +484,7 @@ namespace FetiContact
           {
             const auto &b = B[i];
             for (unsigned int k = 0; k < b.row.size(); ++k)
-              slot_values[b.slot[k]] = b.value[k] * b.value[k];
+              slots[b.slot[k]] = b.value[k] * b.value[k];
           }
         exchange_slots();
         DistributedVector d = row_distribution->vector();
@@ -668,59 +513,12 @@ namespace FetiContact
     lumped_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
-  void
-  DualProblem::apply_lumped(const Vector<double> &x, Vector<double> &y) const
-  {
-    const auto start = std::chrono::steady_clock::now();
-    if (lumped_row_scale.size() != size())
-      {
-        // diag(B Bᵀ): the squares of the entries of B, summed row by row like B u.
-        for (unsigned int i = 0; i < owned.size(); ++i)
-          {
-            const auto &b = B[i];
-            for (unsigned int k = 0; k < b.row.size(); ++k)
-              slot_values[b.slot[k]] = b.value[k] * b.value[k];
-          }
-        sum_slots(lumped_row_scale);
-        for (auto &d : lumped_row_scale)
-          d = d > 0 ? 1 / d : 0.;
-      }
-    lumped_Dx = x;
-    lumped_Dx.scale(lumped_row_scale);
-    lumped_Ku.resize(owned.size());
-    SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
-      set_Bt(i, lumped_Dx, work[i]);
-      lumped_Ku[i].reinit(work[i].size(), true);
-      owned[i]->K.vmult(lumped_Ku[i], work[i]);
-      set_B_slots(i, lumped_Ku[i]);
-    });
-    sum_slots(y);
-    y.scale(lumped_row_scale);
-    ++n_lumped_applications;
-    lumped_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-
-  std::vector<Vector<double>>
-  DualProblem::recover_primal(const Vector<double> &lambda) const
-  {
-    Vector<double> gradient;
-    apply_F(lambda, gradient);
-    gradient -= h;
-    return recover_primal(lambda, coarse.coarse_coefficients(gradient));
-  }
-
-  std::vector<Vector<double>>
-  DualProblem::recover_primal(const Vector<double> &lambda, const Vector<double> &alpha) const
-  {
-    return recover_primal(row_distribution->restrict(lambda), alpha);
-  }
-
   std::vector<Vector<double>>
   DualProblem::recover_primal(const DistributedVector &lambda) const
   {
     DistributedVector gradient;
     apply_F(lambda, gradient);
-    gradient -= h_owned;
+    gradient -= h;
     return recover_primal(lambda, coarse.coarse_coefficients(gradient));
   }
 
@@ -752,35 +550,15 @@ namespace FetiContact
     return u;
   }
 
-  Vector<double>
-  DualProblem::constraint_residual(const std::vector<Vector<double>> &u) const
-  {
-    Vector<double> r;
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      set_B_slots(i, u[i]);
-    sum_slots(r);
-    r -= c;
-    return r;
-  }
-
   DistributedVector
-  DualProblem::distributed_constraint_residual(const std::vector<Vector<double>> &u) const
+  DualProblem::constraint_residual(const std::vector<Vector<double>> &u) const
   {
     for (unsigned int i = 0; i < owned.size(); ++i)
       set_B_slots(i, u[i]);
     DistributedVector r = row_distribution->vector();
-    if (shared)
-      {
-        Vector<double> full;
-        sum_slots(full);
-        r = row_distribution->restrict(full);
-      }
-    else
-      {
-        exchange_slots();
-        sum_own_rows(r.begin());
-      }
-    r -= c_owned;
+    exchange_slots();
+    sum_own_rows(r.begin());
+    r -= c;
     return r;
   }
 } // namespace FetiContact

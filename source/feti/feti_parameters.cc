@@ -30,18 +30,6 @@ namespace FetiContact::Parameters
                       "Amesos2 KLU2), 'amesos-mumps' (Trilinos Amesos MUMPS), 'umfpack' "
                       "(SuiteSparse UMFPACK through deal.II). See doc/local_solvers.md for "
                       "timings.");
-    prm.declare_entry("Shared local work",
-                      "0",
-                      Patterns::Double(0, 1),
-                      "With several MPI ranks on one node and the backend 'cholmod': the "
-                      "fraction of every rank's subdomains (its reserve) whose factors move to "
-                      "memory shared by the node's ranks. In every multiplication by F a rank "
-                      "solves its other subdomains, then takes subdomains from its reserve and, "
-                      "when that is empty, from the other ranks' reserves, so that a rank on a "
-                      "slower core solves fewer. 0 (the default): every rank solves its own "
-                      "subdomains. 0.25 balanced unequal cores at k = 24 and 32 but cost 10–15 % "
-                      "at 10⁶ unknowns on the machine of doc/performance.md. The results are "
-                      "the same to the last digit.");
     prm.declare_entry(
       "Contact rows at interfaces",
       "lowest copy",
@@ -57,22 +45,6 @@ namespace FetiContact::Parameters
       "the same. On the brick with H/h = 8 (doc/performance.md) 'average' took "
       "9–13 % fewer applications of F up to 135,000 unknowns and 12 % more at "
       "313,632 and at 1,037,232.");
-    prm.declare_entry(
-      "Dual vectors",
-      "replicated",
-      Patterns::Selection("replicated|distributed"),
-      "How the solvers hold the dual vectors λ over the MPI ranks. 'replicated' (the default): "
-      "every rank holds every row, and the row sums of every multiplication by F are gathered "
-      "on all ranks. 'distributed': every rank holds the rows it adds up (those whose first "
-      "subdomain is its own), gets the other rows of its subdomains from the neighbouring ranks, "
-      "and the dot products and norms are the only global reductions; G is held by the columns "
-      "of a rank's subdomains, and GGᵀ assembled by the ranks' rows (its factor: 'Coarse "
-      "factor'); on several ranks the bodies' meshes are distributed too: rank 0 creates and "
-      "partitions them and every rank keeps the cells of its own subdomains (the FCLIB export "
-      "then needs 'replicated'), and, unless the ranks share local work, only the rows of B "
-      "that touch them. Either way the iterates "
-      "and iteration counts are the same on any number of ranks; between the two they differ "
-      "in the rounding of the sums (doc/performance.md, \"Distributed dual vectors\").");
     prm.declare_entry(
       "Coarse factor",
       "per node",
@@ -104,10 +76,7 @@ namespace FetiContact::Parameters
     dirichlet_treatment  = prm.get("Dirichlet treatment") == "primal" ? DirichletTreatment::primal :
                                                                         DirichletTreatment::total;
     local_solver         = prm.get("Local solver");
-    shared_local_work    = prm.get_double("Shared local work");
     average_contact_rows = prm.get("Contact rows at interfaces") == "average";
-    dual_vectors =
-      prm.get("Dual vectors") == "distributed" ? DualVectors::distributed : DualVectors::replicated;
     coarse_factor =
       prm.get("Coarse factor") == "per rank" ? CoarseFactor::per_rank : CoarseFactor::per_node;
     projected_cg.parse_parameters(prm);

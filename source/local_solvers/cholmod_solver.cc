@@ -185,7 +185,6 @@ namespace FetiContact
   CholmodSolver::factorize(const SparseMatrix<double> &A)
   {
     n                 = A.m();
-    values_moved      = false;
     cholmod_sparse *S = upper_triangle<int>(A, common);
     supernodal.reset();
     release_shared();
@@ -232,8 +231,6 @@ namespace FetiContact
     Assert(v.size() == n, ExcDimensionMismatch(v.size(), n));
     if (n == 0)
       return;
-    AssertThrow(!values_moved,
-                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     AssertThrow(library_factor() != nullptr,
                 ExcMessage("CholmodSolver: no factor (sharing it failed)."));
     if (b_work == nullptr)
@@ -249,8 +246,6 @@ namespace FetiContact
   {
     if (n == 0)
       return;
-    AssertThrow(!values_moved,
-                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     AssertThrow(library_factor() != nullptr,
                 ExcMessage("CholmodSolver: no factor (sharing it failed)."));
     if (b_work == nullptr)
@@ -265,26 +260,9 @@ namespace FetiContact
     std::memcpy(v.begin(), b_work->x, n * sizeof(double));
   }
 
-  void
-  CholmodSolver::move_factor_values(double *destination)
-  {
-    AssertThrow(supernodal != nullptr,
-                ExcMessage("CholmodSolver: only a supernodal factor with the project's solves "
-                           "can move."));
-    const std::size_t n_values = supernodal->factor().n_values();
-    std::memcpy(destination, factor->x, n_values * sizeof(double));
-    cholmod_free(factor->xsize, sizeof(double), factor->x, &common);
-    factor->x     = nullptr;
-    factor->xsize = 0;
-    values_moved  = true;
-    supernodal->rebind_values(destination);
-  }
-
   double
   CholmodSolver::reciprocal_condition_estimate() const
   {
-    AssertThrow(!values_moved,
-                ExcMessage("CholmodSolver: the numbers of the factor have moved out of CHOLMOD."));
     return n == 0 ? 1.0 : cholmod_rcond(library_factor(), &common);
   }
 
@@ -375,7 +353,7 @@ namespace FetiContact
     AssertThrow(solves == Solves::library,
                 ExcMessage("CholmodSolver: only a factor with CHOLMOD's solves is shared."));
     // Rank 0's factor (supernodal: CHOLMOD_SUPERNODAL) without its pointers, and the name.
-    const bool has_factor = rank != 0 || (factor != nullptr && factor->is_super && !values_moved);
+    const bool has_factor = rank != 0 || (factor != nullptr && factor->is_super);
     AssertThrow(Utilities::MPI::min(has_factor ? 1 : 0, node) == 1,
                 ExcMessage("CholmodSolver: share_factor() needs rank 0's supernodal factor."));
     cholmod_factor header{};

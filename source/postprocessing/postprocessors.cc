@@ -358,8 +358,7 @@ namespace FetiContact::Postprocessing
     if (input.bodies.front()->distributed())
       {
         input.pcout << "Comparison with a monolithic solve skipped: it solves the undecomposed "
-                       "bodies on one rank, and with 'FETI/Dual vectors = distributed' on several "
-                       "ranks no rank holds their whole meshes."
+                       "bodies on one rank, and on several ranks no rank holds their whole meshes."
                     << std::endl;
         return;
       }

@@ -30,15 +30,15 @@ namespace FetiContact
   void
   Body::setup()
   {
-    create_and_partition(MPI_COMM_SELF, false);
+    create_and_partition(MPI_COMM_SELF);
     set_up_boundary();
   }
 
   void
-  Body::create_and_partition(const MPI_Comm communicator, const bool distributed)
+  Body::create_and_partition(const MPI_Comm communicator)
   {
     comm              = communicator;
-    cells_distributed = distributed && Utilities::MPI::n_mpi_processes(comm) > 1;
+    cells_distributed = Utilities::MPI::n_mpi_processes(comm) > 1;
     const bool root   = Utilities::MPI::this_mpi_process(comm) == 0;
     const auto create = [&]() {
       if (cells_distributed && !root)

@@ -13,6 +13,7 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/feti/coarse_problem.h>
+#include <feticontact/feti/dual_distribution.h>
 
 #include "test_tools.h"
 
@@ -29,25 +30,50 @@ namespace
   constexpr unsigned int n_modes = 30, n_columns = 120;
 
   /**
-   * This rank's entries of a G with every mode in several columns (the columns c with
-   * c % n_ranks == rank); without mode @p unrestrained (if < n_modes).
+   * The columns of G: rank p owns the columns c with c % n_ranks == p, and rank 0 all modes, so
+   * that its relevant columns are all columns.
    */
-  std::vector<CoarseProblem::Entry>
-  entries_of_G(const MPI_Comm comm, const unsigned int unrestrained = n_modes)
+  DualDistribution
+  columns_of_G(const MPI_Comm comm)
   {
-    const unsigned int                rank    = Utilities::MPI::this_mpi_process(comm);
-    const unsigned int                n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int        rank    = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int        n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<unsigned int> owned, relevant;
+    std::vector<int>          relevant_owner;
+    for (unsigned int c = 0; c < n_columns; ++c)
+      {
+        if (c % n_ranks == rank)
+          owned.push_back(c);
+        if (rank == 0 || c % n_ranks == rank)
+          {
+            relevant.push_back(c);
+            relevant_owner.push_back(c % n_ranks);
+          }
+      }
+    return DualDistribution(comm, owned, relevant, relevant_owner, n_columns);
+  }
+
+  /**
+   * @p coarse from a G with every mode in several columns, without mode @p unrestrained (if <
+   * n_modes): each rank the entries of its relevant columns.
+   */
+  void
+  initialize(CoarseProblem          &coarse,
+             const DualDistribution &columns,
+             const unsigned int      unrestrained = n_modes)
+  {
+    const bool root = Utilities::MPI::this_mpi_process(columns.layout()->comm) == 0;
     std::vector<CoarseProblem::Entry> entries;
-    for (unsigned int c = rank; c < n_columns; c += n_ranks)
+    for (const unsigned int c : columns.relevant_rows())
       for (unsigned int m = 0; m < n_modes; ++m)
         if ((m * 7 + c * 3) % 5 < 2 && m != unrestrained)
           entries.push_back({m, c, 1.0 + ((m * 131 + c * 71 + m * c * 17) % 97) / 97.0});
-    return entries;
+    coarse.initialize(columns, entries, n_modes, n_columns, root ? 0 : n_modes, n_modes);
   }
 
   /** The numbers a coarse problem gives for fixed right-hand sides, in one vector. */
   std::vector<double>
-  results(const CoarseProblem &coarse)
+  results(const CoarseProblem &coarse, const DualDistribution &columns)
   {
     Vector<double> b(n_modes);
     for (unsigned int i = 0; i < n_modes; ++i)
@@ -63,17 +89,22 @@ namespace
         coarse.apply_orthonormalizing_factor(half, transpose);
         append(half);
       }
-    append(coarse.least_norm_solution(b));
+    DistributedVector lambda = columns.vector();
+    coarse.least_norm_solution(b, lambda);
+    append(columns.gather(lambda));
     // Tier 0: the even columns, which restrain every mode here: a factor of their G_t G_tᵀ.
-    append(coarse.particular_solution(b, [](const unsigned int c) { return c % 2; }));
+    coarse.particular_solution(
+      b, [](const unsigned int c) { return c % 2; }, lambda);
+    append(columns.gather(lambda));
     return all;
   }
 
   /** ‖GGᵀ x − b‖ / ‖b‖ for the x of solve_GGt(). */
   double
-  residual(const CoarseProblem &coarse)
+  residual(const CoarseProblem &coarse, const DualDistribution &columns)
   {
-    Vector<double> b(n_modes), x, Gtx(n_columns), r;
+    Vector<double>    b(n_modes), x, r;
+    DistributedVector Gtx = columns.vector();
     for (unsigned int i = 0; i < n_modes; ++i)
       b[i] = 1.0 + (i % 7);
     x = b;
@@ -93,19 +124,20 @@ main(int argc, char **argv)
   const unsigned int               n_ranks = Utilities::MPI::n_mpi_processes(comm);
   const std::string                on      = " (" + std::to_string(n_ranks) + " ranks)";
 
-  CoarseProblem per_node(CoarseProblem::FactorStorage::per_node);
-  CoarseProblem per_rank(CoarseProblem::FactorStorage::per_rank);
-  per_node.initialize(comm, entries_of_G(comm), n_modes, n_columns);
-  per_rank.initialize(comm, entries_of_G(comm), n_modes, n_columns);
+  const DualDistribution columns = columns_of_G(comm);
+  CoarseProblem          per_node(CoarseProblem::FactorStorage::per_node);
+  CoarseProblem          per_rank(CoarseProblem::FactorStorage::per_rank);
+  initialize(per_node, columns);
+  initialize(per_rank, columns);
 
-  const std::vector<double> a = results(per_node), b = results(per_rank);
+  const std::vector<double> a = results(per_node, columns), b = results(per_rank, columns);
   const bool                same =
     a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
   check(Utilities::MPI::min(same ? 1 : 0, comm) == 1,
         "per node and per rank: the same bits of (GGᵀ)⁻¹b, L⁻¹Pb, PᵀL⁻ᵀb, the least-norm and "
         "the lower tier's particular solution" +
           on);
-  const double r = Utilities::MPI::max(residual(per_node), comm);
+  const double r = Utilities::MPI::max(residual(per_node, columns), comm);
   check(r < 1e-12, "GGᵀ x = b to " + sci(r) + on);
 
   const bool shared_everywhere =
@@ -125,7 +157,7 @@ main(int argc, char **argv)
       bool          thrown = false;
       try
         {
-          singular.initialize(comm, entries_of_G(comm, 4), n_modes, n_columns);
+          initialize(singular, columns, 4);
         }
       catch (const InputError &)
         {

@@ -34,7 +34,7 @@ namespace
     for (unsigned int b = 0; b < scene.bodies.size(); ++b)
       {
         bodies.push_back(std::make_unique<Body>(scene.bodies[b], b));
-        bodies.back()->create_and_partition(comm, true);
+        bodies.back()->create_and_partition(comm);
         bodies.back()->distribute(
           [&](const unsigned int part) { return (5 * part + b + 1) % n_ranks; });
         bodies.back()->set_up_boundary();

@@ -83,7 +83,7 @@ main(int argc, char **argv)
       Body       whole(scene.bodies[0], 0);
       whole.setup();
       Body spread(scene.bodies[0], 0);
-      spread.create_and_partition(world, true);
+      spread.create_and_partition(world);
       const unsigned int n_parts = spread.partition.n_parts;
       const auto         owner   = [&](const unsigned int p) { return p * n_ranks / n_parts; };
       spread.distribute(owner);
@@ -136,7 +136,7 @@ main(int argc, char **argv)
       Body       free_whole(free_scene.bodies[0], 0);
       free_whole.setup();
       Body free_spread(free_scene.bodies[0], 0);
-      free_spread.create_and_partition(world, true);
+      free_spread.create_and_partition(world);
       free_spread.distribute(owner);
       free_spread.set_up_boundary();
       const auto m_whole  = free_whole.free_rigid_motions();

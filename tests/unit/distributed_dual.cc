@@ -1,11 +1,10 @@
 // The FETI operators on distributed dual vectors (DualDistribution): on P ranks, each owning a
 // contiguous range of the 12 subdomains of the brick (TFETI, 3 × 2 × 2 blocks), F x, the lumped
-// preconditioner, G x, Gᵀy, the projector P, the least-norm solution of Gλ = e, the primal
-// recovery and B u − c must be the same bits as on one rank holding everything (a DualProblem on
-// MPI_COMM_SELF), and so must the dot products of the distributed vectors. With G held by the
-// ranks' relevant columns (DualProblem with distributed_coarse: GGᵀ assembled by rows of the ranks'
-// modes), G x, Gᵀy, P x, the least-norm and the tiered particular solution of Gλ = e too, while
-// a rank holds fewer entries of G than one rank holding everything. With the rows of B made per
+// preconditioner, G x, Gᵀy, the projector P, the least-norm and the tiered particular solution of
+// Gλ = e, the primal recovery and B u − c must be the same bits as on one rank holding everything
+// (a DualProblem on MPI_COMM_SELF), and so must the dot products of the distributed vectors,
+// while a rank holds fewer entries of G (those of its relevant columns) than one rank holding
+// everything. With the rows of B made per
 // rank (build_local_equality_rows: each rank the rows that touch its subdomains), the rows are
 // those of one rank holding all, and F x, h, c and the primal recovery the same bits; so are F x
 // and h with contact-like rows before them, each held together with an empty row that rank 0
@@ -104,69 +103,73 @@ main(int argc, char **argv)
   for (auto &yi : y)
     yi = uniform(random);
   const DistributedVector x_d = d.restrict(x);
+  // The reference's products on vectors of all rows.
+  const auto &rd          = reference.distribution();
+  const auto  on_all_rows = [&](const DualProblem &problem, const auto &product) {
+    return [&problem, product](const Vector<double> &v, Vector<double> &w) {
+      DistributedVector result;
+      (problem.*product)(problem.distribution().restrict(v), result);
+      w = problem.distribution().gather(result);
+    };
+  };
+  const auto reference_F      = on_all_rows(reference, &DualProblem::apply_F);
+  const auto reference_lumped = on_all_rows(reference, &DualProblem::apply_lumped);
 
   Vector<double>    Fx, lumped_x;
   DistributedVector Fx_d, lumped_x_d;
-  reference.apply_F(x, Fx);
+  reference_F(x, Fx);
   dual.apply_F(x_d, Fx_d);
   check(same_bits(d.gather(Fx_d), Fx), "F x" + on + ": the same bits as on one rank");
-  reference.apply_lumped(x, lumped_x);
+  reference_lumped(x, lumped_x);
   dual.apply_lumped(x_d, lumped_x_d);
   check(same_bits(d.gather(lumped_x_d), lumped_x),
         "lumped preconditioner" + on + ": the same bits as on one rank");
 
   Vector<double> Gx, Gx_d, Gty;
-  reference.coarse.apply_G(x, Gx);
+  reference.coarse.apply_G(rd.restrict(x), Gx);
   dual.coarse.apply_G(x_d, Gx_d);
-  DistributedVector Gty_d;
-  reference.coarse.apply_Gt(y, Gty);
+  DistributedVector Gty_d, Gty_one;
+  reference.coarse.apply_Gt(y, Gty_one);
+  Gty = rd.gather(Gty_one);
   dual.coarse.apply_Gt(y, Gty_d);
   check(same_bits(Gx, Gx_d) && same_bits(d.gather(Gty_d), Gty),
         "G x and Gᵀy" + on + ": the same bits as on one rank");
 
-  Vector<double>    Px(x), lambda0 = reference.coarse.least_norm_solution(reference.e);
-  DistributedVector Px_d(x_d), lambda0_d;
-  reference.coarse.project(Px);
+  DistributedVector Px_one = rd.restrict(x), lambda0_one;
+  reference.coarse.project(Px_one);
+  reference.coarse.least_norm_solution(reference.e, lambda0_one);
+  const Vector<double> Px = rd.gather(Px_one), lambda0 = rd.gather(lambda0_one);
+  DistributedVector    Px_d(x_d), lambda0_d;
   dual.coarse.project(Px_d);
   dual.coarse.least_norm_solution(dual.e, lambda0_d);
   check(same_bits(d.gather(Px_d), Px) && same_bits(d.gather(lambda0_d), lambda0),
         "P x and the least-norm solution of Gλ = e" + on + ": the same bits as on one rank");
 
-  const auto u_reference = reference.recover_primal(lambda0);
+  const auto u_reference = reference.recover_primal(lambda0_one);
   const auto u           = dual.recover_primal(lambda0_d);
   bool       same_u      = u.size() == own.size();
   for (unsigned int i = 0; same_u && i < own.size(); ++i)
     same_u = same_bits(u[i], u_reference[first + i]);
-  const Vector<double> r_reference = reference.constraint_residual(u_reference);
-  const Vector<double> r           = d.gather(dual.distributed_constraint_residual(u));
+  const Vector<double> r_reference = rd.gather(reference.constraint_residual(u_reference));
+  const Vector<double> r           = d.gather(dual.constraint_residual(u));
   check(same_u && same_bits(r, r_reference),
         "primal recovery and B u − c" + on + ": the same bits as on one rank");
 
-  const DistributedVector x_one  = reference.distribution().restrict(x);
-  const DistributedVector Fx_one = reference.distribution().restrict(Fx);
+  const DistributedVector x_one  = rd.restrict(x);
+  const DistributedVector Fx_one = rd.restrict(Fx);
   check(same_bits(x_d * Fx_d, x_one * Fx_one) && same_bits(Fx_d.l2_norm(), Fx_one.l2_norm()),
         "xᵀF x and ‖F x‖" + on + ": the same bits as on one rank (" + sci(x_d * Fx_d) + ")");
 
-  const DualProblem split(world, own, mode_offset, rows, nullptr, true);
-  const auto       &d_s = split.distribution();
-  Vector<double>    Gx_s;
-  DistributedVector Gty_s, Px_s(d_s.restrict(x)), lambda0_s, tiered_s;
-  split.coarse.apply_G(Px_s, Gx_s);
-  split.coarse.apply_Gt(y, Gty_s);
-  split.coarse.project(Px_s);
-  split.coarse.least_norm_solution(split.e, lambda0_s);
-  const auto tier = [](const unsigned int c) { return c % 10 == 0 ? 1u : 0u; };
-  split.coarse.particular_solution(split.e, tier, tiered_s);
-  const Vector<double> tiered = reference.coarse.particular_solution(reference.e, tier);
-  check(same_bits(Gx_s, Gx) && same_bits(d_s.gather(Gty_s), Gty) &&
-          same_bits(d_s.gather(Px_s), Px) && same_bits(d_s.gather(lambda0_s), lambda0) &&
-          same_bits(d_s.gather(tiered_s), tiered),
-        "G by columns" + on +
-          ": G x, Gᵀy, P x, the least-norm and the tiered solution the same bits as on one rank");
+  const auto        tier = [](const unsigned int c) { return c % 10 == 0 ? 1u : 0u; };
+  DistributedVector tiered_d, tiered_one;
+  dual.coarse.particular_solution(dual.e, tier, tiered_d);
+  reference.coarse.particular_solution(reference.e, tier, tiered_one);
+  check(same_bits(d.gather(tiered_d), rd.gather(tiered_one)),
+        "the tiered particular solution of Gλ = e" + on + ": the same bits as on one rank");
   check(n_ranks == 1 ||
-          Utilities::MPI::max(split.coarse.n_entries(), world) < reference.coarse.n_entries(),
+          Utilities::MPI::max(dual.coarse.n_entries(), world) < reference.coarse.n_entries(),
         "G by columns" + on + ": at most " +
-          std::to_string(Utilities::MPI::max(split.coarse.n_entries(), world)) + " of the " +
+          std::to_string(Utilities::MPI::max(dual.coarse.n_entries(), world)) + " of the " +
           std::to_string(reference.coarse.n_entries()) + " entries of G on a rank");
 
   // Rows held per rank: the rows of this rank's subdomains, made and numbered without a rank
@@ -193,7 +196,7 @@ main(int argc, char **argv)
   check(n_ranks == 1 || Utilities::MPI::max(local.n_rows(), world) < rows.n_rows(),
         "rows per rank: at most " + std::to_string(Utilities::MPI::max(local.n_rows(), world)) +
           " of the " + std::to_string(rows.n_rows()) + " rows on a rank");
-  const DualProblem on_local(world, own, mode_offset, local, nullptr, true);
+  const DualProblem on_local(world, own, mode_offset, local);
   const auto       &d_l = on_local.distribution();
   DistributedVector Fx_l, lumped_x_l, lambda0_l;
   on_local.apply_F(d_l.restrict(x), Fx_l);
@@ -205,15 +208,13 @@ main(int argc, char **argv)
     same_u_l = same_bits(u_l[i], u_reference[first + i]);
   check(on_local.size() == m && same_bits(d_l.gather(Fx_l), Fx) &&
           same_bits(d_l.gather(lumped_x_l), lumped_x) &&
-          same_bits(d_l.gather(on_local.h_owned), reference.h) &&
-          same_bits(d_l.gather(on_local.c_owned), reference.c) &&
+          same_bits(d_l.gather(on_local.h), rd.gather(reference.h)) &&
+          same_bits(d_l.gather(on_local.c), rd.gather(reference.c)) &&
           same_bits(d_l.gather(lambda0_l), lambda0) && same_u_l &&
-          same_bits(d_l.gather(on_local.distributed_constraint_residual(u_l)), r_reference),
+          same_bits(d_l.gather(on_local.constraint_residual(u_l)), r_reference),
         "rows per rank" + on +
           ": F x, the lumped preconditioner, h, c, λ₀, the primal recovery and B u − c the same "
           "bits as on one rank");
-  check(on_local.h.size() == 0 && on_local.c.size() == 0,
-        "rows per rank: h and c of all rows held on no rank");
 
   // Contact-like rows before the equality rows: every fifth row of B_E as a "normal" row held
   // together with an empty "tangential" row (rank 0 adds it up), as the rows of a roller node.
@@ -231,16 +232,16 @@ main(int argc, char **argv)
   all_rows.append(rows);
   own_rows.append(local);
   const DualProblem with_contact(MPI_COMM_SELF, all, mode_offset, all_rows);
-  const DualProblem own_contact(world, own, mode_offset, own_rows, nullptr, true);
+  const DualProblem own_contact(world, own, mode_offset, own_rows);
   const auto       &d_c = own_contact.distribution();
   Vector<double>    x_c(all_rows.n_rows()), Fx_c;
   for (auto &xi : x_c)
     xi = uniform(random);
   DistributedVector Fx_own;
-  with_contact.apply_F(x_c, Fx_c);
+  on_all_rows(with_contact, &DualProblem::apply_F)(x_c, Fx_c);
   own_contact.apply_F(d_c.restrict(x_c), Fx_own);
   check(own_rows.n_all == all_rows.n_rows() && same_bits(d_c.gather(Fx_own), Fx_c) &&
-          same_bits(d_c.gather(own_contact.h_owned), with_contact.h),
+          same_bits(d_c.gather(own_contact.h), with_contact.distribution().gather(with_contact.h)),
         "rows per rank with empty rows held together before them" + on +
           ": F x and h the same bits as on one rank");
 

@@ -16,9 +16,11 @@
 
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/feti/equality_constraints.h>
+#include <feticontact/feti/local_dual_rows.h>
 
 #include "test_tools.h"
 
+#include <functional>
 #include <map>
 #include <random>
 #include <tuple>
@@ -112,28 +114,57 @@ main(int argc, char **argv)
           }
         DualProblem        dual(MPI_COMM_WORLD, owned, mode_offset, rows);
         const unsigned int m = dual.size();
-        Vector<double>     x(m), y(m), Fx(m), Fy(m);
+        // The operators on vectors of all rows (one rank holds them all).
+        const LocalDualRows local(dual);
+        const auto          apply_F = [&](const Vector<double> &v, Vector<double> &w) {
+          DualVector product;
+          dual.apply_F(local.restrict(v), product);
+          w = local.gather(product);
+        };
+        const auto project = [&](Vector<double> &v) {
+          DualVector d = local.restrict(v);
+          dual.coarse.project(d);
+          v = local.gather(d);
+        };
+        const auto apply_G = [&](const Vector<double> &v, Vector<double> &w) {
+          dual.coarse.apply_G(local.restrict(v), w);
+        };
+        const auto apply_G_orthonormal = [&](const Vector<double> &v, Vector<double> &w) {
+          dual.coarse.apply_G_orthonormal(local.restrict(v), w);
+        };
+        const auto apply_Gt_orthonormal = [&](const Vector<double> &z, Vector<double> &w) {
+          DualVector d = local.vector();
+          dual.coarse.apply_Gt_orthonormal(z, d);
+          w = local.gather(d);
+        };
+        const auto particular_solution = [&](const Vector<double>                        &e,
+                                             const std::function<unsigned int(unsigned)> &tier) {
+          DualVector d;
+          dual.coarse.particular_solution(e, tier, d);
+          return local.gather(d);
+        };
+        Vector<double> x(m), y(m), Fx(m), Fy(m);
         for (unsigned int i = 0; i < m; ++i)
           {
             x[i] = uniform(random);
             y[i] = uniform(random);
           }
-        dual.apply_F(x, Fx);
-        dual.apply_F(y, Fy);
+        apply_F(x, Fx);
+        apply_F(y, Fy);
         const double asym = std::abs(x * Fy - y * Fx) / (Fx.l2_norm() * y.l2_norm());
         check(asym < 1e-12, label + ": F symmetric, |xᵀFy − yᵀFx|/(‖Fx‖‖y‖) = " + sci(asym));
         check(x * Fx >= -1e-14 * Fx.l2_norm() * x.l2_norm(), label + ": xᵀFx ≥ 0");
 
         Vector<double> Px(x), PPx, GPx;
-        dual.coarse.project(Px);
+        project(Px);
         PPx = Px;
-        dual.coarse.project(PPx);
+        project(PPx);
         PPx -= Px;
         check(PPx.l2_norm() <= 1e-13 * x.l2_norm(),
               label + ": ‖P²x − Px‖/‖x‖ = " + sci(PPx.l2_norm() / x.l2_norm()));
-        dual.coarse.apply_G(Px, GPx);
+        apply_G(Px, GPx);
         Vector<double> Gx;
-        dual.coarse.apply_G(x, Gx);
+        apply_G(x, Gx);
         if (Gx.size() > 0)
           check(GPx.l2_norm() <= 1e-13 * Gx.l2_norm(),
                 label + ": ‖G P x‖/‖G x‖ = " + sci(GPx.l2_norm() / Gx.l2_norm()));
@@ -167,7 +198,7 @@ main(int argc, char **argv)
                   RtBtx[mode_offset[p] + j] += sd.R(d, j) * Btx[d];
             }
           Vector<double> Gx_stored;
-          dual.coarse.apply_G(x, Gx_stored);
+          apply_G(x, Gx_stored);
           Gx_stored -= RtBtx;
           if (RtBtx.size() > 0)
             check(Gx_stored.l2_norm() <= 1e-14 * RtBtx.l2_norm(),
@@ -186,8 +217,8 @@ main(int argc, char **argv)
             {
               z    = 0;
               z[j] = 1;
-              dual.coarse.apply_Gt_orthonormal(z, Gtz);
-              dual.coarse.apply_G_orthonormal(Gtz, GGtz);
+              apply_Gt_orthonormal(z, Gtz);
+              apply_G_orthonormal(Gtz, GGtz);
               GGtz -= z;
               deviation = std::max(deviation, GGtz.linfty_norm());
             }
@@ -195,8 +226,8 @@ main(int argc, char **argv)
             w[i] = uniform(random);
           for (unsigned int j = 0; j < k; ++j)
             z[j] = uniform(random);
-          dual.coarse.apply_G_orthonormal(w, Gw);
-          dual.coarse.apply_Gt_orthonormal(z, Gtz);
+          apply_G_orthonormal(w, Gw);
+          apply_Gt_orthonormal(z, Gtz);
           if (k > 0)
             {
               transpose = std::abs(Gw * z - Gtz * w) / (Gw.l2_norm() * z.l2_norm());
@@ -204,9 +235,11 @@ main(int argc, char **argv)
               check(transpose < 1e-13, label + ": (G̃w)ᵀz = wᵀ(G̃ᵀz), relative " + sci(transpose));
             }
         }
-        const auto     lambda0 = dual.coarse.least_norm_solution(dual.e);
-        Vector<double> Gl;
-        dual.coarse.apply_G(lambda0, Gl);
+        DualVector least_norm = local.vector();
+        dual.coarse.least_norm_solution(dual.e, least_norm);
+        const Vector<double> lambda0 = local.gather(least_norm);
+        Vector<double>       Gl;
+        apply_G(lambda0, Gl);
         if (dual.e.size() > 0)
           {
             Gl -= dual.e;
@@ -219,12 +252,11 @@ main(int argc, char **argv)
             for (unsigned int i = 0; i < m; ++i)
               tier[i] = i % 10 == 0 ? 1 : 0;
             const auto lambda_tiered =
-              dual.coarse.particular_solution(dual.e,
-                                              [&](const unsigned int c) { return tier[c]; });
+              particular_solution(dual.e, [&](const unsigned int c) { return tier[c]; });
             double on_tier_1 = 0;
             for (unsigned int i = 0; i < m; i += 10)
               on_tier_1 = std::max(on_tier_1, std::abs(lambda_tiered[i]));
-            dual.coarse.apply_G(lambda_tiered, Gl);
+            apply_G(lambda_tiered, Gl);
             Gl -= dual.e;
             check(on_tier_1 == 0, label + ": λ₀ from the tier-0 columns is zero on the others");
             check(Gl.l2_norm() <= 1e-12 * dual.e.l2_norm(),
@@ -234,7 +266,7 @@ main(int argc, char **argv)
             std::vector<unsigned int> one(m, 1);
             one[0] = 0;
             const auto lambda_all =
-              dual.coarse.particular_solution(dual.e, [&](const unsigned int c) { return one[c]; });
+              particular_solution(dual.e, [&](const unsigned int c) { return one[c]; });
             Vector<double> difference(lambda_all);
             difference -= lambda0;
             check(difference.l2_norm() <= 1e-14 * lambda0.l2_norm(),

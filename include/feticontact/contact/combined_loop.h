@@ -22,9 +22,8 @@ namespace FetiContact
    * three updates. The SMALBE solve is repeated, warm, with the slip bound set to μ λ_N of its
    * result, until that changes it by at most the MSA tolerance.
    *
-   * @p VectorType: the dual vectors, as in TrescaProblem.
+   * @p DualVector: the dual vectors, as in TrescaProblem.
    */
-  template <typename VectorType>
   class CombinedLoop
   {
   public:
@@ -40,9 +39,9 @@ namespace FetiContact
      * @p slip_bound_of gives the target slip bounds μ λ_N (in the units of each node's
      * multipliers) at λ̃.
      */
-    CombinedLoop(TrescaProblem<VectorType>                             &tresca,
+    CombinedLoop(TrescaProblem                                         &tresca,
                  const Parameters::ContactSolver                       &parameters,
-                 std::function<std::vector<double>(const VectorType &)> slip_bound_of);
+                 std::function<std::vector<double>(const DualVector &)> slip_bound_of);
 
     /** The loop's callbacks refer to this object: not copyable. */
     CombinedLoop(const CombinedLoop &) = delete;
@@ -54,10 +53,10 @@ namespace FetiContact
      * @p msa_tolerance; @p monitor after every SMALBE iteration.
      */
     Outcome
-    run(VectorType                                        &lambda,
-        dealii::Vector<double>                            &nu,
-        const double                                       msa_tolerance,
-        const typename TrescaProblem<VectorType>::Monitor &monitor);
+    run(DualVector                   &lambda,
+        dealii::Vector<double>       &nu,
+        const double                  msa_tolerance,
+        const TrescaProblem::Monitor &monitor);
 
     /** The relative change of the last radius update. */
     double
@@ -66,12 +65,12 @@ namespace FetiContact
   private:
     /** The radius update between the blocks of a sweep. */
     void
-    update_radii(const VectorType &lambda);
+    update_radii(const DualVector &lambda);
 
-    TrescaProblem<VectorType>                             &tresca;
+    TrescaProblem                                         &tresca;
     const Parameters::ContactSolver                       &parameters;
-    std::function<std::vector<double>(const VectorType &)> slip_bound_of;
-    typename TrescaProblem<VectorType>::MovingSet          moving_set;
+    std::function<std::vector<double>(const DualVector &)> slip_bound_of;
+    TrescaProblem::MovingSet                               moving_set;
     double                                                 change = 0;
     /** Radius updates so far (the set is final only after three). */
     unsigned int radius_updates = 0;

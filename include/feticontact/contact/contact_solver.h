@@ -56,11 +56,8 @@ namespace FetiContact
    * is a TrescaProblem; Algorithm 2 is a CombinedLoop; this class holds the friction law, MSA
    * with its slip-bound update, the continuation in μ, the choice of algorithm and the record of
    * the iterations (Result::history).
-   *
-   * @p VectorType: the dual vectors, dealii::Vector<double> (replicated) or DistributedVector
-   * (`FETI/Dual vectors`); the iterates and counts do not depend on the number of ranks.
+   * The iterates and counts do not depend on the number of ranks.
    */
-  template <typename VectorType>
   class ContactSolver
   {
   public:
@@ -81,7 +78,7 @@ namespace FetiContact
 
     struct Result
     {
-      VectorType lambda;
+      DualVector lambda;
       /** The multiplier ν of Gλ = e; α = −ν in the primal recovery. */
       dealii::Vector<double> mu;
       unsigned int           outer_iterations  = 0; ///< Iter: MSA steps (Algorithm 2: loops)
@@ -160,14 +157,14 @@ namespace FetiContact
     solve_msa(Result &result, const double msa_tolerance, const bool cold_start);
     /** One MSA step: the equilibrium test, then the Tresca QP; false if it proved no equilibrium.
      */
-    typename QP::SMALBE<VectorType>::Statistics
+    QP::SMALBE<DualVector>::Statistics
     msa_step(Result &result, const double tolerance);
 
     /** The slip bound candidate μ λ_N per node (0 where μ = 0), times the continuation stage. */
     std::vector<double>
-    coulomb_bound(const VectorType &lambda) const;
+    coulomb_bound(const DualVector &lambda) const;
     /** The monitor of the SMALBE iterations: a history row and a log line. */
-    typename TrescaProblem<VectorType>::Monitor
+    TrescaProblem::Monitor
     monitor(Result &result);
 
     const DualLayout                                       &layout;
@@ -176,8 +173,8 @@ namespace FetiContact
     std::ostream                                           &out;
     std::function<LoadBalance(const std::vector<double> &)> equilibrium_test;
     FrictionLaw                                             law;
-    TrescaProblem<VectorType>                               tresca;
-    CombinedLoop<VectorType>                                combined;
+    TrescaProblem                                           tresca;
+    CombinedLoop                                            combined;
     /** The current MSA step (0 outside MSA). */
     unsigned int msa_iteration = 0;
     /** The relative change of the slip bound in the last MSA step. */

@@ -28,22 +28,19 @@ namespace FetiContact
    *
    * with λ = [λ_T; λ_N; λ_E] as in DualLayout and G̃ the orthonormalized G. With `Equality
    * constraint = projector` (the default) the problem is homogenized
-   * (QP::Homogenization<VectorType>): λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse
+   * (QP::Homogenization<DualVector>): λ = λ₀ + λ̃ with the particular solution λ₀ of the coarse
    * problem, so that G̃λ̃ = 0; the bounds and disc centres shift by −λ₀ and SMALBE solves the
-   * projected problem (QP::ProjectorEnforcement<VectorType>). Multipliers passed to solve() are λ̃;
+   * projected problem (QP::ProjectorEnforcement<DualVector>). Multipliers passed to solve() are λ̃;
    * total() and recover() map back. The inner solver is MPGP over the whole set (mpgp, polygonal)
    * or, for the paper's Algorithms 1 and 2, block Gauss–Seidel: MPRGP on λ_c = [λ_N; λ_E] with λ_T
    * fixed, then KPG (MPGP on the discs) on λ_T.
    *
    * Knows nothing of friction laws: the caller sets the slip bounds (set_slip_bounds()).
    *
-   * @p VectorType is the type of the dual vectors: dealii::Vector<double> (every rank holds all
-   * rows) or DistributedVector (every rank holds the rows it adds up in F x, LocalDualRows). The
-   * contact nodes are those whose rows this rank holds (hold_contact_nodes(): all nodes with
-   * replicated vectors, each node on one rank with distributed ones), and the slip bounds and
-   * per-node results are theirs: no per-node array of all nodes is exchanged.
+   * Every rank holds the rows it adds up in F x (LocalDualRows). The contact nodes are those
+   * whose rows this rank holds (hold_contact_nodes(): each node on one rank), and the slip bounds
+   * and per-node results are theirs: no per-node array of all nodes is exchanged.
    */
-  template <typename VectorType>
   class TrescaProblem
   {
   public:
@@ -55,7 +52,7 @@ namespace FetiContact
       /** SMALBE's outer iterations. */
       unsigned int smalbe_iterations = 0;
       /**
-       * MPGP's steps (QP::MPGP<VectorType>::Statistics): conjugate gradient, expansion and
+       * MPGP's steps (QP::MPGP<DualVector>::Statistics): conjugate gradient, expansion and
        * proportioning steps, the projected CG expansions that increased the energy and were
        * replaced, and the steps whose gradient was updated recursively.
        */
@@ -64,24 +61,24 @@ namespace FetiContact
 
       /** Adds the steps of one MPGP solve. */
       void
-      count_steps(const typename QP::MPGP<VectorType>::Statistics &r);
+      count_steps(const QP::MPGP<DualVector>::Statistics &r);
     };
 
     /**
      * A set that moves inside the solve: Algorithm 2 updates the radii between the two blocks
      * of every Gauss–Seidel sweep. update() is called with λ̃ after the λ_c block;
      * unchanged() and final() after every inner solve tell SMALBE whether the set is that of the
-     * previous inner solve and whether it is final (QP::SMALBE<VectorType>::InnerReport).
+     * previous inner solve and whether it is final (QP::SMALBE<DualVector>::InnerReport).
      */
     struct MovingSet
     {
-      std::function<void(const VectorType &)> update;
+      std::function<void(const DualVector &)> update;
       std::function<bool()>                   unchanged, final;
     };
 
     /** Called after every SMALBE iteration with its step and λ̃ after the inner solve. */
     using Monitor =
-      std::function<void(const typename QP::SMALBE<VectorType>::Step &, const VectorType &lambda)>;
+      std::function<void(const QP::SMALBE<DualVector>::Step &, const DualVector &lambda)>;
 
     /**
      * Sets up the problem: the transforms, the constraint set (all slip bounds 0), the norm
@@ -111,20 +108,20 @@ namespace FetiContact
      * λ̃ = @p lambda and ν = @p nu (overwritten). @p moving_set: Algorithm 2 (one inner call per
      * SMALBE iteration, radii updated inside).
      */
-    typename QP::SMALBE<VectorType>::Statistics
-    solve(VectorType             &lambda,
+    QP::SMALBE<DualVector>::Statistics
+    solve(DualVector             &lambda,
           dealii::Vector<double> &nu,
           const double            tolerance,
           const Monitor          &monitor,
           const MovingSet        *moving_set = nullptr);
 
     /** λ = λ̃ + λ₀. */
-    VectorType
-    total(const VectorType &lambda_tilde) const;
+    DualVector
+    total(const DualVector &lambda_tilde) const;
 
     /** The normal force (N) of every contact node (of this rank) at λ̃. */
     std::vector<double>
-    normal_forces(const VectorType &lambda_tilde) const;
+    normal_forces(const DualVector &lambda_tilde) const;
 
     /**
      * The solution of the original problem from λ̃ and the ν of the problem SMALBE solved: λ₀
@@ -132,7 +129,7 @@ namespace FetiContact
      * from the projected and the orthonormalized problem to the multiplier of Gλ = e.
      */
     void
-    recover(VectorType &lambda, dealii::Vector<double> &nu) const;
+    recover(DualVector &lambda, dealii::Vector<double> &nu) const;
 
     /**
      * ‖next − previous‖ / ‖next‖ of two slip bounds of the nodes of all ranks (an infinite
@@ -144,22 +141,22 @@ namespace FetiContact
 
     /** Open, stick and slip nodes at λ̃ for the current slip bounds (contact_status()). */
     std::array<unsigned int, 3>
-    status_counts(const VectorType &lambda_tilde) const;
+    status_counts(const DualVector &lambda_tilde) const;
 
     /**
      * The message for SMALBE's proof that no multiplier within the current bounds balances the
-     * loads (QP::SMALBE<VectorType>::Statistics::infeasible), with the certificate in the original
+     * loads (QP::SMALBE<DualVector>::Statistics::infeasible), with the certificate in the original
      * variables.
      */
     std::string
-    no_equilibrium_message(const typename QP::SMALBE<VectorType>::Statistics &report) const;
+    no_equilibrium_message(const QP::SMALBE<DualVector>::Statistics &report) const;
 
     /** k, the number of rows of G̃ (the size of ν). */
     unsigned int
     n_equality_constraints() const;
 
     /** The rows of the dual vectors this rank holds. */
-    const LocalDualRows<VectorType> &
+    const LocalDualRows &
     local_rows() const
     {
       return rows;
@@ -181,7 +178,7 @@ namespace FetiContact
      * A solution of Gλ = @p e from the rows of the lowest tiers that restrain the floating
      * subdomains (CoarseProblem::particular_solution; for λ₀, see there).
      */
-    VectorType
+    DualVector
     particular_solution(const dealii::Vector<double> &e) const;
     /** The bounds λ̃_N ≥ −λ₀_N and the discs centred at −λ₀_T (radii 0). */
     void
@@ -191,49 +188,49 @@ namespace FetiContact
     estimate_scales(std::ostream &out);
     /** v ← P v = v − G̃ᵀG̃ v. */
     void
-    apply_P(VectorType &v) const;
+    apply_P(DualVector &v) const;
     /** MPGP's data from the parameters with ᾱ = 1.9/‖Hessian‖ and the arc scale. */
-    typename QP::MPGP<VectorType>::AdditionalData
+    QP::MPGP<DualVector>::AdditionalData
     mpgp_data() const;
     /** SMALBE's inner solver: MPGP over the whole set. */
-    typename QP::SMALBE<VectorType>::InnerReport
-    mpgp_inner_solve(const QP::Operator<VectorType> &A,
-                     const VectorType               &b,
-                     VectorType                     &x,
+    QP::SMALBE<DualVector>::InnerReport
+    mpgp_inner_solve(const QP::Operator<DualVector> &A,
+                     const DualVector               &b,
+                     DualVector                     &x,
                      const double                    tolerance,
-                     const VectorType               &gradient);
+                     const DualVector               &gradient);
     /** The block Gauss–Seidel inner solver (Algorithms 1 and 2). */
     QP::SolverReport
-    gauss_seidel(const QP::Operator<VectorType> &A,
-                 const VectorType               &b,
-                 VectorType                     &lambda,
+    gauss_seidel(const QP::Operator<DualVector> &A,
+                 const DualVector               &b,
+                 DualVector                     &lambda,
                  const double                    tolerance,
                  const MovingSet                *moving_set);
     /** One block of a sweep: MPGP on the rows of @p block with the other rows fixed. */
-    typename QP::MPGP<VectorType>::Statistics
-    solve_block(const QP::Operator<VectorType>                  &A,
-                const VectorType                                &b,
-                VectorType                                      &lambda,
-                const typename LocalDualRows<VectorType>::Block &block,
-                const QP::SeparableSet                          &block_set,
-                const double                                     tolerance,
-                unsigned int                                    &counter);
+    QP::MPGP<DualVector>::Statistics
+    solve_block(const QP::Operator<DualVector> &A,
+                const DualVector               &b,
+                DualVector                     &lambda,
+                const LocalDualRows::Block     &block,
+                const QP::SeparableSet         &block_set,
+                const double                    tolerance,
+                unsigned int                   &counter);
 
     const DualProblem               &dual;
     const DualLayout                &layout;
     const std::vector<ContactNode>  &nodes;
     const Parameters::ContactSolver &parameters;
     /** The rows this rank holds. */
-    LocalDualRows<VectorType> rows;
+    LocalDualRows rows;
     /** The rows of λ_T = [0, n_T) and of λ_c = [λ_N; λ_E] = [n_T, m). */
-    typename LocalDualRows<VectorType>::Block block_t, block_c;
+    LocalDualRows::Block block_t, block_c;
     /**
      * Per contact node: the local indices of its normal row and of its first tangential row
      * (invalid without one).
      */
     std::vector<unsigned int> local_normal_row, local_tangential_row;
     /** h on this rank's rows. */
-    VectorType       h;
+    DualVector       h;
     QP::SeparableSet set;   ///< Ω for all of λ̃
     QP::SeparableSet set_c; ///< bounds and free part, λ_c = [λ_N; λ_E]
     QP::SeparableSet set_t; ///< tangential part λ_T
@@ -248,12 +245,12 @@ namespace FetiContact
      * λ̃ = λ − λ₀ and the projected problem (PFP, Ph) that SMALBE solves (`problem`; without the
      * projector `problem` = `original`).
      */
-    QP::Problem<VectorType>                             unscaled, original, homogeneous, problem;
-    std::optional<QP::Orthonormalization<VectorType>>   orthonormalization;
-    std::optional<QP::Homogenization<VectorType>>       homogenization;
-    std::optional<QP::ProjectorEnforcement<VectorType>> projector_enforcement;
+    QP::Problem<DualVector>                             unscaled, original, homogeneous, problem;
+    std::optional<QP::Orthonormalization<DualVector>>   orthonormalization;
+    std::optional<QP::Homogenization<DualVector>>       homogenization;
+    std::optional<QP::ProjectorEnforcement<DualVector>> projector_enforcement;
     /** λ₀ (zero without the projector). */
-    VectorType lambda0;
+    DualVector lambda0;
     /** ‖G̃‖ (1, or 0 without rigid modes) and the penalty ρ. */
     double G_norm = 0, rho = 0;
     /**

@@ -16,7 +16,6 @@
 #include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/feti/local_dual_rows.h>
-#include <feticontact/feti/shared_local_work.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
 #include <feticontact/qp/projected_cg.h>
@@ -180,10 +179,7 @@ namespace FetiContact
     build_dual_problem();
     void
     solve();
-    /** Projected CG on dual vectors of the kind `FETI/Dual vectors` names. */
-    void
-    solve_linear();
-    template <typename VectorType>
+    /** Projected CG (no contact). */
     void
     solve_linear();
     /**
@@ -192,10 +188,7 @@ namespace FetiContact
      */
     std::string
     projected_cg_message(const QP::SolverReport &report) const;
-    /** ContactSolver on dual vectors of the kind `FETI/Dual vectors` names. */
-    void
-    solve_contact();
-    template <typename VectorType>
+    /** ContactSolver. */
     void
     solve_contact();
     /** The primal recovery, the evaluation of the solution and the postprocessors. */
@@ -204,7 +197,7 @@ namespace FetiContact
     void
     recover_primal();
     /**
-     * The contact nodes whose rows this rank holds (held_contact, contact_comm), after the dual
+     * The contact nodes whose rows this rank holds (held_contact), after the dual
      * problem is built.
      */
     void
@@ -313,22 +306,16 @@ namespace FetiContact
     std::vector<std::unique_ptr<Body>> bodies;
     std::vector<unsigned int>          first_subdomain; ///< per body, + total at the end
     /** Verification/Reference displacements, by body and vertex (empty: none). */
-    std::optional<VertexDisplacements> reference_displacements;
-    std::vector<unsigned int>          owner; ///< rank of each subdomain
-    /**
-     * The reserves of the node's ranks: factors in shared memory, whose local work in every
-     * multiplication by F the ranks share (FETI/Shared local work > 0, if possible).
-     */
-    std::unique_ptr<SharedLocalWork>        shared_work;
+    std::optional<VertexDisplacements>      reference_displacements;
+    std::vector<unsigned int>               owner;      ///< rank of each subdomain
     std::vector<std::unique_ptr<Subdomain>> subdomains; ///< this rank's
     std::vector<Subdomain *>                owned;
     std::vector<unsigned int>               mode_offset;
     /** The rows of B that this rank holds (build_dual_rows()). */
     DualRows rows;
     /**
-     * The contact nodes this rank found (find_contact_nodes()): all of them with replicated dual
-     * vectors; with distributed ones, the search is shared and these are the nodes of this
-     * rank's home vertices.
+     * The contact nodes this rank found (find_contact_nodes()): the search is shared, and these
+     * are the nodes of this rank's home vertices.
      */
     std::vector<ContactNode> contact_nodes;
     /** The number of contact nodes of all ranks. */
@@ -341,21 +328,15 @@ namespace FetiContact
     DualLayout                   layout;
     std::unique_ptr<DualProblem> dual;
     /**
-     * The contact nodes whose rows this rank holds (hold_contact_nodes()): all of them with
-     * replicated dual vectors; with distributed ones each node on the rank of its home
-     * subdomain, and contact_comm (else MPI_COMM_SELF) the ranks among which they are split.
+     * The contact nodes whose rows this rank holds (hold_contact_nodes()): each node on the rank
+     * of its home subdomain.
      */
     HeldContactNodes held_contact;
-    MPI_Comm         contact_comm = MPI_COMM_SELF;
-    /** The rows this rank holds of the distributed dual vectors (empty: replicated vectors). */
-    std::optional<LocalDualRows<DistributedVector>> distributed_rows;
+    /** The rows this rank holds of the dual vectors (set with the dual problem). */
+    std::optional<LocalDualRows> dual_rows;
 
-    /**
-     * The solution λ: all rows on every rank (`FETI/Dual vectors = replicated`), or this rank's
-     * rows (distributed).
-     */
-    dealii::Vector<double>           lambda;
-    std::optional<DistributedVector> lambda_distributed;
+    /** The solution λ on this rank's rows. */
+    DualVector lambda;
     /** Coefficients of the rigid modes in the primal recovery (contact: from the solver). */
     dealii::Vector<double>              alpha;
     bool                                alpha_given = false;

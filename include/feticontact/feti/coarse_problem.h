@@ -20,22 +20,15 @@ namespace FetiContact
    * The natural coarse space of FETI: G = Rᵀ Bᵀ (one row per rigid body mode of a floating
    * subdomain, one column per dual unknown), the coarse matrix GGᵀ factorized once by CHOLMOD,
    * and the orthogonal projector P = I − Gᵀ(GGᵀ)⁻¹G onto ker G (Farhat–Mandel–Roux).
-   * G is sparse and replicated on every rank; applying it costs O(nnz(G)), divided among the
-   * ranks (BlockPartition: G x by blocks of modes, Gᵀx by blocks of columns, then gathered; the
-   * same bits on any number of ranks). Every rank must call the products together.
-   *
-   * On distributed dual vectors (after distribute()) each rank computes (G x)_a for the modes of
-   * its own subdomains from the values of x on the rows of those subdomains (imported from their
-   * owners), the coarse vector is gathered, and (Gᵀy)_c is computed for the rows c the rank owns:
-   * every number is summed in the same order as with replicated vectors, so the results are the
-   * same bits.
-   *
-   * Set up by initialize_distributed() instead, a rank holds only the entries of G in the columns
-   * relevant to it (the rows of B that touch its subdomains, and the rows it owns): GGᵀ is
-   * assembled by rows, each rank the rows of its own modes from those columns, in the order of
-   * increasing column as by initialize(), and the rows gathered to the replicated factorization
-   * (the same bits, unless G has two entries of one mode in one column: see
-   * initialize_distributed()). Then only the products with distributed dual vectors exist.
+   * G is sparse and distributed by columns: a rank holds the entries of G in the columns
+   * relevant to it (the rows of B that touch its subdomains, and the rows it owns). It computes
+   * (G x)_a for the modes of its own subdomains from the values of x on the rows of those
+   * subdomains (imported from their owners), the coarse vector is gathered, and (Gᵀy)_c is
+   * computed for the rows c the rank owns, every column's terms by increasing mode. GGᵀ is
+   * assembled by rows, each rank the rows of its own modes, the terms by increasing column, and
+   * the rows gathered to the ranks that factorize it. Every number is summed in an order that
+   * does not depend on the number of ranks, so the results are the same bits on any number.
+   * Every rank must call the products together.
    *
    * The factor of GGᵀ is made and kept as FactorStorage says: by default once per node, by the
    * node's first rank, in memory the node's ranks share. The matrices (GGᵀ, and those of the
@@ -84,29 +77,19 @@ namespace FetiContact
     };
 
     /**
-     * Gathers every rank's @p local_entries of G (n_modes × n_columns) and factorizes GGᵀ.
-     * Throws InputError if GGᵀ is singular: some rigid motion is not restrained by B.
+     * @p relevant_entries are all entries of G in the columns relevant to this rank of
+     * @p distribution (from every rank that computes them), @p first_mode … @p end_mode this
+     * rank's modes (the ranks' ranges follow each other in rank order). Collective. Throws
+     * InputError if GGᵀ is singular: some rigid motion is not restrained by B. @p distribution
+     * must outlive this object.
      */
     void
-    initialize(const MPI_Comm            comm,
-               const std::vector<Entry> &local_entries,
-               const unsigned int        n_modes,
-               const unsigned int        n_columns);
-
-    /**
-     * The distributed form (see the class): @p relevant_entries are all entries of G in the
-     * columns relevant to this rank of @p distribution (from every rank that computes them),
-     * @p first_mode … @p end_mode this rank's modes (the ranks' ranges follow each other in rank
-     * order). Collective. Throws InputError as initialize(); @p distribution must outlive this
-     * object.
-     */
-    void
-    initialize_distributed(const DualDistribution &distribution,
-                           std::vector<Entry>      relevant_entries,
-                           const unsigned int      n_modes,
-                           const unsigned int      n_columns,
-                           const unsigned int      first_mode,
-                           const unsigned int      end_mode);
+    initialize(const DualDistribution &distribution,
+               std::vector<Entry>      relevant_entries,
+               const unsigned int      n_modes,
+               const unsigned int      n_columns,
+               const unsigned int      first_mode,
+               const unsigned int      end_mode);
 
     unsigned int
     n_modes() const
@@ -114,35 +97,17 @@ namespace FetiContact
       return n_rows;
     }
 
-    /**
-     * The number of entries of G this rank holds: all of them, or (initialize_distributed()) those
-     * of its relevant columns.
-     */
+    /** The number of entries of G this rank holds (those of its relevant columns). */
     std::size_t
     n_entries() const
     {
-      return distributed_only ? relevant_value.size() : value.size();
+      return relevant_value.size();
     }
-
-    /**
-     * Prepares the products with distributed dual vectors: this rank owns the dual vectors'
-     * entries of @p distribution and computes the modes [@p first_mode, @p end_mode) of G x
-     * (those of its subdomains, whose columns are all relevant rows). The ranks' mode ranges
-     * follow each other in rank order. Collective; @p distribution must outlive this object.
-     */
-    void
-    distribute(const DualDistribution &distribution,
-               const unsigned int      first_mode,
-               const unsigned int      end_mode);
 
     /** y = G x. */
     void
-    apply_G(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
-    void
     apply_G(const DistributedVector &x, dealii::Vector<double> &y) const;
     /** y = Gᵀ x. */
-    void
-    apply_Gt(const dealii::Vector<double> &x, dealii::Vector<double> &y) const;
     void
     apply_Gt(const dealii::Vector<double> &x, DistributedVector &y) const;
     /**
@@ -150,13 +115,11 @@ namespace FetiContact
      * space of G and orthonormal rows (G̃G̃ᵀ = I), so Gλ = e ⟺ G̃λ = ẽ with ẽ = L⁻¹Pe. The
      * augmented Lagrangian works with G̃ (Dostál's orthonormalized constraints).
      */
-    template <typename VectorType>
     void
-    apply_G_orthonormal(const VectorType &x, dealii::Vector<double> &y) const;
+    apply_G_orthonormal(const DistributedVector &x, dealii::Vector<double> &y) const;
     /** y = G̃ᵀx. */
-    template <typename VectorType>
     void
-    apply_Gt_orthonormal(const dealii::Vector<double> &x, VectorType &y) const;
+    apply_Gt_orthonormal(const dealii::Vector<double> &x, DistributedVector &y) const;
     /** μ = PᵀL⁻ᵀμ̃: the multiplier of Gλ = e from that of G̃λ = ẽ (Gᵀμ = G̃ᵀμ̃). */
     dealii::Vector<double>
     multiplier_from_orthonormal(const dealii::Vector<double> &mu_tilde) const;
@@ -173,23 +136,19 @@ namespace FetiContact
     void
     solve_GGt(dealii::Vector<double> &x) const;
     /** x ← P x = x − Gᵀ(GGᵀ)⁻¹G x. */
-    template <typename VectorType>
     void
-    project(VectorType &x) const;
-    /** The least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
-    dealii::Vector<double>
-    least_norm_solution(const dealii::Vector<double> &e) const;
-    /** The same as a distributed dual vector. */
+    project(DistributedVector &x) const;
+    /** @p lambda ← the least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
     void
     least_norm_solution(const dealii::Vector<double> &e, DistributedVector &lambda) const;
     /**
-     * A particular solution λ₀ of Gλ = e that leaves as many kinds of dual unknowns at zero as
-     * the constraints allow. @p tier gives each column a rank (for contact: 0 gluing and
+     * @p lambda ← a particular solution λ₀ of Gλ = e that leaves as many kinds of dual unknowns at
+     * zero as the constraints allow. @p tier gives each column a rank (for contact: 0 gluing and
      * Dirichlet rows, 1 normal, 2 tangential); λ₀ is the least-norm solution among the columns
      * of tier ≤ t for the smallest t whose columns alone restrain every rigid mode (G_t G_tᵀ
      * nonsingular), and the least-norm solution of all of G if none does.
      *
-     * @p tier is called for every column (a replicated call) or for the relevant ones.
+     * @p tier is called for the columns this rank owns.
      *
      * Why it matters: the contact QP works with λ̃ = λ − λ₀, so λ₀ on a contact row moves the
      * bound λ̃_N ≥ −λ₀_N and the centre of the friction disc to −λ₀_T. A disc of radius r
@@ -197,10 +156,6 @@ namespace FetiContact
      * on the brick lifted off its foundation, where MPGP stalled at every step). With λ₀ = 0
      * on the contact rows the bounds are λ̃_N ≥ 0 and the discs are centred at the origin.
      */
-    dealii::Vector<double>
-    particular_solution(const dealii::Vector<double>                    &e,
-                        const std::function<unsigned int(unsigned int)> &tier) const;
-    /** The same as a distributed dual vector (with distributed dual vectors and G). */
     void
     particular_solution(const dealii::Vector<double>                    &e,
                         const std::function<unsigned int(unsigned int)> &tier,
@@ -211,14 +166,12 @@ namespace FetiContact
      * about ‖Gλ − e‖/‖e‖, seen here up to 1e-10 after 150 iterations). Returns ‖Gλ − e‖/‖e‖ before
      * the correction.
      */
-    template <typename VectorType>
     double
-    restore_feasibility(VectorType &lambda, const dealii::Vector<double> &e) const;
+    restore_feasibility(DistributedVector &lambda, const dealii::Vector<double> &e) const;
 
     /** α = (GGᵀ)⁻¹ G x (the coefficients of the rigid modes in the primal recovery). */
-    template <typename VectorType>
     dealii::Vector<double>
-    coarse_coefficients(const VectorType &x) const;
+    coarse_coefficients(const DistributedVector &x) const;
 
     /**
      * The bytes of the factor of GGᵀ in memory shared by the ranks of this rank's node (0 if the
@@ -254,51 +207,41 @@ namespace FetiContact
     /** Makes the factor of @p solver, made on the node's first rank, the node's (per_node). */
     void
     share(CholmodSolver &solver) const;
-    /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
-    void
-    add_Gt(const dealii::Vector<double> &x, const bool add, dealii::Vector<double> &y) const;
-    void
-    add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
     /**
-     * The same as assemble_GGt() from the relevant columns (initialize_distributed()): each rank
-     * its modes' rows, gathered on the ranks that factorize. Collective.
+     * Prepares the products: this rank owns the dual vectors' entries of @p distribution and
+     * computes the modes [@p first_mode, @p end_mode) of G x (those of its subdomains, whose
+     * columns are all relevant rows). Collective.
      */
     void
-    assemble_GGt_distributed(const std::function<bool(unsigned int)> &use_column,
-                             dealii::SparsityPattern                 &sparsity,
-                             dealii::SparseMatrix<double>            &M) const;
+    distribute(const DualDistribution &distribution,
+               const unsigned int      first_mode,
+               const unsigned int      end_mode);
+    /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
+    void
+    add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
     /**
      * Checks GGᵀ = @p M (every mode restrained, nonsingular, well conditioned) and factorizes it,
      * on the ranks that factorize (@p M is empty elsewhere); then shares the factor (per node).
      */
     void
     factorize_GGt(const dealii::SparseMatrix<double> &M);
-    /** particular_solution() into @p lambda (zero, of the right size). */
-    template <typename VectorType>
-    void
-    particular_solution_into(const dealii::Vector<double>                    &e,
-                             const std::function<unsigned int(unsigned int)> &tier,
-                             VectorType                                      &lambda) const;
     /** The tiers of the columns (a bit per tier, over all ranks). */
     unsigned int
     tiers_present(const std::function<unsigned int(unsigned int)> &tier) const;
     /**
      * M = G_S G_Sᵀ over the columns S for which @p use_column holds, with its @p sparsity, on the
-     * ranks that factorize (nothing elsewhere).
+     * ranks that factorize (nothing elsewhere): each rank its modes' rows from its relevant
+     * columns, gathered. Collective.
      */
     void
     assemble_GGt(const std::function<bool(unsigned int)> &use_column,
                  dealii::SparsityPattern                 &sparsity,
                  dealii::SparseMatrix<double>            &M) const;
 
-    unsigned int              n_rows = 0, n_cols = 0;
-    std::vector<unsigned int> row_start, column;
-    std::vector<double>       value;
-    /** This rank's blocks of modes (for G x) and of columns (for Gᵀx). */
-    BlockPartition mode_blocks, column_blocks;
-    /** The columns of this rank's block by columns (CSC: start, mode, value). */
-    std::vector<unsigned int>      block_column_start, block_column_mode;
-    std::vector<double>            block_column_value;
+    unsigned int n_rows = 0, n_cols = 0;
+    /** G by the rows of this rank's modes, columns increasing (CSR over all modes). */
+    std::vector<unsigned int>      row_start, column;
+    std::vector<double>            value;
     CholmodSolver                  GGt;
     mutable dealii::Vector<double> work;
     /** Where the factor of GGᵀ is kept. */
@@ -309,7 +252,7 @@ namespace FetiContact
      */
     MPI_Comm node = MPI_COMM_NULL, leaders = MPI_COMM_NULL;
 
-    /** The distribution of the dual vectors (distribute()), or none. */
+    /** The distribution of the dual vectors (initialize()). */
     const DualDistribution *distribution = nullptr;
     /** The ranks' ranges of modes for G x on distributed vectors. */
     BlockPartition own_modes;
@@ -321,11 +264,10 @@ namespace FetiContact
     std::vector<double>            own_column_value;
     mutable dealii::Vector<double> relevant_work;
     /**
-     * With initialize_distributed(): the relevant columns (increasing) with their entries by
-     * increasing mode (CSC: start, mode, value); otherwise empty.
+     * The relevant columns (increasing) with their entries by increasing mode (CSC: start, mode,
+     * value).
      */
     std::vector<unsigned int> relevant_column, relevant_start, relevant_mode;
     std::vector<double>       relevant_value;
-    bool                      distributed_only = false;
   };
 } // namespace FetiContact

@@ -27,12 +27,6 @@ namespace FetiContact::Parameters
     std::string local_solver = "cholmod";
 
     /**
-     * The fraction of every rank's subdomains whose local work the ranks of a node share
-     * (SharedLocalWork), where possible; 0: each rank solves its own subdomains.
-     */
-    double shared_local_work = 0;
-
-    /**
      * How the contact rows N, T1, T2 take a contact node that lies on a subdomain interface
      * (p ≥ 2 glued copies): `lowest copy` puts the row on the copy of the lowest-numbered
      * subdomain; `average` puts it on the mean of all copies, scaled so that the row keeps its
@@ -43,22 +37,6 @@ namespace FetiContact::Parameters
      * on large ones (doc/performance.md, "Numerical scalability").
      */
     bool average_contact_rows = false;
-
-    /**
-     * How the solvers hold the dual vectors λ (DualProblem): `replicated`, every rank holds all
-     * rows; `distributed`, every rank holds the rows it adds up in F x (DistributedVector),
-     * neighbouring ranks exchange the rows their subdomains share, the dot products and norms
-     * are the only global reductions, G is held by the columns of each rank's subdomains
-     * (CoarseProblem::initialize_distributed()), and on several ranks a rank holds the cells
-     * of its subdomains and the rows of B that touch them (unless the ranks share local work).
-     * Either way the iterates and counts do not depend on the number of ranks.
-     */
-    enum class DualVectors
-    {
-      replicated,
-      distributed
-    };
-    DualVectors dual_vectors = DualVectors::replicated;
 
     /**
      * Where the factor of the coarse matrix GGᵀ lives (CoarseProblem::FactorStorage): `per node`,

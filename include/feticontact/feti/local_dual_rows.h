@@ -7,50 +7,43 @@
 #include <feticontact/feti/dual_problem.h>
 
 #include <memory>
-#include <type_traits>
 #include <vector>
 
 namespace FetiContact
 {
   /**
-   * The rows of the dual problem that this rank holds in dual vectors of type @p VectorType, and
-   * the conversions to and from vectors of all rows:
-   *
-   * - dealii::Vector<double> (replicated): every rank holds every row, and the local index of a
-   *   row is the row;
-   * - DistributedVector: a rank holds the rows it adds up in F x (DualProblem::distribution()),
-   *   in increasing order, so the rows of a range of rows are a range of local entries.
+   * The rows of the dual problem that this rank holds in its dual vectors (DistributedVector):
+   * the rows it adds up in F x (DualProblem::distribution()), in increasing order, so the rows of
+   * a range of rows are a range of local entries; and the conversions to and from vectors of all
+   * rows.
    *
    * For the solvers that act on rows by their meaning (the contact rows of a node, the blocks
    * λ_T and λ_c of the Gauss–Seidel split): they loop over the local entries and reduce counts,
    * maxima and exact sums over the ranks here. Knows nothing of contact.
    */
-  template <typename VectorType>
   class LocalDualRows
   {
   public:
-    static constexpr bool distributed = std::is_same_v<VectorType, DistributedVector>;
-
     explicit LocalDualRows(const DualProblem &dual);
 
     /** A zero dual vector. */
-    VectorType
+    DualVector
     vector() const;
 
     /** h of the dual problem on this rank's rows. */
-    const VectorType &
+    const DualVector &
     h() const;
 
     /** c (the right-hand side of B u = c, B u ≤ c) on this rank's rows. */
-    const VectorType &
+    const DualVector &
     c() const;
 
     /** The entries this rank holds of a vector of all rows. */
-    VectorType restrict(const dealii::Vector<double> &all) const;
+    DualVector restrict(const dealii::Vector<double> &all) const;
 
-    /** All rows of @p x on every rank (collective with distributed vectors). */
+    /** All rows of @p x on every rank (collective). */
     dealii::Vector<double>
-    gather(const VectorType &x) const;
+    gather(const DualVector &x) const;
 
     /** The local index of @p row, or numbers::invalid_unsigned_int if this rank does not hold it.
      */
@@ -64,7 +57,7 @@ namespace FetiContact
     /**
      * The rows [first, first + n) as a dual vector of their own (the blocks of a Gauss–Seidel
      * split): the local entries [begin, end) of a vector of all rows, and the layout of the
-     * block's vectors (distributed only; their sums are taken in the same chunks).
+     * block's vectors (their sums are taken in the same chunks).
      */
     struct Block
     {
@@ -73,14 +66,14 @@ namespace FetiContact
       std::shared_ptr<const DistributedVector::Layout> layout;
 
       /** A zero vector of the block. */
-      VectorType
+      DualVector
       vector() const;
       /** @p part ← the block's entries of @p full. */
       void
-      extract(const VectorType &full, VectorType &part) const;
+      extract(const DualVector &full, DualVector &part) const;
       /** The block's entries of @p full ← @p part. */
       void
-      insert(const VectorType &part, VectorType &full) const;
+      insert(const DualVector &part, DualVector &full) const;
     };
 
     /** The block of rows [first, first + n). */
@@ -97,14 +90,14 @@ namespace FetiContact
 
     /**
      * Every sum of @p sums made the exact sum of its terms on all ranks: the same bits on any
-     * number of ranks (one reduction with distributed vectors; nothing otherwise).
+     * number of ranks (one reduction).
      */
     void
     sum_over_ranks(std::vector<ExactSum> &sums) const;
 
   private:
     const DualProblem &dual;
-    /** The layout of the distributed dual vectors (empty for replicated ones). */
+    /** The layout of the dual vectors. */
     std::shared_ptr<const DistributedVector::Layout> layout;
   };
 } // namespace FetiContact

@@ -111,16 +111,6 @@ namespace FetiContact
     }
 
     /**
-     * Copies the numbers of L (supernodal_factor()->n_values() of them) to @p destination, frees
-     * CHOLMOD's, and solves with the copy from now on, which must outlive this object's solves:
-     * the factor moves to memory shared by the ranks of a node (SharedLocalWork) and is stored
-     * once. Only with the project's solves; solve_by_library(), solve_half() and
-     * reciprocal_condition_estimate() refuse afterwards.
-     */
-    void
-    move_factor_values(double *destination);
-
-    /**
      * Makes the factor of rank 0 of @p node, which alone has factorized, the factor of every rank
      * of @p node: rank 0 copies its arrays into a segment of memory shared by the ranks of the
      * node (POSIX shared memory, /dev/shm) and frees CHOLMOD's; every rank maps the segment
@@ -189,8 +179,6 @@ namespace FetiContact
     mutable cholmod_dense           *x_work = nullptr, *y_work = nullptr, *e_work = nullptr;
     mutable cholmod_dense           *b_work = nullptr;
     std::size_t                      n      = 0;
-    /** Whether move_factor_values() has taken the numbers of L out of CHOLMOD's factor. */
-    bool values_moved = false;
     /**
      * After share_factor(): a factor whose arrays point into the shared segment at @p segment
      * (@p segment_bytes mapped). CHOLMOD only reads it; it is never passed to cholmod_free_*.

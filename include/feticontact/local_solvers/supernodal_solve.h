@@ -31,8 +31,7 @@ namespace FetiContact
    * elsewhere): supernode k has the columns super[k] … super[k+1] − 1 and the rows
    * s[pi[k]] … s[pi[k+1] − 1] (the first ones its own columns); its numbers are a column-major
    * block of pi[k+1] − pi[k] rows at x + px[k]; perm is P (row k of P A Pᵀ is row perm[k] of A).
-   * CHOLMOD's own factor (of()), or a copy of its arrays in memory shared by the ranks of a node
-   * (SharedLocalWork).
+   * CHOLMOD's own factor (of()).
    */
   struct SupernodalFactor
   {
@@ -82,16 +81,6 @@ namespace FetiContact
     factor() const
     {
       return L;
-    }
-
-    /**
-     * Solves with the numbers of L at @p values from now on (the same layout, e.g. a copy in
-     * shared memory; CHOLMOD's may then be freed).
-     */
-    void
-    rebind_values(const double *values)
-    {
-      L.x = values;
     }
 
   private:

@@ -54,7 +54,7 @@ namespace FetiContact
    * mesh), its tetrahedral mesh, the prescribed displacements per vertex (Γ_u) and the partition
    * of its cells into FETI subdomains.
    *
-   * The mesh is the cells this rank holds: every cell of the body (replicated), or, distributed
+   * The mesh is the cells this rank holds: every cell of the body on one rank, or, distributed
    * over the ranks of a communicator, the cells of the parts this rank owns. Every rank then makes
    * the cells of its own parts where the parts are blocks of a generated box (LatticeParts);
    * otherwise rank 0 creates the whole mesh and partitions it, sends every rank the cells of its
@@ -78,16 +78,16 @@ namespace FetiContact
     setup();
 
     /**
-     * Creates the mesh and its partition: on every rank of @p comm, or with @p distributed only
-     * on rank 0, which tells the others the number of cells of every part (on no rank for the
-     * blocks of a generated box, whose parts every rank knows). Collective.
+     * Creates the mesh and its partition: on rank 0 of @p comm, which tells the others the number
+     * of cells of every part (on no rank for the blocks of a generated box, whose parts every
+     * rank knows). Collective.
      */
     void
-    create_and_partition(const MPI_Comm comm, const bool distributed);
+    create_and_partition(const MPI_Comm comm);
 
     /**
      * Distributed: every rank makes its mesh of the cells of the parts that @p owner (a part's
-     * rank) gives it, which it generates (blocks of a box) or receives from rank 0. Replicated:
+     * rank) gives it, which it generates (blocks of a box) or receives from rank 0. On one rank:
      * nothing. Collective.
      */
     void

@@ -9,6 +9,12 @@
       [--same-files PATTERN[,PATTERN...]]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
       [--no-equilibrium]
+  run_case.py file EXE TESTFILE OUTDIR [--fclib-check PATH] [--print]
+
+file: a test file tests/cases/GROUP/NAME.test (the ctest GROUP.NAME, tests/pickup.cmake), whose
+header of '# key: value' lines (tests/README.md, "Adding a test") stands for one of the two modes
+below, for one run with its exit status and output checked, or for commands; --print shows what
+it stands for instead of running it.
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array; the

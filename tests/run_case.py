@@ -9,6 +9,12 @@
       [--same-files PATTERN[,PATTERN...]]
   run_case.py bad EXE PRM OUTDIR --message TEXT [--np N] [--set PATH=VALUE]... [--flag OPTION]
       [--no-equilibrium]
+  run_case.py file EXE TESTFILE OUTDIR [--fclib-check PATH] [--print]
+
+file: a test file tests/cases/GROUP/NAME.test (the ctest GROUP.NAME, tests/pickup.cmake), whose
+header of '# key: value' lines (tests/README.md, "Adding a test") stands for one of the two modes
+below, for one run with its exit status and output checked, or for commands; --print shows what
+it stands for instead of running it.
 
 scene: the run must exit 0 and summary.json must satisfy every --expect (KEY is a dotted path
 into summary.json, e.g. equilibrium.largest_relative_imbalance; a number indexes an array; the
@@ -42,6 +48,8 @@ Standard library only, so that any python3 runs it.
 import csv
 import json
 import os
+import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -424,6 +432,188 @@ def bad(args):
     return 0 if ok else 1
 
 
+
+# --- Tests as files: tests/cases/GROUP/NAME.test, run by `run_case.py file EXE FILE OUTDIR`.
+# The header language is described in tests/README.md ("Adding a test").
+# Keys whose value is passed on as an option of scene() or bad(), in the order of the file.
+OPTIONS = {"set": "--set", "alt-set": "--alt-set", "expect": "--expect", "mpi": "--np",
+           "threads": "--threads", "same-displacements": "--same-displacements",
+           "same-files": "--same-files", "contact-area": "--contact-area",
+           "alt-scale": "--alt-scale", "exact-field": "--exact-field",
+           "exact-tolerance": "--exact-tolerance", "flag": "--flag",
+           "reference-displacements": "--reference-displacements",
+           "uniform-pressure": "--uniform-pressure"}
+# Values of two words; the first of reference-displacements is relative to the source folder.
+TWO_WORDS = {"reference-displacements", "uniform-pressure"}
+FLAGS = {"same-counts": "--same-counts", "check-contact-vtu": "--check-contact-vtu",
+         "fewer-multiplications": "--fewer-multiplications"}
+CHECKS = {"prm", "message", "exit", "output", "output-regex", "output-if-nonzero", "time-limit",
+          "command", "then"}
+# Test properties, read by tests/pickup.cmake.
+PROPERTIES = {"labels", "timeout", "skip-exit", "run-serial", "fixtures-setup",
+              "fixtures-required", "requires"}
+KEYS = set(OPTIONS) | set(FLAGS) | CHECKS | PROPERTIES
+
+
+def read_header(path):
+    """The directives of a test file in order: its leading '#' lines of the form '# key: value'
+    (or '# flag') with a known key; any other '#' line is a comment. A value is the rest of the
+    line without outer spaces, unless it is written in double quotes."""
+    directives = []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            text = line[1:].strip()
+            if text in FLAGS:
+                directives.append((text, None))
+                continue
+            key, colon, value = text.partition(":")
+            if colon and key in KEYS:
+                value = value.strip()
+                if len(value) >= 2 and value[0] == value[-1] == '"':
+                    value = value[1:-1]
+                directives.append((key, value))
+    return directives
+
+
+def test_file_plan(exe, path, outdir, fclib_check=None):
+    """What a test file stands for: (kind, argv, checks). kind 'scene' or 'bad': argv is the
+    argument list of scene() or bad(); 'run': the command line of one run of the executable;
+    'command': the list of the file's commands."""
+    tests = os.path.dirname(os.path.abspath(__file__))
+    places = {"EXE": exe, "OUT": outdir, "SOURCE_DIR": os.path.dirname(tests),
+              "PYTHON": sys.executable, "OUTPUTS": os.path.dirname(os.path.dirname(outdir)),
+              "BINARY_DIR": os.path.dirname(os.path.dirname(os.path.dirname(outdir))),
+              "FCLIB_CHECK": fclib_check or "fclib_check"}
+
+    def expand(value):
+        for name, replacement in places.items():
+            value = value.replace("@" + name + "@", replacement)
+        return value
+
+    directives = read_header(path)
+    checks = {k: [expand(v) for key, v in directives if key == k] for k in CHECKS}
+    if checks["command"]:
+        commands = []
+        for value in checks["command"]:
+            words = shlex.split(value)
+            if "@FCLIB_FLAG@" in words:
+                words.remove("@FCLIB_FLAG@")
+                words += ["--fclib"] if fclib_check else []
+            commands.append([expand(w) for w in words])
+        return "command", commands, checks
+    prm = os.path.join(places["SOURCE_DIR"], checks["prm"][0])
+    options = []
+    for key, value in directives:
+        if key in FLAGS:
+            options.append(FLAGS[key])
+        elif key in TWO_WORDS:
+            first, second = expand(value).split()
+            if key == "reference-displacements":
+                first = os.path.join(places["SOURCE_DIR"], first)
+            options += [OPTIONS[key], first, second]
+        elif key in OPTIONS:
+            options += [OPTIONS[key], value.replace(" ", "") if key == "mpi" else expand(value)]
+    status = checks["exit"][0] if checks["exit"] else None
+    if checks["message"]:
+        if status not in (None, "1", "4"):
+            raise ValueError(f"{path}: a refused input exits with status 1 or 4, not {status}")
+        options += ["--message", checks["message"][0]] + (["--no-equilibrium"] if status == "4"
+                                                          else [])
+        return "bad", [exe, prm, outdir] + options, checks
+    if status is not None or checks["output"]:
+        sets = [(k, v) for k, v in directives if k in OPTIONS or k in FLAGS]
+        if any(k not in ("set", "expect") for k, _ in sets):
+            raise ValueError(f"{path}: a run with 'exit' takes 'set' and 'expect', no other option")
+        sets = [a for k, v in sets if k == "set" for a in ("--set", expand(v))]
+        return "run", [exe, "--set", "Output/Directory=" + outdir] + sets + [prm], checks
+    return "scene", [exe, prm, outdir] + options, checks
+
+
+def exit_status_ok(status, allowed):
+    """allowed: 'any', 'nonzero' or numbers separated by commas (default 0)."""
+    allowed = (allowed or "0").replace(" ", "")
+    if allowed == "any":
+        return True
+    if allowed == "nonzero":
+        return status != 0
+    return str(status) in allowed.split(",")
+
+
+def run_checked(kind, argv, checks, outdir):
+    """A 'run' or 'command' test: the commands in order (each but the last must exit 0), then the
+    exit status of the last, the texts its output must contain, summary.json (for 'run'), and
+    'then' commands, which must exit 0."""
+    if os.path.isdir(outdir):
+        shutil.rmtree(outdir)
+    os.makedirs(os.path.dirname(outdir), exist_ok=True)
+    limit = float(checks["time-limit"][0]) if checks["time-limit"] else None
+    commands = argv if kind == "command" else [argv]
+    ok = True
+    for i, cmd in enumerate(commands):
+        print("$", shlex.join(cmd), flush=True)
+        try:
+            p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               errors="replace", timeout=limit)
+        except subprocess.TimeoutExpired:
+            print(f"FAILED: no answer within {limit:g} s")
+            return 1
+        sys.stdout.write(p.stdout)
+        last = i == len(commands) - 1
+        if not last and p.returncode != 0:
+            print(f"FAILED: exit status {p.returncode}")
+            return p.returncode
+    skip = checks.get("skip-exit")
+    if skip and str(p.returncode) == skip:
+        return p.returncode
+    if not exit_status_ok(p.returncode, checks["exit"][0] if checks["exit"] else None):
+        print(f"FAILED: exit status {p.returncode}, expected {checks['exit'] or ['0']}")
+        ok = False
+    for text in checks["output"] + (checks["output-if-nonzero"] if p.returncode else []):
+        good = text in p.stdout
+        print(f"  output contains <{text}> -> {'ok' if good else 'FAILED'}")
+        ok &= good
+    for pattern in checks["output-regex"]:
+        good = re.search(pattern, p.stdout) is not None
+        print(f"  output matches <{pattern}> -> {'ok' if good else 'FAILED'}")
+        ok &= good
+    expectations = [v for k, v in read_header(checks["file"]) if k == "expect"]
+    if kind == "run" and expectations:
+        try:
+            summary = load_summary(os.path.join(outdir, "summary.json"))
+            for e in expectations:
+                ok &= check_expectation(summary, e)
+        except (OSError, ValueError, KeyError) as e:
+            print(f"FAILED: summary.json ({e})")
+            ok = False
+    for value in checks["then"] if ok else []:
+        cmd = shlex.split(value)
+        print("$", shlex.join(cmd), flush=True)
+        q = subprocess.run(cmd)
+        if q.returncode != 0:
+            print(f"FAILED: exit status {q.returncode}")
+            ok = False
+    print("ok" if ok else "")
+    return 0 if ok else 1
+
+
+def test_file(args):
+    """run_case.py file EXE FILE OUTDIR [--fclib-check PATH] [--print]"""
+    exe, path, outdir = args[:3]
+    fclib_check = args[args.index("--fclib-check") + 1] if "--fclib-check" in args else None
+    kind, argv, checks = test_file_plan(exe, path, outdir, fclib_check)
+    if "--print" in args:
+        print(json.dumps([kind, argv]))
+        return 0
+    if kind in ("scene", "bad"):
+        return {"scene": scene, "bad": bad}[kind](argv)
+    checks["file"] = path
+    skip = [v for k, v in read_header(path) if k == "skip-exit"]
+    checks["skip-exit"] = skip[0] if skip else None
+    return run_checked(kind, argv, checks, outdir)
+
+
 if __name__ == "__main__":
     mode = sys.argv[1]
-    sys.exit({"scene": scene, "bad": bad}[mode](sys.argv[2:]))
+    sys.exit({"scene": scene, "bad": bad, "file": test_file}[mode](sys.argv[2:]))

@@ -14,11 +14,10 @@ Measured here, each the median of --repeats rounds (the CSV keeps them; --report
 the tables from it):
 
 - `mpi_costs` on 2 ranks: the time of a global reduction t_r (ExactSum::sum_over_ranks, the sums
-  of the distributed dual vectors), the latency α and the time per value 1/β of a message
-  between two ranks (a fit of the messages of 1 … 10⁵ doubles);
+  over the rows of the dual vectors, which the ranks share out), the latency α and the time per
+  value 1/β of a message between two ranks (a fit of the messages of 1 … 10⁵ doubles);
 - per subdomain of H/h cubes across (H/h in --h; the brick of prm/brick_contact.prm in 6 × 2 × 2
-  blocks, one rank, one MSA step, FETI/Dual vectors = distributed: the setting the model is
-  about): the local work of the applications of F per multiplication
+  blocks, one rank, one MSA step): the local work of the applications of F per multiplication
   (`times.hessian_local_slowest_rank` / n_A / subdomains; a multiplication applies F
   f_F = `hessian_multiplications.F_applications` / n_A times)
   and the QP's vector work per multiplication (`times.qp_bookkeeping` / n_A / subdomains), and
@@ -26,7 +25,7 @@ the tables from it):
   the same run with 1 × 1 × 1 cubes, divided by the subdomains);
   (the coarse memory above the peak of its smallest case, 64 subdomains);
 - from --communication (benchmarks/communication.py): the values a rank receives per
-  application of F with distributed dual vectors, V = c s^(2/3) fitted over the rows with two or
+  application of F (slots and ghost rows), V = c s^(2/3) fitted over the rows with two or
   more subdomains per rank (s subdomains per rank, scaled by their interface: × (H/h / 8)²);
 - from --coarse (benchmarks/coarse_problem.py): one solve with the factor of GGᵀ and the peak
   memory of rank 0 for the replicated factorization, fitted as a N_s^b on the three largest
@@ -100,14 +99,13 @@ def mpi_costs():
 
 
 def run_brick(cubes, np=None):
-    """One MSA step of the brick in 6 × 2 × 2 blocks (cubes: cells per block edge), distributed
-    dual vectors, on one rank or under mpirun -np np."""
+    """One MSA step of the brick in 6 × 2 × 2 blocks (cubes: cells per block edge), on one rank
+    or under mpirun -np np."""
     return summary_of_run(EXE, "prm/brick_contact.prm",
                           [f"Body 1/Mesh/Subdivisions={6 * cubes}, {2 * cubes}, {2 * cubes}",
                            "Body 1/Decomposition/Method=blocks",
                            "Body 1/Decomposition/Blocks=6, 2, 2",
                            "Contact solver/Maximum MSA iterations=1",
-                           "FETI/Dual vectors=distributed",
                            "Output/Write vtu=false"],
                           np=np, env={"OPENBLAS_NUM_THREADS": "1", "DEAL_II_NUM_THREADS": "1"})
 
@@ -151,7 +149,10 @@ def coarse_fits():
 def volume_fit():
     with open(COMMUNICATION) as f:
         rows = [r for r in csv.DictReader(f) if int(r["np"]) > 1]
-    points = [(int(r["n_subdomains"]) / int(r["np"]), float(r["distributed_received_max"]))
+    # received_max; distributed_received_max in a CSV written while the dual vectors could still
+    # be replicated.
+    points = [(int(r["n_subdomains"]) / int(r["np"]),
+               float(r.get("received_max") or r["distributed_received_max"]))
               for r in rows if int(r["n_subdomains"]) / int(r["np"]) >= 2]
     # V = c s^(2/3): c by least squares.
     return (sum(v * s ** (2 / 3) for s, v in points) /

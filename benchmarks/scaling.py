@@ -299,7 +299,7 @@ def mpi_tables(out, contact, series, note):
                     "its own subdomains (the slowest and the fastest rank); 'exchange and "
                     "waiting' = F − local (slowest rank; of the medians), the exchange of B u among "
                     "the ranks and the waits for the other rank; 'bookkeeping' = the rest of the solve "
-                    "(replicated QP work and the split products with G). Medians [s].", "",
+                    "(the QP work on the dual vectors and the split products with G). Medians [s].", "",
                     "| k | np | F | local, slowest rank | local, fastest rank | "
                     "exchange and waiting | bookkeeping | runs |",
                     "|---|---|---|---|---|---|---|---|"])

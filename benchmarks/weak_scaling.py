@@ -3,7 +3,7 @@
 
     /usr/bin/python3 benchmarks/weak_scaling.py [--exe build/feticontact]
         [--prm prm/brick_contact.prm] [--cubes 16] [--np 1,2,4,8,16]
-        [--dual-vectors replicated] [--csv doc/reports/data/weak_scaling.csv]
+        [--csv doc/reports/data/weak_scaling.csv]
         [--markdown doc/reports/data/weak_scaling.md] [--report-only]
 
 On np ranks the brick of --prm is a bar of np blocks of --cubes³ cubes (`Subdivisions =
@@ -12,8 +12,7 @@ of the same size. One MSA step (`Contact solver/Maximum MSA iterations = 1`: the
 factors and the QP vectors all exist by then), under `mpirun --oversubscribe`. From summary.json:
 the unknowns, the largest and smallest peak resident memory over the ranks
 (`memory.peak_rss_mib_per_rank`), the program's own estimate (`memory.estimated_peak_mib`) and
-the memory of the meshes that a rank holds (`memory.meshes_mib`: whole with replicated dual
-vectors, its own block with distributed ones). --dual-vectors sets `FETI/Dual vectors`.
+the memory of the mesh that rank 0 holds (`memory.meshes_mib`: the cells of its own block).
 The table gives the largest peak against that of np = 1. The CSV is rewritten after every case;
 --report-only writes the table from it. Standard library only.
 """
@@ -24,14 +23,13 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cli import arguments, option  # noqa: E402
 from runs import collect_rows, summary_of_run, write_table  # noqa: E402
 
-arguments(__doc__, ["--exe", "--prm", "--cubes", "--np", "--dual-vectors", "--csv", "--markdown"],
+arguments(__doc__, ["--exe", "--prm", "--cubes", "--np", "--csv", "--markdown"],
           ["--report-only"])
 
 EXE = option("--exe", "build/feticontact")
 PRM = option("--prm", "prm/brick_contact.prm")
 CUBES = int(option("--cubes", "16"))
 NP = [int(n) for n in option("--np", "1,2,4,8,16").split(",")]
-DUAL_VECTORS = option("--dual-vectors", "replicated")
 CSV = option("--csv", "doc/reports/data/weak_scaling.csv")
 MD = option("--markdown", "doc/reports/data/weak_scaling.md")
 FIELDS = ["np", "n_primal", "m_total", "peak_rss_mib_max", "peak_rss_mib_min", "estimated_mib",
@@ -43,7 +41,6 @@ def run(np_):
                                   "Body 1/Decomposition/Method=blocks",
                                   f"Body 1/Decomposition/Blocks={np_}, 1, 1",
                                   "Contact solver/Maximum MSA iterations=1",
-                                  f"FETI/Dual vectors={DUAL_VECTORS}",
                                   "Output/Write vtu=false"],
                        np=np_, env={"OPENBLAS_NUM_THREADS": "1"})
     peaks = s["memory"]["peak_rss_mib_per_rank"]
@@ -56,10 +53,8 @@ def run(np_):
 
 def write_markdown(rows):
     base = float(rows[0]["peak_rss_mib_max"])
-    lines = [f"Brick `{PRM}` as a bar of np blocks of {CUBES}³ cubes, one subdomain per rank, "
-             f"{DUAL_VECTORS} dual vectors (`/usr/bin/python3 benchmarks/weak_scaling.py"
-             + ("" if DUAL_VECTORS == "replicated" else f" --dual-vectors {DUAL_VECTORS}")
-             + "`).", "",
+    lines = [f"Brick `{PRM}` as a bar of np blocks of {CUBES}³ cubes, one subdomain per rank "
+             "(`/usr/bin/python3 benchmarks/weak_scaling.py`).", "",
              "| np | unknowns | dual unknowns | peak memory per rank [MiB] | largest / np = 1 | "
              "estimate [MiB] | meshes [MiB] |", "|---|---|---|---|---|---|---|"]
     for r in rows:

@@ -117,25 +117,3 @@ namespace FetiContact::InputParsing
     return values;
   }
 } // namespace FetiContact::InputParsing
-
-namespace FetiContact
-{
-  void
-  on_all_ranks_of(const MPI_Comm comm, const std::function<void()> &step)
-  {
-    std::string error;
-    try
-      {
-        step();
-      }
-    catch (const InputError &e)
-      {
-        error = e.what();
-        if (error.empty())
-          error = "invalid input";
-      }
-    error = MPITools::first_error(comm, error);
-    if (!error.empty())
-      throw InputError(error);
-  }
-} // namespace FetiContact

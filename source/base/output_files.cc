@@ -275,20 +275,5 @@ namespace FetiContact
       if (!error.empty())
         throw OutputError(error);
     }
-
-    void
-    on_all_ranks(const MPI_Comm comm, const std::function<void()> &write)
-    {
-      std::string error;
-      try
-        {
-          write();
-        }
-      catch (const OutputError &e)
-        {
-          error = e.what();
-        }
-      throw_if_any_failed(comm, error);
-    }
   } // namespace OutputFiles
 } // namespace FetiContact

@@ -75,7 +75,7 @@ namespace FetiContact
   void
   Simulator::on_all_ranks(const std::function<void()> &write)
   {
-    OutputFiles::on_all_ranks(comm, write);
+    MPITools::collectively<OutputError>(comm, write);
   }
 
   void

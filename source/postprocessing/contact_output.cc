@@ -1,6 +1,7 @@
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/mpi.h>
 
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/scene/decomposition.h>
 
@@ -380,7 +381,7 @@ namespace FetiContact
       all.insert(all.end(), p.begin(), p.end());
     std::sort(all.begin(), all.end());
 
-    OutputFiles::on_all_ranks(comm, [&]() {
+    MPITools::collectively<OutputError>(comm, [&]() {
       for (unsigned int i = 0; i < share.subdomains.size(); ++i)
         {
           const std::string text = piece_vtu(node_at,

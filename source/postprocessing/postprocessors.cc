@@ -29,7 +29,7 @@ namespace FetiContact::Postprocessing
   void
   Input::on_all_ranks(const std::function<void()> &write) const
   {
-    OutputFiles::on_all_ranks(comm, write);
+    MPITools::collectively<OutputError>(comm, write);
   }
 
   void

@@ -3,6 +3,7 @@
 
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/subdomain_threads.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 #include <feticontact/postprocessing/verification.h>
@@ -261,7 +262,7 @@ namespace FetiContact
 
     VertexDisplacements reference(bodies.size());
     for (const auto &body : bodies)
-      on_all_ranks_of(body->mesh_comm(), [&]() {
+      MPITools::collectively<InputError>(body->mesh_comm(), [&]() {
         for (unsigned int v = 0; v < body->mesh.n_vertices(); ++v)
           if (body->mesh.get_used_vertices()[v])
             {

@@ -5,6 +5,7 @@
 
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/mesh_generation.h>
 #include <feticontact/subdomain/rigid_body_modes.h>
@@ -72,7 +73,7 @@ namespace FetiContact
         n_vertices = lattice->n_vertices();
         return;
       }
-    on_all_ranks_of(comm, create);
+    MPITools::collectively<InputError>(comm, create);
     cells_per_part    = Utilities::MPI::broadcast(comm, cells_per_part, 0);
     partition.n_parts = cells_per_part.size();
     n_cells           = Utilities::MPI::broadcast(comm, n_cells, 0);
@@ -265,7 +266,7 @@ namespace FetiContact
     // different values for the same component of a vertex contradict each other.
     const auto &list = parameters.boundary_conditions.prescribed_displacements;
     std::map<unsigned int, VertexPrescription> found; // by body vertex
-    on_all_ranks_of(mesh_comm(), [&]() {
+    MPITools::collectively<InputError>(mesh_comm(), [&]() {
       for (const auto &cell : mesh.active_cell_iterators())
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary())
@@ -300,7 +301,7 @@ namespace FetiContact
               outgoing[r].push_back(*it);
           }
         const auto incoming = Utilities::MPI::some_to_some(comm, outgoing);
-        on_all_ranks_of(comm, [&]() {
+        MPITools::collectively<InputError>(comm, [&]() {
           for (const auto &[from, list_from] : incoming)
             for (const auto &[vertex, prescription] : list_from)
               for (unsigned int c = 0; c < 3; ++c)

@@ -1,3 +1,4 @@
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/subdomain/rigid_body_modes.h>
@@ -37,57 +38,19 @@ namespace FetiContact
   } // namespace
 
   void
-  symmetric_eigen(const FullMatrix<double> &A_in, std::vector<double> &w, FullMatrix<double> &V)
+  symmetric_eigen(const FullMatrix<double> &A, std::vector<double> &w, FullMatrix<double> &V)
   {
-    const unsigned int n = A_in.m();
-    FullMatrix<double> A(A_in);
-    V.reinit(n, n);
-    for (unsigned int i = 0; i < n; ++i)
-      V(i, i) = 1;
-    for (unsigned int sweep = 0; sweep < 100; ++sweep)
-      {
-        double off = 0, total = 0;
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j < n; ++j)
-            {
-              total += A(i, j) * A(i, j);
-              if (i != j)
-                off += A(i, j) * A(i, j);
-            }
-        if (off <= 1e-32 * total || total == 0)
-          break;
-        for (unsigned int p = 0; p < n; ++p)
-          for (unsigned int q = p + 1; q < n; ++q)
-            {
-              if (A(p, q) == 0)
-                continue;
-              const double theta = (A(q, q) - A(p, p)) / (2 * A(p, q));
-              const double t =
-                (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-              const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-              for (unsigned int k = 0; k < n; ++k)
-                {
-                  const double akp = A(k, p), akq = A(k, q);
-                  A(k, p) = c * akp - s * akq;
-                  A(k, q) = s * akp + c * akq;
-                }
-              for (unsigned int k = 0; k < n; ++k)
-                {
-                  const double apk = A(p, k), aqk = A(q, k);
-                  A(p, k) = c * apk - s * aqk;
-                  A(q, k) = s * apk + c * aqk;
-                }
-              for (unsigned int k = 0; k < n; ++k)
-                {
-                  const double vkp = V(k, p), vkq = V(k, q);
-                  V(k, p) = c * vkp - s * vkq;
-                  V(k, q) = s * vkp + c * vkq;
-                }
-            }
-      }
-    w.resize(n);
-    for (unsigned int i = 0; i < n; ++i)
-      w[i] = A(i, i);
+    const unsigned int       n = A.m();
+    LAPACKFullMatrix<double> M(n, n);
+    M = A;
+    // Every eigenvalue lies within ±‖A‖_F.
+    const double   bound = 1 + A.frobenius_norm();
+    Vector<double> values;
+    M.compute_eigenvalues_symmetric(-bound, bound, 0., values, V);
+    AssertThrow(values.size() == n,
+                ExcMessage("symmetric_eigen: LAPACK found " + std::to_string(values.size()) +
+                           " of " + std::to_string(n) + " eigenvalues."));
+    w.assign(values.begin(), values.end());
   }
 
   FullMatrix<double>

@@ -41,14 +41,6 @@ namespace FetiContact
     if (!condition)
       throw InputError(message);
   }
-
-  /**
-   * Runs @p step, which reads input that only some ranks of @p comm see (their share of a
-   * distributed mesh), and makes an InputError of any rank every rank's: every rank then throws
-   * InputError with the message of the lowest failing rank. Collective.
-   */
-  void
-  on_all_ranks_of(const MPI_Comm comm, const std::function<void()> &step);
 } // namespace FetiContact
 
 namespace FetiContact::InputParsing

@@ -26,6 +26,32 @@ namespace FetiContact::MPITools
   }
 
   /**
+   * Runs @p work on this rank and makes an @p Error (an exception type constructible from its
+   * message) thrown on any rank of @p comm every rank's: every rank then throws @p Error with the
+   * message of the lowest failing rank (first_error()), so that all ranks stop together. Other
+   * exceptions pass through on the rank that throws them. Collective.
+   */
+  template <typename Error, typename Work>
+  void
+  collectively(const MPI_Comm comm, const Work &work)
+  {
+    std::string error;
+    try
+      {
+        work();
+      }
+    catch (const Error &e)
+      {
+        error = e.what();
+        if (error.empty())
+          error = "failed";
+      }
+    error = first_error(comm, error);
+    if (!error.empty())
+      throw Error(error);
+  }
+
+  /**
    * The concatenation, in rank order, of every rank's @p local (trivially copyable T), sent as
    * raw bytes. deal.II's Utilities::MPI::all_gather serializes each rank's object through boost
    * and returns a vector per rank; this one is used for the entries of G (the coarse problem)

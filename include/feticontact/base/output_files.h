@@ -143,12 +143,5 @@ namespace FetiContact
      */
     void
     throw_if_any_failed(const MPI_Comm comm, const std::string &local_error);
-
-    /**
-     * Runs @p write on this rank and makes an OutputError of any rank every rank's
-     * (throw_if_any_failed()), so that all ranks stop together. Collective.
-     */
-    void
-    on_all_ranks(const MPI_Comm comm, const std::function<void()> &write);
   } // namespace OutputFiles
 } // namespace FetiContact

@@ -31,7 +31,10 @@ namespace FetiContact
   std::vector<unsigned int>
   select_kernel_fixing_dofs(const dealii::FullMatrix<double> &R);
 
-  /** Eigen decomposition A = V diag(w) Vᵀ of a small symmetric matrix (cyclic Jacobi). */
+  /**
+   * Eigen decomposition A = V diag(w) Vᵀ of a small symmetric matrix, eigenvalues increasing
+   * (LAPACK's dsyevx through dealii::LAPACKFullMatrix).
+   */
   void
   symmetric_eigen(const dealii::FullMatrix<double> &A,
                   std::vector<double>              &w,

@@ -8,6 +8,7 @@
 #include <feticontact/base/regions.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/mortar.h>
+#include <feticontact/contact/rigid_obstacle.h>
 
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
@@ -40,14 +41,7 @@ namespace FetiContact
   std::pair<double, Tensor<1, 3>>
   obstacle_distance(const Parameters::ContactZone &zone, const Point<3> &x)
   {
-    using Type = Parameters::ContactZone::Type;
-    if (zone.type == Type::rigid_plane)
-      return {(x - zone.plane_point) * zone.plane_normal, -zone.plane_normal};
-    Tensor<1, 3> v = x - zone.centre;
-    if (zone.type == Type::rigid_cylinder)
-      v -= (v * zone.axis) * zone.axis;
-    const double r = v.norm();
-    return {r - zone.radius, r > 0 ? Tensor<1, 3>(-v / r) : Tensor<1, 3>()};
+    return {zone.obstacle->signed_distance(x), -zone.obstacle->outward_normal(x)};
   }
 
   namespace
@@ -628,9 +622,9 @@ namespace FetiContact
       const auto [distance, direction] = obstacle_distance(zone, node.x);
       const double touching            = slave.touching_depth(node.vertex);
       require(distance >= -std::max(zone.search_distance.value_or(0), touching),
-              where + "the node at " + point_text(node.x) + " lies inside the rigid " +
-                (zone.type == Parameters::ContactZone::Type::rigid_sphere ? "sphere" : "cylinder") +
-                " (initial penetration " + InputParsing::number_text(-distance) + ", " +
+              where + "the node at " + point_text(node.x) + " lies inside the " +
+                zone.obstacle->name() + " (initial penetration " +
+                InputParsing::number_text(-distance) + ", " +
                 (zone.search_distance ? "more than the search distance " +
                                           InputParsing::number_text(*zone.search_distance) + ")." :
                                         "more than " + touching_text(slave, node.vertex) +
@@ -1406,7 +1400,7 @@ namespace FetiContact
           z, zone, body, slave, where, surfaces, parts_of_vertex, surface, share, comm};
         ZoneReport         report;
         const unsigned int first = nodes.size();
-        if (zone.type == Parameters::ContactZone::Type::rigid_plane)
+        if (zone.rigid() && zone.obstacle->half_space_normal())
           {
             report.discretization = "rigid plane";
             check_plane_faces_body(slave, body, zone, where, comm);

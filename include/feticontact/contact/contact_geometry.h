@@ -256,10 +256,10 @@ namespace FetiContact
   constexpr double touching_fraction = 1e-8;
 
   /**
-   * The signed distance of @p x from the surface of the rigid obstacle of @p zone (a plane, a
-   * sphere or a cylinder; negative inside the obstacle) and the unit direction from @p x towards
-   * the closest point of that surface, into the obstacle (the critical direction n_k of a node at
-   * @p x). On a sphere's centre or a cylinder's axis the direction is undefined (zero).
+   * The signed distance of @p x from the surface of the rigid obstacle of @p zone
+   * (RigidObstacle::signed_distance()) and the unit direction from @p x towards the closest point
+   * of that surface, into the obstacle (−RigidObstacle::outward_normal(), the critical direction
+   * n_k of a node at @p x).
    */
   std::pair<double, dealii::Tensor<1, 3>>
   obstacle_distance(const Parameters::ContactZone &zone, const dealii::Point<3> &x);

@@ -6,6 +6,7 @@
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/regions.h>
 #include <feticontact/contact/contact_results.h>
+#include <feticontact/contact/rigid_obstacle.h>
 
 #include <algorithm>
 #include <array>
@@ -302,9 +303,8 @@ namespace FetiContact
       if (contact.zones[t.zone].rigid())
         for (unsigned int i = 0; i < 3; ++i)
           worst = std::max(worst,
-                           -obstacle_distance(contact.zones[t.zone],
-                                              t.points[i] + u(t.body, t.vertices[i]))
-                              .first);
+                           -contact.zones[t.zone].obstacle->signed_distance(
+                             t.points[i] + u(t.body, t.vertices[i])));
     // Body pairs: the slave vertices that are no contact nodes (beyond the search distance) must
     // not have passed into the master body. Contact nodes are held by their rows (the KKT check);
     // the depth searched is what the bodies can have moved against each other.
@@ -371,31 +371,32 @@ namespace FetiContact
                      const Tensor<1, 3>        &u)
   {
     double worst = 0;
-    // A vertex of a body that starts outside a sphere or cylinder must end outside.
-    // A vertex that starts in front of the body's rigid planes (a surface chosen too small lets
-    // the body through a plane elsewhere) counts by the least of its depths behind them, so that
-    // it must end behind all of them: several planes may form one convex obstacle (a ridge),
-    // whose planes extend beyond it, and a vertex behind one plane's extension but in front of
-    // another is outside the obstacle. (A vertex behind a plane before the load, where the body
-    // reaches past the zone's surface, is not counted.)
+    // A vertex of a body that starts outside a curved obstacle (a sphere, a cylinder) must end
+    // outside. A vertex that starts in front of the body's half-spaces (rigid planes; a surface
+    // chosen too small lets the body through a plane elsewhere) counts by the least of its depths
+    // behind them, so that it must end behind all of them: several planes may form one convex
+    // obstacle (a ridge), whose planes extend beyond it, and a vertex behind one plane's
+    // extension but in front of another is outside the obstacle. (A vertex behind a plane before
+    // the load, where the body reaches past the zone's surface, is not counted.)
     bool   has_planes = false, behind = false;
     double depth = std::numeric_limits<double>::infinity();
     for (const auto &zone : contact.zones)
       if (zone.rigid() && zone.body == body)
         {
-          if (zone.type != Parameters::ContactZone::Type::rigid_plane)
+          const RigidObstacle &obstacle = *zone.obstacle;
+          if (!obstacle.half_space_normal())
             {
-              if (obstacle_distance(zone, x).first >= 0)
-                worst = std::max(worst, -obstacle_distance(zone, x + u).first);
+              if (obstacle.signed_distance(x) >= 0)
+                worst = std::max(worst, -obstacle.signed_distance(x + u));
               continue;
             }
           has_planes = true;
           if (behind)
             continue;
-          if ((x - zone.plane_point) * zone.plane_normal < 0)
+          if (obstacle.signed_distance(x) < 0)
             behind = true;
           else
-            depth = std::min(depth, -obstacle_distance(zone, x + u).first);
+            depth = std::min(depth, -obstacle.signed_distance(x + u));
         }
     if (has_planes)
       worst = std::max(worst, behind ? 0. : depth);

@@ -1,4 +1,5 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/rigid_obstacle.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 
 #include <algorithm>
@@ -56,20 +57,23 @@ namespace FetiContact
   double
   hertz_radius(const Parameters::Scene &scene)
   {
-    require(!scene.contact.zones.empty() &&
-              scene.contact.zones[0].type != Parameters::ContactZone::Type::rigid_cylinder,
+    // The obstacle's radius (0: flat), or nothing where Hertz's point contact does not apply.
+    const auto obstacle_radius = [](const Parameters::ContactZone &zone) {
+      return zone.rigid() ? zone.obstacle->hertz_radius() : std::optional<double>(0.);
+    };
+    require(!scene.contact.zones.empty() && obstacle_radius(scene.contact.zones[0]),
             "Verification/Hertz: contact zone 1 must be a rigid plane, a rigid sphere or a body "
             "pair.");
-    const auto  &zone = scene.contact.zones[0];
-    const auto  &body = scene.bodies[zone.body];
-    const bool   pair = zone.type == Parameters::ContactZone::Type::body;
-    const double R    = scene.verification.hertz.sphere_radius > 0 ?
-                          scene.verification.hertz.sphere_radius :
-                        zone.type == Parameters::ContactZone::Type::rigid_sphere ?
-                          zone.radius :
-                        body.mesh.spherical_bottom_radius > 0 || !pair ?
-                          body.mesh.spherical_bottom_radius :
-                          scene.bodies[zone.master_body].mesh.spherical_bottom_radius;
+    const auto  &zone     = scene.contact.zones[0];
+    const auto  &body     = scene.bodies[zone.body];
+    const bool   pair     = !zone.rigid();
+    const double obstacle = *obstacle_radius(zone);
+    const double R        = scene.verification.hertz.sphere_radius > 0 ?
+                              scene.verification.hertz.sphere_radius :
+                            obstacle > 0 ? obstacle :
+                            body.mesh.spherical_bottom_radius > 0 || !pair ?
+                                           body.mesh.spherical_bottom_radius :
+                                           scene.bodies[zone.master_body].mesh.spherical_bottom_radius;
     require(R > 0,
             "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or give "
             "body '" +
@@ -85,9 +89,7 @@ namespace FetiContact
       const auto &m = scene.bodies[b].material;
       return (1 - m.poissons_ratio * m.poissons_ratio) / m.youngs_modulus;
     };
-    return 1 / (compliance(zone.body) + (zone.type == Parameters::ContactZone::Type::body ?
-                                           compliance(zone.master_body) :
-                                           0.0));
+    return 1 / (compliance(zone.body) + (zone.rigid() ? 0.0 : compliance(zone.master_body)));
   }
 
   namespace

@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/contact/rigid_obstacle.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/fclib_export.h>
 #include <feticontact/postprocessing/postprocessors.h>
@@ -92,20 +93,10 @@ namespace FetiContact::Postprocessing
     std::string
     master_name(const Input &input, const unsigned int z)
     {
-      using Type       = Parameters::ContactZone::Type;
       const auto &zone = input.parameters.contact.zones[z];
-      switch (zone.type)
-        {
-          case Type::body:
-            return "body '" + input.bodies[zone.master_body]->parameters.name + "'";
-          case Type::rigid_plane:
-            return "(rigid plane)";
-          case Type::rigid_sphere:
-            return "(rigid sphere)";
-          case Type::rigid_cylinder:
-            return "(rigid cylinder)";
-        }
-      return "";
+      if (zone.rigid())
+        return "(" + zone.obstacle->name() + ")";
+      return "body '" + input.bodies[zone.master_body]->parameters.name + "'";
     }
   } // namespace
 

@@ -1,4 +1,5 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/rigid_obstacle.h>
 #include <feticontact/scene/contact_parameters.h>
 
 namespace FetiContact::Parameters
@@ -132,6 +133,7 @@ namespace FetiContact::Parameters
         require(*search_distance >= 0,
                 "Search distance must not be negative (or 'auto'); got " + distance + ".");
       }
+    obstacle = make_rigid_obstacle(*this);
   }
 
   void

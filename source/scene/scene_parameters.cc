@@ -1,4 +1,5 @@
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/contact/rigid_obstacle.h>
 #include <feticontact/scene/parameter_file.h>
 #include <feticontact/scene/scene_parameters.h>
 
@@ -65,16 +66,18 @@ namespace FetiContact::Parameters
     refinement_study.parse_parameters(prm);
     if (verification.hertz.enabled)
       {
-        require(!contact.zones.empty() &&
-                  contact.zones[0].type != ContactZone::Type::rigid_cylinder,
+        // The obstacle's radius (0: flat), or nothing where Hertz's point contact does not apply.
+        const auto obstacle_radius = [](const ContactZone &zone) {
+          return zone.rigid() ? zone.obstacle->hertz_radius() : std::optional<double>(0.);
+        };
+        require(!contact.zones.empty() && obstacle_radius(contact.zones[0]),
                 "Verification/Hertz: contact zone 1 must be a rigid plane, a rigid sphere or a "
                 "body pair.");
         const auto &zone = contact.zones[0];
         const auto &body = bodies[zone.body];
         require(verification.hertz.sphere_radius > 0 || body.mesh.spherical_bottom_radius > 0 ||
-                  zone.type == ContactZone::Type::rigid_sphere ||
-                  (zone.type == ContactZone::Type::body &&
-                   bodies[zone.master_body].mesh.spherical_bottom_radius > 0),
+                  *obstacle_radius(zone) > 0 ||
+                  (!zone.rigid() && bodies[zone.master_body].mesh.spherical_bottom_radius > 0),
                 "Verification/Hertz: no sphere radius (set Verification/Hertz/Sphere radius, or "
                 "give body '" +
                   body.name + "' a Spherical bottom radius).");

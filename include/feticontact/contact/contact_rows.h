@@ -80,7 +80,7 @@ namespace FetiContact
    * instead of the two rows along t1 and t2.
    *
    * The rows of all nodes at one slave vertex (of several zones at an edge or corner,
-   * combine_shared_vertices in contact_geometry.cc) are held together (DualRows::held_together)
+   * combine_shared_vertices in contact_nodes.cc) are held together (DualRows::held_together)
    * by the vertex's home subdomain, the lowest of its copies (DualRows::held_by): the rank of
    * that subdomain holds them, sets the node's constraints and adds up the slip bound of the
    * vertex's keeper (slip_bounds()).

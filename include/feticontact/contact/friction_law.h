@@ -13,7 +13,7 @@ namespace FetiContact
    * g of every contact node follows from the normal forces.
    *
    * Coulomb: g_k = μ_k (λ_N,k)⁺, plus at a vertex shared by several zones the bounds of the
-   * nodes whose keeper is k (slip_bounds() of contact_geometry.h); the fixed point g = μ λ_N is
+   * nodes whose keeper is k (slip_bounds() of contact_nodes.h); the fixed point g = μ λ_N is
    * found by the method of successive approximations. Tresca: a given g for every node with
    * μ > 0, one QP. Frictionless nodes (μ = 0) have g = 0 under either law.
    */

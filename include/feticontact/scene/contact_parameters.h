@@ -6,9 +6,15 @@
 
 #include <feticontact/scene/boundary_selector.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+namespace FetiContact
+{
+  class RigidObstacle;
+}
 
 namespace FetiContact::Parameters
 {
@@ -54,6 +60,12 @@ namespace FetiContact::Parameters
     {
       return type != Type::body;
     }
+
+    /**
+     * A rigid obstacle's geometry (make_rigid_obstacle() of the parameters above, set by
+     * parse_parameters()); null for a body pair.
+     */
+    std::shared_ptr<const RigidObstacle> obstacle;
 
     /** Body pair: the master body (0-based) and its surface. */
     unsigned int     master_body = 0;

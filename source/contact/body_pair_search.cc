@@ -2,6 +2,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/base/regions.h>
 #include <feticontact/contact/body_pair_search.h>
 #include <feticontact/contact/mortar.h>
@@ -523,7 +524,7 @@ namespace FetiContact::ContactSearch
         if (!partner)
           {
             report.discretization = "mortar";
-            collectively(side.comm, [&]() {
+            MPITools::collectively<InputError>(side.comm, [&]() {
               add_mortar_nodes(side, couplings, slave_m, master_m, nodes, report);
             });
             if (side.surfaces != nullptr)
@@ -536,7 +537,7 @@ namespace FetiContact::ContactSearch
     if (side.surfaces != nullptr)
       master.append_own_to(side.surfaces->master, side.z, zone.master_body);
     report.discretization = "node to node";
-    collectively(side.comm, [&]() {
+    MPITools::collectively<InputError>(side.comm, [&]() {
       for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
         if (auto node = side.start_node(vertex))
           {

@@ -83,22 +83,6 @@ namespace FetiContact::ContactSearch
       *counts[i] = values[i];
   }
 
-  void
-  collectively(const MPI_Comm comm, const std::function<void()> &local_work)
-  {
-    std::string error;
-    try
-      {
-        local_work();
-      }
-    catch (const InputError &e)
-      {
-        error = e.what();
-      }
-    error = MPITools::first_error(comm, error);
-    if (!error.empty())
-      throw InputError(error);
-  }
 
   std::optional<ContactNode>
   ZoneSide::start_node(const unsigned int vertex) const

@@ -1,5 +1,6 @@
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/mpi_tools.h>
 #include <feticontact/contact/obstacle_nodes.h>
 
 #include <algorithm>
@@ -149,7 +150,7 @@ namespace FetiContact::ContactSearch
         report.discretization = "rigid plane";
         check_plane_faces_body(
           side.slave, side.body, *plane_normal, side.zone, side.where, side.comm);
-        collectively(side.comm, [&]() {
+        MPITools::collectively<InputError>(side.comm, [&]() {
           for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
             if (auto node = side.start_node(vertex))
               {
@@ -162,7 +163,7 @@ namespace FetiContact::ContactSearch
       {
         report.discretization  = "rigid obstacle";
         report.search_distance = side.zone.search_distance.value_or(0);
-        collectively(side.comm, [&]() {
+        MPITools::collectively<InputError>(side.comm, [&]() {
           for (const auto &[vertex, normal_sum] : side.slave.normal_sum)
             if (auto node = side.start_node(vertex))
               {

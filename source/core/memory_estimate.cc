@@ -298,9 +298,7 @@ namespace FetiContact
       Model model;
       model.n_ranks     = n_ranks;
       model.distributed = n_ranks > 1;
-      // (With distributed cells the monolithic comparison is skipped.)
-      model.monolithic = scene.verification.compare_with_monolithic &&
-                         scene.contact.zones.empty() && !model.distributed;
+      model.monolithic  = scene.verification.compare_with_monolithic && scene.contact.zones.empty();
       for (const auto &body : scene.bodies)
         {
           const auto [c, v] = mesh_size(body.mesh);

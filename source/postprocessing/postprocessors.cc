@@ -346,23 +346,23 @@ namespace FetiContact::Postprocessing
                     << std::endl;
         return;
       }
-    if (input.bodies.front()->distributed())
-      {
-        input.pcout << "Comparison with a monolithic solve skipped: it solves the undecomposed "
-                       "bodies on one rank, and on several ranks no rank holds their whole meshes."
-                    << std::endl;
-        return;
-      }
-    // The undecomposed bodies are solved on rank 0, which gathers every vertex's displacement.
-    const auto vertex_u =
-      gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
+    // The undecomposed bodies are solved on rank 0, which gathers every vertex's displacement;
+    // with their cells distributed over the ranks it makes their whole meshes anew.
+    auto   vertex_u   = gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
     double difference = 0;
     if (input.root())
       {
         double diff2 = 0, norm2 = 0;
         for (const auto &body : input.bodies)
           {
-            const auto mono = solve_monolithic(*body, input.mapping, input.fe);
+            std::unique_ptr<Body> whole;
+            if (body->distributed())
+              {
+                whole = std::make_unique<Body>(body->parameters, body->index);
+                whole->setup();
+              }
+            const auto mono = solve_monolithic(whole ? *whole : *body, input.mapping, input.fe);
+            vertex_u[body->index].resize(mono.size());
             for (unsigned int v = 0; v < mono.size(); ++v)
               {
                 diff2 += (mono[v] - vertex_u[body->index][v]).norm_square();

@@ -33,9 +33,15 @@ namespace FetiContact
                               const std::vector<Subdomain *>           &owned,
                               const std::vector<Vector<double>>        &u)
   {
+    // Vertices by their numbers in the body's whole mesh (a rank's mesh may hold some cells only).
     std::vector<std::vector<Tensor<1, 3>>> result(bodies.size());
+    std::vector<unsigned int>              n_vertices(bodies.size(), 0);
+    for (const Subdomain *s : owned)
+      for (const auto &[w, v] : s->reported_vertices())
+        n_vertices[s->body.index] = std::max(n_vertices[s->body.index], w + 1);
+    Utilities::MPI::max(n_vertices, comm, n_vertices);
     for (const auto &body : bodies)
-      result[body->index].resize(body->mesh.n_vertices());
+      result[body->index].resize(n_vertices[body->index]);
     for (unsigned int i = 0; i < owned.size(); ++i)
       for (const auto &[w, v] : owned[i]->reported_vertices())
         for (unsigned int c = 0; c < 3; ++c)

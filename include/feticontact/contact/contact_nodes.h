@@ -220,13 +220,6 @@ namespace FetiContact::ContactSearch
   void
   add_over_ranks(const std::vector<unsigned int *> &counts, const MPI_Comm comm);
 
-  /**
-   * Runs @p local_work, which may throw InputError; if it throws on any rank of @p comm, the
-   * message of the lowest such rank is thrown on every rank. Collective.
-   */
-  void
-  collectively(const MPI_Comm comm, const std::function<void()> &local_work);
-
   /** The slave side of a zone: its body, its surface and the start of every node. */
   struct ZoneSide
   {

@@ -17,9 +17,10 @@
 namespace FetiContact
 {
   /**
-   * Displacements of every vertex of every body (x, y, z per vertex, by body and body-mesh
-   * vertex), gathered from the subdomain solutions: a vertex shared by several subdomains takes
-   * the value of the lowest-numbered one. Replicated on every rank.
+   * Displacements of every vertex of every body (x, y, z per vertex, by body and vertex number in
+   * the body's whole mesh, up to the highest number a subdomain reports), gathered from the
+   * subdomain solutions: a vertex shared by several subdomains takes the value of the
+   * lowest-numbered one. Replicated on every rank.
    */
   std::vector<std::vector<dealii::Tensor<1, 3>>>
   gather_vertex_displacements(const MPI_Comm                             comm,

@@ -624,7 +624,6 @@ namespace FetiContact
                                       evaluation.largest_strain,
                                       held_contact.nodes,
                                       held_contact.layout,
-                                      comm,
                                       contact_surfaces,
                                       evaluation.contact_results,
                                       evaluation.contact_check,
@@ -908,8 +907,8 @@ namespace FetiContact
   JsonObject
   Simulator::summarize_memory() const
   {
-    // Peak resident memory of every rank (the process's high-water mark: replicated meshes,
-    // subdomain matrices and factors, dual vectors, the coarse factor, the MPI library; the
+    // Peak resident memory of every rank (the process's high-water mark: meshes, subdomain
+    // matrices and factors, dual vectors, the coarse factor, the MPI library; the
     // pages of the coarse factor shared by a node's ranks count on every rank that reads them).
     Utilities::System::MemoryStats stats;
     Utilities::System::get_memory_stats(stats);

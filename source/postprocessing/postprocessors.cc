@@ -232,7 +232,7 @@ namespace FetiContact::Postprocessing
                    input.contact_results[k].lambda_N};
           mine.push_back(r);
         }
-      std::vector<Record> all = MPITools::all_gather(input.contact_comm, mine);
+      std::vector<Record> all = MPITools::all_gather(input.comm, mine);
       std::sort(all.begin(), all.end(), [](const Record &a, const Record &b) {
         return a.number < b.number;
       });
@@ -268,7 +268,7 @@ namespace FetiContact::Postprocessing
         input.pcout << "Hertz comparison skipped: the solution failed a check." << std::endl;
         return;
       }
-    if (Utilities::MPI::n_mpi_processes(input.contact_comm) == 1)
+    if (Utilities::MPI::n_mpi_processes(input.comm) == 1)
       hertz = compare_with_hertz(input.parameters, input.contact_nodes, input.contact_results);
     else
       {
@@ -428,7 +428,7 @@ namespace FetiContact::Postprocessing
                                 input.contact_surfaces.slave,
                                 input.first_subdomain,
                                 input.subdomain_owner,
-                                input.contact_comm);
+                                input.comm);
   }
 
   std::string

@@ -60,14 +60,11 @@ namespace FetiContact::Postprocessing
      */
     double largest_strain;
     /**
-     * The contact nodes of this rank, with their rows (hold_contact_nodes()): all nodes with
-     * replicated dual vectors; with distributed ones each node on one rank, that of its home
-     * subdomain (the lowest copy of its slave vertex). contact_comm: the ranks among which the
-     * nodes are split (MPI_COMM_SELF when every rank has all).
+     * The contact nodes of this rank, with their rows (hold_contact_nodes()): each node on one
+     * rank of comm, that of its home subdomain (the lowest copy of its slave vertex).
      */
     const std::vector<ContactNode> &contact_nodes;
     const DualLayout               &contact_layout;
-    MPI_Comm                        contact_comm;
     const ContactSurfaces          &contact_surfaces;
     /** Per contact node (of contact_nodes): the forces, the gap, the slip and the status. */
     const std::vector<ContactNodeResult> &contact_results;

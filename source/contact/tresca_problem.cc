@@ -40,8 +40,8 @@ namespace FetiContact
     , block_c(rows.block(layout.n_tangential, layout.size() - layout.n_tangential))
     , h(rows.h())
     , set(rows.n_local())
-    , set_c(block_c.end - block_c.begin)
-    , set_t(block_t.end - block_t.begin)
+    , set_c(block_c.entries.size())
+    , set_t(block_t.entries.size())
     , slip_bound(nodes.size(), 0.0)
   {
     for (unsigned int k = 0; k < nodes.size(); ++k)
@@ -128,16 +128,17 @@ namespace FetiContact
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
         const unsigned int r = local_normal_row[j];
-        set.set_lower_bound(r, -lambda0[r]);
-        set_c.set_lower_bound(r - block_c.begin, -lambda0[r]);
+        set.set_lower_bound(r, -lambda0.local_element(r));
+        set_c.set_lower_bound(block_c.index_of(r), -lambda0.local_element(r));
         const unsigned int t = local_tangential_row[j];
         if (t == numbers::invalid_unsigned_int)
           continue;
         if (!layout.polygonal)
           {
-            const std::array<double, 2> centre{{-lambda0[t], -lambda0[t + 1]}};
+            const std::array<double, 2> centre{
+              {-lambda0.local_element(t), -lambda0.local_element(t + 1)}};
             disc_of_node[j] = set.add_disc(t, t + 1, centre, 0.0);
-            set_t.add_disc(t - block_t.begin, t + 1 - block_t.begin, centre, 0.0);
+            set_t.add_disc(block_t.index_of(t), block_t.index_of(t + 1), centre, 0.0);
           }
       }
   }
@@ -239,9 +240,9 @@ namespace FetiContact
         if (layout.polygonal)
           for (unsigned int j = 0; j < s; ++j)
             {
-              const double c = lambda0[t + j];
+              const double c = lambda0.local_element(t + j);
               set.set_interval(t + j, -shrink * r - c, shrink * r - c);
-              set_t.set_interval(t + j - block_t.begin, -shrink * r - c, shrink * r - c);
+              set_t.set_interval(block_t.index_of(t + j), -shrink * r - c, shrink * r - c);
             }
         else
           {
@@ -285,7 +286,7 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = local_normal_row[k];
-        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde[r] + lambda0[r]);
+        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde.local_element(r) + lambda0.local_element(r));
       }
     return normal_force;
   }
@@ -327,9 +328,9 @@ namespace FetiContact
     DualVector full(lambda), Afull(lambda), x = block.vector(), rhs = block.vector();
     block.extract(lambda, x);
     // b_block − A_{block, other} λ_other.
-    for (unsigned int i = block.begin; i < block.end; ++i)
-      full[i] = 0;
-    if (full.l2_norm() > 0)
+    for (const unsigned int i : block.entries)
+      full.local_element(i) = 0;
+    if (ReproducibleReductions::l2_norm(full) > 0)
       {
         A(full, Afull);
         ++counter;
@@ -501,16 +502,16 @@ namespace FetiContact
     // slip and stick compare multipliers of the same node.
     double lambda_max = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda[local_normal_row[k]]);
+      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda.local_element(local_normal_row[k]));
     lambda_max = rows.max_over_ranks(lambda_max);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
-        const double       lN = layout.scale_of_node(k) * lambda[local_normal_row[k]];
+        const double       lN = layout.scale_of_node(k) * lambda.local_element(local_normal_row[k]);
         const unsigned int t  = local_tangential_row[k];
         double             lT = 0;
         if (t != numbers::invalid_unsigned_int)
           for (unsigned int j = 0; j < layout.tangential_per_node; ++j)
-            lT += lambda[t + j] * lambda[t + j];
+            lT += lambda.local_element(t + j) * lambda.local_element(t + j);
         const ContactStatus status =
           contact_status(is_pressed(lN, lambda_max),
                          std::sqrt(lT),

@@ -666,12 +666,11 @@ namespace FetiContact
     });
     // The rows of a node belong to its home subdomain (DualRows::held_by): a rank holds the
     // normal rows of exactly its nodes. Checked by all ranks together, so that all stop.
-    std::string      error;
-    const DualVector row_numbers = dual_rows->vector();
-    unsigned int     n_normal    = 0;
-    for (unsigned int i = 0; i < row_numbers.locally_owned_size(); ++i)
-      n_normal += row_numbers.global_index(i) >= layout.first_normal() &&
-                  row_numbers.global_index(i) < layout.first_equality();
+    std::string  error;
+    unsigned int n_normal = 0;
+    for (unsigned int i = 0; i < dual_rows->n_local(); ++i)
+      n_normal +=
+        dual_rows->row(i) >= layout.first_normal() && dual_rows->row(i) < layout.first_equality();
     for (unsigned int k = 0; k < held_contact.nodes.size(); ++k)
       if (dual_rows->local_index(held_contact.layout.normal_row[k]) ==
           numbers::invalid_unsigned_int)
@@ -694,7 +693,7 @@ namespace FetiContact
   double
   Simulator::contact_multiplier(const unsigned int row) const
   {
-    return lambda[dual_rows->local_index(row)];
+    return lambda.local_element(dual_rows->local_index(row));
   }
 
   unsigned int
@@ -712,8 +711,8 @@ namespace FetiContact
     double           jump     = 0;
     const DualVector residual = dual->constraint_residual(u);
     for (unsigned int i = 0; i < residual.locally_owned_size(); ++i)
-      if (residual.global_index(i) >= layout.first_equality())
-        jump = std::max(jump, std::abs(residual[i]));
+      if (dual->space().row(i) >= layout.first_equality())
+        jump = std::max(jump, std::abs(residual.local_element(i)));
     return Utilities::MPI::max(jump, comm);
   }
 

@@ -5,7 +5,7 @@
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/base/mpi_tools.h>
 #include <feticontact/feti/coarse_problem.h>
-#include <feticontact/feti/dual_distribution.h>
+#include <feticontact/feti/dual_space.h>
 
 #include <algorithm>
 #include <cmath>
@@ -129,7 +129,7 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::initialize(const DualDistribution &d,
+  CoarseProblem::initialize(const DualSpace &d,
                             std::vector<Entry>      relevant_entries,
                             const unsigned int      n_modes,
                             const unsigned int      n_columns,
@@ -183,7 +183,7 @@ namespace FetiContact
     distribute(d, first_mode, end_mode);
     if (n_rows == 0)
       return;
-    set_up_node(d.layout()->comm);
+    set_up_node(d.partitioner()->get_mpi_communicator());
     SparsityPattern      sp;
     SparseMatrix<double> M;
     assemble_GGt([](const unsigned int) { return true; }, sp, M);
@@ -210,7 +210,7 @@ namespace FetiContact
       local.push_back({ab.first, ab.second, v});
     std::vector<Entry> all;
     if (node == MPI_COMM_NULL)
-      all = MPITools::all_gather(distribution->layout()->comm, local);
+      all = MPITools::all_gather(space->partitioner()->get_mpi_communicator(), local);
     else
       {
         // To the first rank of every node: M is assembled and factorized there only.
@@ -234,31 +234,31 @@ namespace FetiContact
   CoarseProblem::tiers_present(const std::function<unsigned int(unsigned int)> &tier) const
   {
     unsigned int mask = 0;
-    for (const unsigned int c : distribution->layout()->global_index)
+    for (const unsigned int c : space->partitioner()->owned_keys())
       mask |= 1u << tier(c);
-    MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, distribution->layout()->comm);
+    MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, space->partitioner()->get_mpi_communicator());
     return mask;
   }
 
   void
-  CoarseProblem::distribute(const DualDistribution &d,
+  CoarseProblem::distribute(const DualSpace &d,
                             const unsigned int      first_mode,
                             const unsigned int      end_mode)
   {
-    distribution = &d;
+    space = &d;
     int n_ranks  = 1;
-    MPI_Comm_size(d.layout()->comm, &n_ranks);
+    MPI_Comm_size(d.partitioner()->get_mpi_communicator(), &n_ranks);
     std::vector<unsigned int> firsts(n_ranks + 1, n_rows);
-    MPI_Allgather(&first_mode, 1, MPI_UNSIGNED, firsts.data(), 1, MPI_UNSIGNED, d.layout()->comm);
-    own_modes = BlockPartition(d.layout()->comm, firsts);
+    MPI_Allgather(&first_mode, 1, MPI_UNSIGNED, firsts.data(), 1, MPI_UNSIGNED, d.partitioner()->get_mpi_communicator());
+    own_modes = BlockPartition(d.partitioner()->get_mpi_communicator(), firsts);
     AssertThrow(own_modes.begin() == first_mode && own_modes.end() == end_mode,
                 ExcMessage(
                   "CoarseProblem::distribute: the ranks' modes do not follow each other."));
     own_mode_column.clear();
     for (unsigned int k = row_start[first_mode]; k < row_start[end_mode]; ++k)
-      own_mode_column.push_back(d.relevant_index(column[k]));
+      own_mode_column.push_back(d.local_index(column[k]));
     // G by the owned columns, modes increasing within each (as in add_Gt).
-    const auto &own = d.layout()->global_index;
+    const auto &own = d.partitioner()->owned_keys();
     // From the relevant columns, which include the owned ones.
     own_column_start.assign(1, 0);
     own_column_mode.clear();
@@ -281,47 +281,48 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::apply_G(const DistributedVector &x, Vector<double> &y) const
+  CoarseProblem::apply_G(const DualVector &x, Vector<double> &y) const
   {
-    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
+    Assert(space, ExcMessage("CoarseProblem: distribute() first."));
     if (y.size() != n_rows)
       y.reinit(n_rows, true);
-    distribution->import(x, relevant_work);
+    x.update_ghost_values();
     const unsigned int first = row_start[own_modes.begin()];
     for (unsigned int r = own_modes.begin(); r < own_modes.end(); ++r)
       {
         double s = 0;
         for (unsigned int k = row_start[r]; k < row_start[r + 1]; ++k)
-          s += value[k] * relevant_work[own_mode_column[k - first]];
+          s += value[k] * x.local_element(own_mode_column[k - first]);
         y[r] = s;
       }
+    x.zero_out_ghost_values();
     own_modes.gather(y.begin());
   }
 
   void
-  CoarseProblem::apply_Gt(const Vector<double> &x, DistributedVector &y) const
+  CoarseProblem::apply_Gt(const Vector<double> &x, DualVector &y) const
   {
     add_Gt(x, false, y);
   }
 
   void
-  CoarseProblem::add_Gt(const Vector<double> &x, const bool add, DistributedVector &y) const
+  CoarseProblem::add_Gt(const Vector<double> &x, const bool add, DualVector &y) const
   {
-    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
-    Assert(!add || y.get_layout() == distribution->layout(), ExcInternalError());
-    if (y.get_layout() != distribution->layout())
-      y.reinit(distribution->layout());
+    Assert(space, ExcMessage("CoarseProblem: distribute() first."));
+    Assert(!add || y.get_partitioner() == space->partitioner(), ExcInternalError());
+    if (y.get_partitioner() != space->partitioner())
+      y.reinit(space->partitioner());
     for (unsigned int i = 0; i < y.locally_owned_size(); ++i)
       {
-        double s = add ? y[i] : 0.;
+        double s = add ? y.local_element(i) : 0.;
         for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
           s += own_column_value[k] * x[own_column_mode[k]];
-        y[i] = s;
+        y.local_element(i) = s;
       }
   }
 
   void
-  CoarseProblem::apply_G_orthonormal(const DistributedVector &x, Vector<double> &y) const
+  CoarseProblem::apply_G_orthonormal(const DualVector &x, Vector<double> &y) const
   {
     apply_G(x, y);
     if (n_rows > 0)
@@ -329,7 +330,7 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, DistributedVector &y) const
+  CoarseProblem::apply_Gt_orthonormal(const Vector<double> &x, DualVector &y) const
   {
     Vector<double> z(x);
     if (n_rows > 0)
@@ -370,7 +371,7 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::project(DistributedVector &x) const
+  CoarseProblem::project(DualVector &x) const
   {
     if (n_rows == 0)
       return;
@@ -382,7 +383,7 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::least_norm_solution(const Vector<double> &e, DistributedVector &lambda) const
+  CoarseProblem::least_norm_solution(const Vector<double> &e, DualVector &lambda) const
   {
     Vector<double> mu(e);
     solve_GGt(mu);
@@ -392,10 +393,10 @@ namespace FetiContact
   void
   CoarseProblem::particular_solution(const Vector<double>                            &e,
                                      const std::function<unsigned int(unsigned int)> &tier,
-                                     DistributedVector                               &lambda) const
+                                     DualVector                               &lambda) const
   {
-    Assert(distribution, ExcMessage("CoarseProblem: distribute() first."));
-    lambda.reinit(distribution->layout());
+    Assert(space, ExcMessage("CoarseProblem: distribute() first."));
+    lambda.reinit(space->partitioner());
     const double e_norm = e.l2_norm();
     if (n_rows == 0 || e_norm == 0)
       return;
@@ -441,9 +442,9 @@ namespace FetiContact
             if (node != MPI_COMM_NULL)
               MPI_Bcast(r.begin(), r.size(), MPI_DOUBLE, 0, node);
             for (unsigned int i = 0; i < lambda.locally_owned_size(); ++i)
-              if (use_column(lambda.global_index(i)))
+              if (use_column(space->row(i)))
                 for (unsigned int k = own_column_start[i]; k < own_column_start[i + 1]; ++k)
-                  lambda[i] += own_column_value[k] * r[own_column_mode[k]];
+                  lambda.local_element(i) += own_column_value[k] * r[own_column_mode[k]];
             apply_G(lambda, G_lambda);
             r = e;
             r -= G_lambda;
@@ -460,7 +461,7 @@ namespace FetiContact
   }
 
   double
-  CoarseProblem::restore_feasibility(DistributedVector &lambda, const Vector<double> &e) const
+  CoarseProblem::restore_feasibility(DualVector &lambda, const Vector<double> &e) const
   {
     if (n_rows == 0)
       return 0;
@@ -471,7 +472,7 @@ namespace FetiContact
     const double misfit = norm_e > 0 ? r.l2_norm() / norm_e : r.l2_norm();
     // λ + Gᵀ(GGᵀ)⁻¹r.
     solve_GGt(r);
-    DistributedVector correction;
+    DualVector correction;
     correction.reinit(lambda);
     apply_Gt(r, correction);
     lambda += correction;
@@ -479,7 +480,7 @@ namespace FetiContact
   }
 
   Vector<double>
-  CoarseProblem::coarse_coefficients(const DistributedVector &x) const
+  CoarseProblem::coarse_coefficients(const DualVector &x) const
   {
     Vector<double> alpha;
     apply_G(x, alpha);

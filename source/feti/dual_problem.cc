@@ -43,7 +43,6 @@ namespace FetiContact
         });
       }
     const Owners owners = setup_row_sums(rows, mode_offset.size() - 1);
-    slots.assign(rows.entries.size(), 0.);
     threaded = std::all_of(owned.begin(), owned.end(), [](Subdomain *s) {
       return s->local_solver()->thread_safe();
     });
@@ -93,7 +92,7 @@ namespace FetiContact
                         ArrayView<double>(e.begin(), e.size()));
     set_up_right_hand_sides(rows);
     const auto [first_own_mode, end_own_mode] = own_modes(mode_offset);
-    coarse.initialize(*row_distribution,
+    coarse.initialize(*dual_space,
                       relevant_G_entries(G_entries, rows, owners),
                       mode_offset.back(),
                       size(),
@@ -105,12 +104,10 @@ namespace FetiContact
   DualProblem::set_up_right_hand_sides(const DualRows &rows)
   {
     // The slots hold B K⁺ f.
-    c = row_distribution->vector();
-    for (unsigned int j = 0; j < own_local.size(); ++j)
-      c[j] = rows.c[own_local[j]];
-    h = row_distribution->vector();
-    exchange_slots();
-    sum_own_rows(h.begin());
+    c = dual_space->vector();
+    for (unsigned int j = 0; j < dual_space->n_owned(); ++j)
+      c.local_element(j) = rows.c[index_of_row(rows, dual_space->row(j))];
+    sum_rows_into(h);
     h -= c;
   }
 
@@ -197,7 +194,7 @@ namespace FetiContact
   {
     const auto &b = B[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
-      slots[b.slot[k]] = b.value[k] * u[b.dof[k]];
+      slots.local_element(b.slot[k]) = b.value[k] * u[b.dof[k]];
   }
 
   unsigned int
@@ -213,9 +210,8 @@ namespace FetiContact
   DualProblem::setup_row_sums(const DualRows &rows, const unsigned int n_subdomains)
   {
     Owners owners = row_owners(rows, n_subdomains);
-    set_up_slot_exchanges(rows, owners);
-    set_up_own_rows(rows, owners);
-    set_up_distribution(rows, owners);
+    set_up_space(rows, owners);
+    set_up_slots(rows, owners);
     return owners;
   }
 
@@ -291,254 +287,239 @@ namespace FetiContact
   }
 
   void
-  DualProblem::set_up_slot_exchanges(const DualRows &rows, const Owners &owners)
+  DualProblem::set_up_space(const DualRows &rows, const Owners &owners)
   {
-    // The slots that cross ranks: terms of this rank's subdomains in other ranks' rows (sent)
-    // and the other way round (received), both listed by increasing row number and, within a
-    // row, in the order of its entries, on either side.
-    const int                                this_rank = Utilities::MPI::this_mpi_process(comm);
-    std::map<int, std::vector<unsigned int>> send, receive;
+    // The dual vectors: this rank's rows, and as ghosts the other rows of its subdomains.
+    const int                 this_rank = Utilities::MPI::this_mpi_process(comm);
+    std::vector<unsigned int> owned_rows, chunk, ghost_rows;
     for (unsigned int r = 0; r < rows.n_rows(); ++r)
-      for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-        {
-          const int from = owners.rank_of_entry(rows, k), to = owners.row_rank[r];
-          if (from == to)
-            continue;
-          if (from == this_rank)
-            send[to].push_back(k);
-          else if (to == this_rank)
-            receive[from].push_back(k);
-        }
-    send_slots.clear();
-    receive_slots.clear();
-    for (auto &[p, list] : send)
-      send_slots.push_back({p, std::move(list), {}});
-    for (auto &[p, list] : receive)
-      receive_slots.push_back({p, std::move(list), {}});
-    for (auto &exchange : send_slots)
-      exchange.buffer.resize(exchange.slots.size());
-    for (auto &exchange : receive_slots)
-      exchange.buffer.resize(exchange.slots.size());
-    requests.resize(send_slots.size() + receive_slots.size());
-  }
-
-  void
-  DualProblem::set_up_own_rows(const DualRows &rows, const Owners &owners)
-  {
-    const int          n_ranks   = Utilities::MPI::n_mpi_processes(comm);
-    const int          this_rank = Utilities::MPI::this_mpi_process(comm);
-    const unsigned int n         = rows.n_rows();
-    own_rows.clear();
-    own_local.clear();
-    for (unsigned int r = 0; r < n; ++r)
       if (owners.row_rank[r] == this_rank)
         {
-          own_rows.push_back(rows.number[r]);
-          own_local.push_back(r);
+          owned_rows.push_back(rows.number[r]);
+          chunk.push_back(owners.first_subdomain[r]);
         }
+    for (const auto &b : B)
+      ghost_rows.insert(ghost_rows.end(), b.row.begin(), b.row.end());
+    std::sort(ghost_rows.begin(), ghost_rows.end());
+    ghost_rows.erase(std::unique(ghost_rows.begin(), ghost_rows.end()), ghost_rows.end());
+    std::vector<int>          ghost_owner;
+    std::vector<unsigned int> ghosts;
+    for (const unsigned int row : ghost_rows)
+      {
+        const int owner = owners.row_rank[index_of_row(rows, row)];
+        if (owner != this_rank)
+          {
+            ghosts.push_back(row);
+            ghost_owner.push_back(owner);
+          }
+      }
+    dual_space = std::make_unique<DualSpace>(comm, owned_rows, chunk, ghosts, ghost_owner, size());
+    row_local.resize(B.size());
+    for (unsigned int i = 0; i < B.size(); ++i)
+      {
+        row_local[i].resize(B[i].row.size());
+        for (unsigned int k = 0; k < B[i].row.size(); ++k)
+          row_local[i][k] = dual_space->local_index(B[i].row[k]);
+      }
   }
 
   void
-  DualProblem::set_up_distribution(const DualRows &rows, const Owners &owners)
+  DualProblem::set_up_slots(const DualRows &rows, const Owners &owners)
   {
-    // The distributed dual vectors: this rank's rows, and the rows of its subdomains.
-    std::vector<unsigned int> relevant(own_rows);
-    for (const auto &b : B)
-      relevant.insert(relevant.end(), b.row.begin(), b.row.end());
-    std::sort(relevant.begin(), relevant.end());
-    relevant.erase(std::unique(relevant.begin(), relevant.end()), relevant.end());
-    std::vector<int> relevant_owner(relevant.size());
-    for (unsigned int j = 0; j < relevant.size(); ++j)
-      relevant_owner[j] = owners.row_rank[index_of_row(rows, relevant[j])];
-    std::vector<unsigned int> chunk_of_own_row(own_rows.size());
-    for (unsigned int j = 0; j < own_rows.size(); ++j)
-      chunk_of_own_row[j] = owners.first_subdomain[own_local[j]];
-    row_distribution = std::make_unique<DualDistribution>(
-      comm, own_rows, relevant, relevant_owner, size(), chunk_of_own_row);
-    relevant_row.resize(B.size());
-    for (unsigned int i = 0; i < B.size(); ++i)
+    // The slots numbered by the rows' order in the dual vectors, a row's slots in its summation
+    // order: every rank owns the slots of its rows, and those its subdomains write in other
+    // ranks' rows are its ghosts.
+    const int          this_rank = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n_owned   = dual_space->n_owned();
+    std::vector<unsigned int> position(rows.entries.size()); // of an entry in its row's order
+    for (unsigned int r = 0; r < rows.n_rows(); ++r)
+      for (unsigned int p = slot_start[r]; p < slot_start[r + 1]; ++p)
+        position[slot_order[p]] = p - slot_start[r];
+    row_slot_start.assign(1, 0);
+    foreign_slots.clear();
+    for (unsigned int j = 0; j < n_owned; ++j)
       {
-        relevant_row[i].resize(B[i].row.size());
-        for (unsigned int k = 0; k < B[i].row.size(); ++k)
-          relevant_row[i][k] = row_distribution->relevant_index(B[i].row[k]);
+        const unsigned int r = index_of_row(rows, dual_space->row(j));
+        for (unsigned int p = slot_start[r]; p < slot_start[r + 1]; ++p)
+          if (owners.rank_of_entry(rows, slot_order[p]) != this_rank)
+            foreign_slots.push_back(row_slot_start.back() + p - slot_start[r]);
+        row_slot_start.push_back(row_slot_start.back() + slot_start[r + 1] - slot_start[r]);
       }
+    unsigned long long n_own_slots = row_slot_start.back(), first = 0, n_slots = 0;
+    MPI_Exscan(&n_own_slots, &first, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+    if (this_rank == 0)
+      first = 0;
+    MPI_Allreduce(&n_own_slots, &n_slots, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+
+    // The first slot of every row of this rank's subdomains, from the row's owner.
+    DualVector first_slot = dual_space->vector();
+    for (unsigned int j = 0; j < n_owned; ++j)
+      first_slot.local_element(j) = first + row_slot_start[j];
+    first_slot.update_ghost_values();
+    std::vector<types::global_dof_index> slot_index;
+    IndexSet                             owned_slots(n_slots), ghost_slots(n_slots);
+    owned_slots.add_range(first, first + n_own_slots);
+    for (unsigned int i = 0; i < B.size(); ++i)
+      for (unsigned int k = 0; k < B[i].row.size(); ++k)
+        {
+          const auto index = types::global_dof_index(first_slot.local_element(row_local[i][k])) +
+                             position[B[i].slot[k]];
+          slot_index.push_back(index);
+          if (!owned_slots.is_element(index))
+            ghost_slots.add_index(index);
+        }
+    ghost_slots.compress();
+    slots.reinit(
+      std::make_shared<const Utilities::MPI::Partitioner>(owned_slots, ghost_slots, comm));
+    std::size_t n = 0;
+    for (auto &b : B)
+      for (unsigned int &slot : b.slot)
+        slot = slots.get_partitioner()->global_to_local(slot_index[n++]);
   }
 
   DualProblem::CommunicationVolume
   DualProblem::communication_volume() const
   {
     CommunicationVolume v;
+    const auto         &slot_partitioner = *slots.get_partitioner();
     std::vector<int>    slot_ranks;
-    for (const auto &exchange : send_slots)
+    for (const auto &[rank, n] : slot_partitioner.ghost_targets())
       {
-        v.slots_sent += exchange.slots.size();
-        slot_ranks.push_back(exchange.rank);
+        v.slots_sent += n;
+        slot_ranks.push_back(rank);
       }
-    for (const auto &exchange : receive_slots)
+    for (const auto &[rank, n] : slot_partitioner.import_targets())
       {
-        v.slots_received += exchange.slots.size();
-        slot_ranks.push_back(exchange.rank);
+        v.slots_received += n;
+        slot_ranks.push_back(rank);
       }
     std::sort(slot_ranks.begin(), slot_ranks.end());
     v.slot_neighbours  = std::unique(slot_ranks.begin(), slot_ranks.end()) - slot_ranks.begin();
-    v.ghost_neighbours = row_distribution->n_neighbours();
-    v.ghosts_received  = row_distribution->n_received();
+    v.ghost_neighbours = dual_space->partitioner()->ghost_targets().size();
+    v.ghosts_received  = dual_space->partitioner()->n_ghost_indices();
     return v;
   }
 
   void
   DualProblem::exchange_slots() const
   {
-    // The terms that other ranks' rows need from this rank, and those this rank's rows need
-    // from others (only rows on the boundaries between the ranks' sets of subdomains).
-    unsigned int n_requests = 0;
-    for (auto &exchange : receive_slots)
-      MPI_Irecv(exchange.buffer.data(),
-                exchange.buffer.size(),
-                MPI_DOUBLE,
-                exchange.rank,
-                0,
-                comm,
-                &requests[n_requests++]);
-    for (auto &exchange : send_slots)
-      {
-        for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-          exchange.buffer[j] = slots[exchange.slots[j]];
-        MPI_Isend(exchange.buffer.data(),
-                  exchange.buffer.size(),
-                  MPI_DOUBLE,
-                  exchange.rank,
-                  0,
-                  comm,
-                  &requests[n_requests++]);
-      }
-    MPI_Waitall(n_requests, requests.data(), MPI_STATUSES_IGNORE);
-    for (const auto &exchange : receive_slots)
-      for (unsigned int j = 0; j < exchange.slots.size(); ++j)
-        slots[exchange.slots[j]] = exchange.buffer[j];
+    // The terms of other ranks' subdomains in this rank's rows are added to zero (exact), and
+    // this rank's terms in other ranks' rows sent to them (only rows on the boundaries between
+    // the ranks' sets of subdomains).
+    for (const unsigned int j : foreign_slots)
+      slots.local_element(j) = 0;
+    slots.compress(VectorOperation::add);
   }
 
   void
   DualProblem::sum_own_rows(double *sums) const
   {
-    for (unsigned int j = 0; j < own_local.size(); ++j)
+    for (unsigned int j = 0; j + 1 < row_slot_start.size(); ++j)
       {
-        const unsigned int r   = own_local[j];
-        double             sum = 0;
-        for (unsigned int k = slot_start[r]; k < slot_start[r + 1]; ++k)
-          sum += slots[slot_order[k]];
+        double sum = 0;
+        for (unsigned int k = row_slot_start[j]; k < row_slot_start[j + 1]; ++k)
+          sum += slots.local_element(k);
         sums[j] = sum;
       }
   }
 
   void
-  DualProblem::set_Bt_relevant(const unsigned int    i,
-                               const Vector<double> &lambda_relevant,
-                               Vector<double>       &x) const
+  DualProblem::set_Bt(const unsigned int i, const DualVector &lambda, Vector<double> &x) const
   {
     x             = 0;
     const auto &b = B[i];
-    const auto &r = relevant_row[i];
+    const auto &r = row_local[i];
     for (unsigned int k = 0; k < b.row.size(); ++k)
-      x[b.dof[k]] += b.value[k] * lambda_relevant[r[k]];
+      x[b.dof[k]] += b.value[k] * lambda.local_element(r[k]);
   }
 
   void
-  DualProblem::apply_F(const DistributedVector &x, DistributedVector &y) const
+  DualProblem::apply_F(const DualVector &x, DualVector &y) const
   {
     const auto start = std::chrono::steady_clock::now();
-    row_distribution->import(x, x_relevant);
-    apply_F_relevant(x_relevant, y);
-    F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-
-  void
-  DualProblem::apply_F_relevant(const Vector<double> &x, DistributedVector &y) const
-  {
-    const auto start = std::chrono::steady_clock::now();
+    x.update_ghost_values();
     SubdomainThreads::for_each(
       owned.size(),
       [&](const unsigned int i) {
-        set_Bt_relevant(i, x, work[i]);
+        set_Bt(i, x, work[i]);
         owned[i]->apply_generalized_inverse(work[i]);
         set_B_slots(i, work[i]);
       },
       threaded);
+    x.zero_out_ghost_values();
     n_subdomain_solves += owned.size();
     F_local_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    exchange_slots();
-    if (y.get_layout() != row_distribution->layout())
-      y.reinit(row_distribution->layout());
-    sum_own_rows(y.begin());
+    sum_rows_into(y);
     ++n_F_applications;
+    F_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   void
-  DualProblem::apply_lumped(const DistributedVector &x, DistributedVector &y) const
+  DualProblem::sum_rows_into(DualVector &y) const
+  {
+    exchange_slots();
+    if (y.get_partitioner() != dual_space->partitioner())
+      y.reinit(dual_space->partitioner());
+    sum_own_rows(y.begin());
+  }
+
+  void
+  DualProblem::apply_lumped(const DualVector &x, DualVector &y) const
   {
     const auto start = std::chrono::steady_clock::now();
-    if (lumped_scale_relevant.size() != row_distribution->relevant_rows().size())
+    if (lumped_scale.size() == 0)
       {
-        // diag(B Bᵀ)⁻¹ on this rank's rows, then on the relevant rows.
+        // diag(B Bᵀ)⁻¹ on this rank's rows, then on its ghosts.
         for (unsigned int i = 0; i < owned.size(); ++i)
           {
             const auto &b = B[i];
             for (unsigned int k = 0; k < b.row.size(); ++k)
-              slots[b.slot[k]] = b.value[k] * b.value[k];
+              slots.local_element(b.slot[k]) = b.value[k] * b.value[k];
           }
-        exchange_slots();
-        DistributedVector d = row_distribution->vector();
-        sum_own_rows(d.begin());
-        for (auto &di : d)
+        sum_rows_into(lumped_scale);
+        for (auto &di : lumped_scale)
           di = di > 0 ? 1 / di : 0.;
-        row_distribution->import(d, lumped_scale_relevant);
+        lumped_scale.update_ghost_values();
       }
-    row_distribution->import(x, x_relevant);
-    x_relevant.scale(lumped_scale_relevant);
+    if (x_scaled.get_partitioner() != dual_space->partitioner())
+      x_scaled.reinit(dual_space->partitioner());
+    for (unsigned int j = 0; j < dual_space->n_owned(); ++j)
+      x_scaled.local_element(j) = x.local_element(j) * lumped_scale.local_element(j);
+    x_scaled.update_ghost_values();
     lumped_Ku.resize(owned.size());
     SubdomainThreads::for_each(owned.size(), [&](const unsigned int i) {
-      set_Bt_relevant(i, x_relevant, work[i]);
+      set_Bt(i, x_scaled, work[i]);
       lumped_Ku[i].reinit(work[i].size(), true);
       owned[i]->K.vmult(lumped_Ku[i], work[i]);
       set_B_slots(i, lumped_Ku[i]);
     });
-    exchange_slots();
-    if (y.get_layout() != row_distribution->layout())
-      y.reinit(row_distribution->layout());
-    sum_own_rows(y.begin());
-    const auto &own = row_distribution->owned_relevant_indices();
-    for (unsigned int j = 0; j < own.size(); ++j)
-      y[j] *= lumped_scale_relevant[own[j]];
+    x_scaled.zero_out_ghost_values();
+    sum_rows_into(y);
+    for (unsigned int j = 0; j < dual_space->n_owned(); ++j)
+      y.local_element(j) *= lumped_scale.local_element(j);
     ++n_lumped_applications;
     lumped_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   std::vector<Vector<double>>
-  DualProblem::recover_primal(const DistributedVector &lambda) const
+  DualProblem::recover_primal(const DualVector &lambda) const
   {
-    DistributedVector gradient;
+    DualVector gradient;
     apply_F(lambda, gradient);
     gradient -= h;
     return recover_primal(lambda, coarse.coarse_coefficients(gradient));
   }
 
   std::vector<Vector<double>>
-  DualProblem::recover_primal(const DistributedVector &lambda, const Vector<double> &alpha) const
-  {
-    row_distribution->import(lambda, x_relevant);
-    return recover_primal_relevant(x_relevant, alpha);
-  }
-
-  std::vector<Vector<double>>
-  DualProblem::recover_primal_relevant(const Vector<double> &lambda_relevant,
-                                       const Vector<double> &alpha) const
+  DualProblem::recover_primal(const DualVector &lambda, const Vector<double> &alpha) const
   {
     std::vector<Vector<double>> u(owned.size());
+    lambda.update_ghost_values();
     SubdomainThreads::for_each(
       owned.size(),
       [&](const unsigned int i) {
         const Subdomain &s = *owned[i];
-        set_Bt_relevant(i, lambda_relevant, work[i]);
+        set_Bt(i, lambda, work[i]);
         u[i] = s.f;
         u[i] -= work[i];
         s.apply_generalized_inverse(u[i]);
@@ -547,17 +528,17 @@ namespace FetiContact
             u[i][d] += s.R(d, j) * alpha[first_mode[s.global_index] + j];
       },
       threaded);
+    lambda.zero_out_ghost_values();
     return u;
   }
 
-  DistributedVector
+  DualVector
   DualProblem::constraint_residual(const std::vector<Vector<double>> &u) const
   {
     for (unsigned int i = 0; i < owned.size(); ++i)
       set_B_slots(i, u[i]);
-    DistributedVector r = row_distribution->vector();
-    exchange_slots();
-    sum_own_rows(r.begin());
+    DualVector r;
+    sum_rows_into(r);
     r -= c;
     return r;
   }

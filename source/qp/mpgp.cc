@@ -1,6 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/mpgp.h>
 
@@ -69,15 +69,17 @@ namespace FetiContact::QP
     Av.reinit(model);
     MinstdSequence random(20120101);
     for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
-      v[i] = double(random(Reductions<VectorType>::global_index(v, i))) /
+      v.local_element(i) = double(random(Reductions<VectorType>::global_index(v, i))) /
                double(MinstdSequence::modulus - 1) -
              0.5;
-    v /= v.l2_norm();
+    const double v_norm = l2_norm(v);
+    for (double &v_i : v)
+      v_i /= v_norm;
     double estimate = 0;
     for (unsigned int k = 0; k < std::max(iterations, 1u); ++k)
       {
         A(v, Av);
-        estimate = Av.l2_norm();
+        estimate = l2_norm(Av);
         if (!(estimate > 0) || !std::isfinite(estimate))
           return estimate > 0 ? estimate : 0.;
         v.equ(1. / estimate, Av);
@@ -102,12 +104,12 @@ namespace FetiContact::QP
     for (unsigned int k = 0; k < std::max(probes, 1u); ++k)
       {
         for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
-          v[i] =
+          v.local_element(i) =
             random(std::uint64_t(k) * n + Reductions<VectorType>::global_index(v, i)) % 2 == 0 ?
               1. :
               -1.;
         A(v, Av);
-        sum += v * Av;
+        sum += dot(v, Av);
       }
     return sum / (double(std::max(probes, 1u)) * n);
   }
@@ -244,7 +246,7 @@ namespace FetiContact::QP
     // already satisfies).
     set->free_gradient(*x, g, phi, mode);
     set->chopped_gradient(*x, g, beta, mode);
-    norm_gP = std::sqrt(phi.norm_sqr() + beta.norm_sqr()); // φ·β = 0
+    norm_gP = std::sqrt(norm_sqr(phi) + norm_sqr(beta)); // φ·β = 0
     z       = phi;
     if (precondition)
       set->precondition_arcs(*x, g, arc_scale, z, in_face ? 0.5 : 1.);
@@ -267,10 +269,10 @@ namespace FetiContact::QP
     // the multiplier g·ν).
     const VectorType &xx    = *x;
     const double      df    = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
-      return (xx[i] - x_old[i]) * (g[i] + g_old[i]);
+      return (xx.local_element(i) - x_old.local_element(i)) * (g.local_element(i) + g_old.local_element(i));
     });
     const double      noise = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
-      return std::abs(xx[i]) * (std::abs(g[i]) + std::abs(g_old[i]));
+      return std::abs(xx.local_element(i)) * (std::abs(g.local_element(i)) + std::abs(g_old.local_element(i)));
     });
     return df > 32 * std::numeric_limits<double>::epsilon() * noise;
   }
@@ -288,7 +290,7 @@ namespace FetiContact::QP
         y = *x;
         y -= x_old;
         y.add(alpha, p);
-        const double drift = 2. / alpha_bar * y.l2_norm();
+        const double drift = 2. / alpha_bar * l2_norm(y);
         if (gradient_error + drift <= additional_data.recursive_gradient_tolerance * norm_gP)
           {
             g.add(-alpha, Ap);
@@ -331,7 +333,7 @@ namespace FetiContact::QP
       {
         y = *x;
         y -= x_old;
-        moved = y.linfty_norm() > 4 * std::numeric_limits<double>::epsilon() * x->linfty_norm();
+        moved = linfty_norm(y) > 4 * std::numeric_limits<double>::epsilon() * linfty_norm(*x);
       }
     if (!moved)
       g = *gradient;
@@ -373,9 +375,9 @@ namespace FetiContact::QP
     const VectorType &xx = *x;
     const double      phi_tilde_phi =
       Reductions<VectorType>::sum(xx,
-                                  [&](const unsigned int i) { return (xx[i] - y[i]) * phi[i]; }) /
+                                  [&](const unsigned int i) { return (xx.local_element(i) - y.local_element(i)) * phi.local_element(i); }) /
       alpha_bar;
-    return beta.norm_sqr() <= additional_data.gamma * additional_data.gamma * phi_tilde_phi;
+    return norm_sqr(beta) <= additional_data.gamma * additional_data.gamma * phi_tilde_phi;
   }
 
   template <typename VectorType>
@@ -385,18 +387,18 @@ namespace FetiContact::QP
     // gᵀp = φᵀp: p lives where φ does (free blocks, tangents of active discs). φᵀp avoids the
     // cancellation of the large normal parts of g on pressed discs, which makes gᵀp
     // meaningless (even negative) once φ is near the rounding level of g.
-    double gp = phi * p;
+    double gp = dot(phi, p);
     if (!(gp > 0) && !p_is_phi)
       {
         p        = z;
         p_is_phi = true;
-        gp       = phi * p;
+        gp       = dot(phi, p);
       }
     multiply(p, Ap);
     // Along the circles of active discs the second derivative of f gains the curvature term
     // (SeparableSet::arc_curvature); without rotations it is zero.
     const bool   arc = mode == SeparableSet::DiscMode::rotations && set->moves_active_discs(*x, p);
-    const double curvature = p * Ap + (arc ? set->arc_curvature(*x, g, p) : 0.);
+    const double curvature = dot(p, Ap) + (arc ? set->arc_curvature(*x, g, p) : 0.);
     if (!(curvature > 0) || !(gp > 0))
       {
         // A not positive definite on φ, or φ = 0 at the rounding level: a breakdown; a
@@ -448,7 +450,7 @@ namespace FetiContact::QP
         p_is_phi = true;
         return;
       }
-    double gamma_cg = (z * Ap) / curvature;
+    double gamma_cg = dot(z, Ap) / curvature;
     if (arc)
       {
         // Hestenes–Stiefel with the change of the tangential gradient along the step, both
@@ -458,8 +460,8 @@ namespace FetiContact::QP
         Hp -= phi;
         set->remove_normal_parts(*x, Hp);
         set->remove_normal_parts(*x, p);
-        const double pHp = p * Hp;
-        gamma_cg         = pHp > 0 ? (z * Hp) / pHp : 0.;
+        const double pHp = dot(p, Hp);
+        gamma_cg         = pHp > 0 ? dot(z, Hp) / pHp : 0.;
       }
     p.sadd(-gamma_cg, 1., z); // p ← z − γ p
     set->remove_normal_parts(*x, p);
@@ -518,10 +520,10 @@ namespace FetiContact::QP
         // β points into Ω along a line (on discs, with rotations, along the inward normal):
         // exact line search, cut at the far end of the feasible segment.
         multiply(beta, Ap);
-        const double dAd = beta * Ap;
+        const double dAd = dot(beta, Ap);
         if (!(dAd > 0))
           return Outcome::breakdown;
-        const double alpha = std::min((beta * beta) / dAd, set->max_feasible_step(*x, beta));
+        const double alpha = std::min(norm_sqr(beta) / dAd, set->max_feasible_step(*x, beta));
         x->add(-alpha, beta);
         set->project(*x);
         g.add(-alpha, Ap);
@@ -535,10 +537,10 @@ namespace FetiContact::QP
           {
             // Minimizer of the second-order model of f along the arc P_Ω(x − αβ).
             multiply(beta, Ap);
-            const double curvature = beta * Ap + set->arc_curvature(*x, g, beta);
+            const double curvature = dot(beta, Ap) + set->arc_curvature(*x, g, beta);
             if (!(curvature > 0))
               return Outcome::breakdown;
-            alpha = (beta * beta) / curvature;
+            alpha = norm_sqr(beta) / curvature;
           }
         x->add(-alpha, beta);
         set->project(*x);
@@ -617,20 +619,13 @@ namespace FetiContact::QP
     if (gradient)
       *gradient = g;
     statistics.projected_gradient_norm = norm_gP;
-    statistics.relative_residual       = b_in.l2_norm() > 0 ? norm_gP / b_in.l2_norm() : norm_gP;
+    statistics.relative_residual       = l2_norm(b_in) > 0 ? norm_gP / l2_norm(b_in) : norm_gP;
     statistics.converged               = converged;
     return statistics;
   }
-  template class MPGP<Vector<double>>;
   template class MPGP<DistributedVector>;
   template double
-  estimate_norm(const Operator<Vector<double>> &, const Vector<double> &, const unsigned int);
-  template double
   estimate_norm(const Operator<DistributedVector> &, const DistributedVector &, const unsigned int);
-  template double
-  estimate_mean_diagonal(const Operator<Vector<double>> &,
-                         const Vector<double> &,
-                         const unsigned int);
   template double
   estimate_mean_diagonal(const Operator<DistributedVector> &,
                          const DistributedVector &,

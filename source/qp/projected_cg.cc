@@ -1,4 +1,4 @@
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/qp/vector_reductions.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/projected_cg.h>
 
@@ -111,8 +111,8 @@ namespace FetiContact::QP
     P(Pb);
     A(x, Ax);
     ++report.hessian_multiplications;
-    const double noise = 64 * std::numeric_limits<double>::epsilon() * (b.l2_norm() + Ax.l2_norm());
-    const double reference = std::max(Pb.l2_norm(), noise / tolerance);
+    const double noise = 64 * std::numeric_limits<double>::epsilon() * (l2_norm(b) + l2_norm(Ax));
+    const double reference = std::max(l2_norm(Pb), noise / tolerance);
     if (reference == 0)
       {
         report.converged = true;
@@ -120,9 +120,9 @@ namespace FetiContact::QP
       }
 
     precondition();
-    double wz = w * z;
+    double wz = dot(w, z);
     // ‖w‖ (without a preconditioner w·z = ‖w‖², evaluated as before).
-    const auto w_norm        = [&]() { return M ? w.l2_norm() : std::sqrt(wz); };
+    const auto w_norm        = [&]() { return M ? l2_norm(w) : std::sqrt(wz); };
     report.relative_residual = w_norm() / reference;
     p                        = z;
     StagnationWatch watch;
@@ -136,7 +136,7 @@ namespace FetiContact::QP
             g -= b;
             w = g;
             P(w);
-            report.relative_residual = w.l2_norm() / reference;
+            report.relative_residual = l2_norm(w) / reference;
             report.converged         = report.relative_residual <= tolerance;
             report.stagnated         = !report.converged;
             return report;
@@ -145,7 +145,7 @@ namespace FetiContact::QP
           return report;
         A(p, Ap);
         ++report.hessian_multiplications;
-        const double pAp = p * Ap;
+        const double pAp = dot(p, Ap);
         if (!(pAp > 0))
           return report; // breakdown: A not positive definite on range(P)
         const double alpha = wz / pAp;
@@ -154,7 +154,7 @@ namespace FetiContact::QP
         w = g;
         P(w);
         precondition();
-        const double wz_new = w * z;
+        const double wz_new = dot(w, z);
         p.sadd(wz_new / wz, 1.0, z);
         wz = wz_new;
         ++report.iterations;
@@ -165,6 +165,5 @@ namespace FetiContact::QP
     report.converged = true;
     return report;
   }
-  template class ProjectedCG<Vector<double>>;
   template class ProjectedCG<DistributedVector>;
 } // namespace FetiContact::QP

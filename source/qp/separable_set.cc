@@ -146,7 +146,7 @@ namespace FetiContact::QP
   {
     if (d.radius == 0)
       return true;
-    const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+    const double y1 = x.local_element(d.i) - d.centre[0], y2 = x.local_element(d.j) - d.centre[1];
     return std::hypot(y1, y2) >= d.radius * (1 - disc_activity_tolerance);
   }
 
@@ -156,17 +156,17 @@ namespace FetiContact::QP
   {
     AssertDimension(x.locally_owned_size(), size());
     for (const unsigned int i : intervals)
-      x[i] = std::min(std::max(x[i], lower[i]), upper[i]);
+      x.local_element(i) = std::min(std::max(x.local_element(i), lower[i]), upper[i]);
     for (const Disc &d : discs)
       {
-        const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+        const double y1 = x.local_element(d.i) - d.centre[0], y2 = x.local_element(d.j) - d.centre[1];
         const double norm = std::hypot(y1, y2);
         if (norm > d.radius)
           {
             // norm > r ≥ 0, so norm > 0.
             const double s = d.radius / norm;
-            x[d.i]         = d.centre[0] + s * y1;
-            x[d.j]         = d.centre[1] + s * y2;
+            x.local_element(d.i)         = d.centre[0] + s * y1;
+            x.local_element(d.j)         = d.centre[1] + s * y2;
           }
       }
   }
@@ -182,24 +182,24 @@ namespace FetiContact::QP
     AssertDimension(g.locally_owned_size(), size());
     phi = g; // the free components; intervals and discs below
     for (const unsigned int i : intervals)
-      if (interval_state(i, x[i]) != 0)
-        phi[i] = 0;
+      if (interval_state(i, x.local_element(i)) != 0)
+        phi.local_element(i) = 0;
     for (const Disc &d : discs)
       {
         if (!disc_active(d, x))
           {
-            phi[d.i] = g[d.i];
-            phi[d.j] = g[d.j];
+            phi.local_element(d.i) = g.local_element(d.i);
+            phi.local_element(d.j) = g.local_element(d.j);
           }
         else if (mode == DiscMode::rotations && d.radius > 0)
           {
             const auto   nu = outward_normal(d, x);
-            const double gn = g[d.i] * nu[0] + g[d.j] * nu[1];
-            phi[d.i]        = g[d.i] - gn * nu[0];
-            phi[d.j]        = g[d.j] - gn * nu[1];
+            const double gn = g.local_element(d.i) * nu[0] + g.local_element(d.j) * nu[1];
+            phi.local_element(d.i)        = g.local_element(d.i) - gn * nu[0];
+            phi.local_element(d.j)        = g.local_element(d.j) - gn * nu[1];
           }
         else
-          phi[d.i] = phi[d.j] = 0;
+          phi.local_element(d.i) = phi.local_element(d.j) = 0;
       }
   }
 
@@ -214,33 +214,33 @@ namespace FetiContact::QP
     AssertDimension(g.locally_owned_size(), size());
     beta.reinit(g); // zero on the free components; intervals and discs below
     for (const unsigned int i : intervals)
-      switch (interval_state(i, x[i]))
+      switch (interval_state(i, x.local_element(i)))
         {
           case -1:
-            beta[i] = std::min(g[i], 0.);
+            beta.local_element(i) = std::min(g.local_element(i), 0.);
             break;
           case 1:
-            beta[i] = std::max(g[i], 0.);
+            beta.local_element(i) = std::max(g.local_element(i), 0.);
             break;
           default: // inside or fixed
-            beta[i] = 0;
+            beta.local_element(i) = 0;
         }
     for (const Disc &d : discs)
       {
-        beta[d.i] = beta[d.j] = 0;
+        beta.local_element(d.i) = beta.local_element(d.j) = 0;
         if (d.radius == 0 || !disc_active(d, x))
           continue;
         const auto   nu = outward_normal(d, x);
-        const double gn = g[d.i] * nu[0] + g[d.j] * nu[1];
+        const double gn = g.local_element(d.i) * nu[0] + g.local_element(d.j) * nu[1];
         if (mode == DiscMode::rotations)
           {
-            beta[d.i] = std::max(gn, 0.) * nu[0];
-            beta[d.j] = std::max(gn, 0.) * nu[1];
+            beta.local_element(d.i) = std::max(gn, 0.) * nu[0];
+            beta.local_element(d.j) = std::max(gn, 0.) * nu[1];
           }
         else
           {
-            beta[d.i] = g[d.i] - std::min(gn, 0.) * nu[0];
-            beta[d.j] = g[d.j] - std::min(gn, 0.) * nu[1];
+            beta.local_element(d.i) = g.local_element(d.i) - std::min(gn, 0.) * nu[0];
+            beta.local_element(d.j) = g.local_element(d.j) - std::min(gn, 0.) * nu[1];
           }
       }
   }
@@ -265,15 +265,15 @@ namespace FetiContact::QP
     AssertDimension(d.locally_owned_size(), size());
     double alpha = infinity;
     for (const unsigned int i : intervals)
-      if (d[i] != 0)
+      if (d.local_element(i) != 0)
         {
           // x_i − α d_i stays in [l, u].
-          const double a = d[i] > 0 ? (x[i] - lower[i]) / d[i] : (upper[i] - x[i]) / (-d[i]);
+          const double a = d.local_element(i) > 0 ? (x.local_element(i) - lower[i]) / d.local_element(i) : (upper[i] - x.local_element(i)) / (-d.local_element(i));
           alpha          = std::min(alpha, std::max(a, 0.));
         }
     for (const Disc &disc : discs)
       {
-        const double d1 = d[disc.i], d2 = d[disc.j];
+        const double d1 = d.local_element(disc.i), d2 = d.local_element(disc.j);
         if (d1 == 0 && d2 == 0)
           continue;
         if (disc.radius == 0)
@@ -284,7 +284,7 @@ namespace FetiContact::QP
         if (mode == DiscMode::rotations && disc_active(disc, x))
           continue;
         // ‖y − α d‖² = r²: α²‖d‖² − 2α y·d + ‖y‖² − r² = 0, the positive root.
-        const double y1 = x[disc.i] - disc.centre[0], y2 = x[disc.j] - disc.centre[1];
+        const double y1 = x.local_element(disc.i) - disc.centre[0], y2 = x.local_element(disc.j) - disc.centre[1];
         const double dd = d1 * d1 + d2 * d2;
         const double yd = y1 * d1 + y2 * d2;
         const double ny = std::hypot(y1, y2);
@@ -301,7 +301,7 @@ namespace FetiContact::QP
   std::array<double, 2>
   SeparableSet::outward_normal(const Disc &d, const VectorType &x) const
   {
-    const double y1 = x[d.i] - d.centre[0], y2 = x[d.j] - d.centre[1];
+    const double y1 = x.local_element(d.i) - d.centre[0], y2 = x.local_element(d.j) - d.centre[1];
     const double norm = std::hypot(y1, y2); // ≥ r(1 − 1e-12) > 0 on an active disc with r > 0
     return {{y1 / norm, y2 / norm}};
   }
@@ -313,12 +313,12 @@ namespace FetiContact::QP
     typename Reductions<VectorType>::Sum curvature(x);
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) || !disc_active(disc, x))
           continue;
         const auto   nu    = outward_normal(disc, x);
-        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
-        const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
-        const double t1 = d[disc.i] - dn * nu[0], t2 = d[disc.j] - dn * nu[1];
+        const double sigma = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
+        const double dn    = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
+        const double t1 = d.local_element(disc.i) - dn * nu[0], t2 = d.local_element(disc.j) - dn * nu[1];
         curvature.add(disc.i, sigma / disc.radius * (t1 * t1 + t2 * t2));
       }
     return curvature.result(x);
@@ -333,13 +333,13 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (d[disc.i] == 0 && d[disc.j] == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) || !disc_active(disc, x))
           continue;
         const auto   nu    = outward_normal(disc, x);
-        const double sigma = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
-        const double dn    = d[disc.i] * nu[0] + d[disc.j] * nu[1];
-        Hd[disc.i] += sigma / disc.radius * (d[disc.i] - dn * nu[0]);
-        Hd[disc.j] += sigma / disc.radius * (d[disc.j] - dn * nu[1]);
+        const double sigma = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
+        const double dn    = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
+        Hd.local_element(disc.i) += sigma / disc.radius * (d.local_element(disc.i) - dn * nu[0]);
+        Hd.local_element(disc.j) += sigma / disc.radius * (d.local_element(disc.j) - dn * nu[1]);
       }
   }
 
@@ -349,12 +349,12 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (v[disc.i] == 0 && v[disc.j] == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) || !disc_active(disc, x))
           continue;
         const auto   nu = outward_normal(disc, x);
-        const double vn = v[disc.i] * nu[0] + v[disc.j] * nu[1];
-        v[disc.i] -= vn * nu[0];
-        v[disc.j] -= vn * nu[1];
+        const double vn = v.local_element(disc.i) * nu[0] + v.local_element(disc.j) * nu[1];
+        v.local_element(disc.i) -= vn * nu[0];
+        v.local_element(disc.j) -= vn * nu[1];
       }
   }
 
@@ -368,14 +368,14 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (v[disc.i] == 0 && v[disc.j] == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) || !disc_active(disc, x))
           continue;
         const auto   nu     = outward_normal(disc, x);
-        const double sigma  = std::max(-(g[disc.i] * nu[0] + g[disc.j] * nu[1]), 0.);
+        const double sigma  = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
         const double factor = 1 + sigma / (disc.radius * a);
         const double scale  = exponent == 1 ? 1 / factor : std::pow(factor, -exponent);
-        v[disc.i] *= scale;
-        v[disc.j] *= scale;
+        v.local_element(disc.i) *= scale;
+        v.local_element(disc.j) *= scale;
       }
   }
 
@@ -385,7 +385,7 @@ namespace FetiContact::QP
   {
     bool moves = false;
     for (const Disc &disc : discs)
-      if (disc.radius > 0 && (v[disc.i] != 0 || v[disc.j] != 0) && disc_active(disc, x))
+      if (disc.radius > 0 && (v.local_element(disc.i) != 0 || v.local_element(disc.j) != 0) && disc_active(disc, x))
         {
           moves = true;
           break;
@@ -399,7 +399,7 @@ namespace FetiContact::QP
   {
     bool nonzero = false;
     for (const Disc &d : discs)
-      if (v[d.i] != 0 || v[d.j] != 0)
+      if (v.local_element(d.i) != 0 || v.local_element(d.j) != 0)
         {
           nonzero = true;
           break;
@@ -414,10 +414,10 @@ namespace FetiContact::QP
     AssertDimension(x.locally_owned_size(), size());
     double violation = 0;
     for (const unsigned int i : intervals)
-      violation = std::max({violation, lower[i] - x[i], x[i] - upper[i]});
+      violation = std::max({violation, lower[i] - x.local_element(i), x.local_element(i) - upper[i]});
     for (const Disc &d : discs)
       violation =
-        std::max(violation, std::hypot(x[d.i] - d.centre[0], x[d.j] - d.centre[1]) - d.radius);
+        std::max(violation, std::hypot(x.local_element(d.i) - d.centre[0], x.local_element(d.j) - d.centre[1]) - d.radius);
     return Reductions<VectorType>::max(violation, x);
   }
 
@@ -427,23 +427,23 @@ namespace FetiContact::QP
   {
     AssertDimension(w.locally_owned_size(), size());
     const double                         infinity = std::numeric_limits<double>::infinity();
-    const double                         small    = zero * w.linfty_norm();
+    const double                         small    = zero * linfty_norm(w);
     typename Reductions<VectorType>::Sum sup(w);
     bool                                 unbounded = false;
     for (unsigned int i = 0; i < size() && !unbounded; ++i)
       {
-        if (kind[i] == Kind::disc || std::abs(w[i]) <= small)
+        if (kind[i] == Kind::disc || std::abs(w.local_element(i)) <= small)
           continue;
-        const double end = w[i] > 0 ? upper[i] : lower[i]; // ±∞ for a free component
+        const double end = w.local_element(i) > 0 ? upper[i] : lower[i]; // ±∞ for a free component
         unbounded        = !std::isfinite(end);
         if (!unbounded)
-          sup.add(i, end * w[i]);
+          sup.add(i, end * w.local_element(i));
       }
     for (unsigned int k = 0; k < discs.size() && !unbounded; ++k)
       {
         const Disc  &d = discs[k];
-        const double a = std::abs(w[d.i]) <= small ? 0. : w[d.i];
-        const double b = std::abs(w[d.j]) <= small ? 0. : w[d.j];
+        const double a = std::abs(w.local_element(d.i)) <= small ? 0. : w.local_element(d.i);
+        const double b = std::abs(w.local_element(d.j)) <= small ? 0. : w.local_element(d.j);
         if (a == 0 && b == 0)
           continue;
         unbounded = !std::isfinite(d.radius);
@@ -459,7 +459,7 @@ namespace FetiContact::QP
   bool
   SeparableSet::is_feasible(const VectorType &x, const double relative_tolerance) const
   {
-    return largest_violation(x) <= relative_tolerance * x.linfty_norm();
+    return largest_violation(x) <= relative_tolerance * linfty_norm(x);
   }
   // The instantiations for the two vector types of the QP layer.
 #define FETICONTACT_INSTANTIATE_SEPARABLE_SET(V)                                                   \
@@ -479,7 +479,6 @@ namespace FetiContact::QP
   template double SeparableSet::largest_violation(const V &) const;                                \
   template bool   SeparableSet::is_feasible(const V &, const double) const;
 
-  FETICONTACT_INSTANTIATE_SEPARABLE_SET(Vector<double>)
   FETICONTACT_INSTANTIATE_SEPARABLE_SET(DistributedVector)
 #undef FETICONTACT_INSTANTIATE_SEPARABLE_SET
 } // namespace FetiContact::QP

@@ -1,6 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/smalbe.h>
 
@@ -253,7 +253,7 @@ namespace FetiContact::QP
   SMALBE<VectorType>::gradient_reference(const VectorType &x) const
   {
     const double eps_mach = std::numeric_limits<double>::epsilon();
-    const double x_norm   = x.l2_norm();
+    const double x_norm   = l2_norm(x);
     const double noise    = 64 * eps_mach * A_norm * x_norm / additional_data.tolerance;
     return std::max(h_norm > 0 ? h_norm : F_norm * x_norm, noise);
   }
@@ -263,7 +263,7 @@ namespace FetiContact::QP
   SMALBE<VectorType>::feasibility_reference(const VectorType &x) const
   {
     const double eps_mach = std::numeric_limits<double>::epsilon();
-    const double Gx_scale = G_norm * x.l2_norm();
+    const double Gx_scale = G_norm * l2_norm(x);
     return e_norm > 0 ?
              std::max(e_norm, 64 * eps_mach * Gx_scale / additional_data.feasibility_tolerance) :
              Gx_scale;
@@ -363,7 +363,7 @@ namespace FetiContact::QP
           }
         g_known = g;
         problem->set->projected_gradient(*lambda, g, gP);
-        norm_gP                 = gP.l2_norm();
+        norm_gP                 = l2_norm(gP);
         const bool stuck_at_eta = relaxed_start && last.iterations == 0 && last.converged;
         relaxed_start           = false;
         eta_exhausted |= stuck_at_eta;
@@ -404,7 +404,7 @@ namespace FetiContact::QP
   {
     const VectorType &l = *lambda;
     const double      L =
-      Reductions<VectorType>::sum(l, [&](const unsigned int i) { return l[i] * (g[i] - b[i]); });
+      Reductions<VectorType>::sum(l, [&](const unsigned int i) { return l.local_element(i) * (g.local_element(i) - b.local_element(i)); });
     return L / 2 - (k > 0 ? *mu * problem->e : 0.) + rho / 2 * e_norm * e_norm;
   }
 
@@ -530,6 +530,5 @@ namespace FetiContact::QP
     statistics.mu                = *mu;
     return statistics;
   }
-  template class SMALBE<Vector<double>>;
   template class SMALBE<DistributedVector>;
 } // namespace FetiContact::QP

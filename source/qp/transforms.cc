@@ -1,6 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/transforms.h>
 
 #include <memory>
@@ -156,10 +156,7 @@ namespace FetiContact::QP
     homogeneous.G(r, Gr);
     nu -= Gr;
   }
-  template class Orthonormalization<Vector<double>>;
   template class Orthonormalization<DistributedVector>;
-  template class Homogenization<Vector<double>>;
   template class Homogenization<DistributedVector>;
-  template class ProjectorEnforcement<Vector<double>>;
   template class ProjectorEnforcement<DistributedVector>;
 } // namespace FetiContact::QP

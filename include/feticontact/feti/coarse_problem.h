@@ -5,7 +5,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/block_partition.h>
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/feti/dual_space.h>
 #include <feticontact/local_solvers/cholmod_solver.h>
 
 #include <functional>
@@ -14,7 +14,6 @@
 
 namespace FetiContact
 {
-  class DualDistribution;
 
   /**
    * The natural coarse space of FETI: G = Rᵀ Bᵀ (one row per rigid body mode of a floating
@@ -78,13 +77,13 @@ namespace FetiContact
 
     /**
      * @p relevant_entries are all entries of G in the columns relevant to this rank of
-     * @p distribution (from every rank that computes them), @p first_mode … @p end_mode this
+     * @p space (from every rank that computes them), @p first_mode … @p end_mode this
      * rank's modes (the ranks' ranges follow each other in rank order). Collective. Throws
-     * InputError if GGᵀ is singular: some rigid motion is not restrained by B. @p distribution
+     * InputError if GGᵀ is singular: some rigid motion is not restrained by B. @p space
      * must outlive this object.
      */
     void
-    initialize(const DualDistribution &distribution,
+    initialize(const DualSpace &space,
                std::vector<Entry>      relevant_entries,
                const unsigned int      n_modes,
                const unsigned int      n_columns,
@@ -106,20 +105,20 @@ namespace FetiContact
 
     /** y = G x. */
     void
-    apply_G(const DistributedVector &x, dealii::Vector<double> &y) const;
+    apply_G(const DualVector &x, dealii::Vector<double> &y) const;
     /** y = Gᵀ x. */
     void
-    apply_Gt(const dealii::Vector<double> &x, DistributedVector &y) const;
+    apply_Gt(const dealii::Vector<double> &x, DualVector &y) const;
     /**
      * y = G̃x with G̃ = L⁻¹PG, where P GGᵀ Pᵀ = LLᵀ is the coarse factorization: G̃ has the row
      * space of G and orthonormal rows (G̃G̃ᵀ = I), so Gλ = e ⟺ G̃λ = ẽ with ẽ = L⁻¹Pe. The
      * augmented Lagrangian works with G̃ (Dostál's orthonormalized constraints).
      */
     void
-    apply_G_orthonormal(const DistributedVector &x, dealii::Vector<double> &y) const;
+    apply_G_orthonormal(const DualVector &x, dealii::Vector<double> &y) const;
     /** y = G̃ᵀx. */
     void
-    apply_Gt_orthonormal(const dealii::Vector<double> &x, DistributedVector &y) const;
+    apply_Gt_orthonormal(const dealii::Vector<double> &x, DualVector &y) const;
     /** μ = PᵀL⁻ᵀμ̃: the multiplier of Gλ = e from that of G̃λ = ẽ (Gᵀμ = G̃ᵀμ̃). */
     dealii::Vector<double>
     multiplier_from_orthonormal(const dealii::Vector<double> &mu_tilde) const;
@@ -137,10 +136,10 @@ namespace FetiContact
     solve_GGt(dealii::Vector<double> &x) const;
     /** x ← P x = x − Gᵀ(GGᵀ)⁻¹G x. */
     void
-    project(DistributedVector &x) const;
+    project(DualVector &x) const;
     /** @p lambda ← the least-norm solution λ₀ = Gᵀ(GGᵀ)⁻¹e of Gλ = e. */
     void
-    least_norm_solution(const dealii::Vector<double> &e, DistributedVector &lambda) const;
+    least_norm_solution(const dealii::Vector<double> &e, DualVector &lambda) const;
     /**
      * @p lambda ← a particular solution λ₀ of Gλ = e that leaves as many kinds of dual unknowns at
      * zero as the constraints allow. @p tier gives each column a rank (for contact: 0 gluing and
@@ -159,7 +158,7 @@ namespace FetiContact
     void
     particular_solution(const dealii::Vector<double>                    &e,
                         const std::function<unsigned int(unsigned int)> &tier,
-                        DistributedVector                               &lambda) const;
+                        DualVector                               &lambda) const;
     /**
      * λ ← λ + Gᵀ(GGᵀ)⁻¹(e − Gλ): removes the drift from Gλ = e that rounding accumulates over
      * many projected iterations (without it the force balance of floating subdomains is off by
@@ -167,11 +166,11 @@ namespace FetiContact
      * the correction.
      */
     double
-    restore_feasibility(DistributedVector &lambda, const dealii::Vector<double> &e) const;
+    restore_feasibility(DualVector &lambda, const dealii::Vector<double> &e) const;
 
     /** α = (GGᵀ)⁻¹ G x (the coefficients of the rigid modes in the primal recovery). */
     dealii::Vector<double>
-    coarse_coefficients(const DistributedVector &x) const;
+    coarse_coefficients(const DualVector &x) const;
 
     /**
      * The bytes of the factor of GGᵀ in memory shared by the ranks of this rank's node (0 if the
@@ -208,17 +207,17 @@ namespace FetiContact
     void
     share(CholmodSolver &solver) const;
     /**
-     * Prepares the products: this rank owns the dual vectors' entries of @p distribution and
+     * Prepares the products: this rank owns the dual vectors' entries of @p space and
      * computes the modes [@p first_mode, @p end_mode) of G x (those of its subdomains, whose
      * columns are all relevant rows). Collective.
      */
     void
-    distribute(const DualDistribution &distribution,
+    distribute(const DualSpace &space,
                const unsigned int      first_mode,
                const unsigned int      end_mode);
     /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
     void
-    add_Gt(const dealii::Vector<double> &x, const bool add, DistributedVector &y) const;
+    add_Gt(const dealii::Vector<double> &x, const bool add, DualVector &y) const;
     /**
      * Checks GGᵀ = @p M (every mode restrained, nonsingular, well conditioned) and factorizes it,
      * on the ranks that factorize (@p M is empty elsewhere); then shares the factor (per node).
@@ -252,17 +251,16 @@ namespace FetiContact
      */
     MPI_Comm node = MPI_COMM_NULL, leaders = MPI_COMM_NULL;
 
-    /** The distribution of the dual vectors (initialize()). */
-    const DualDistribution *distribution = nullptr;
+    /** The space of the dual vectors (initialize()). */
+    const DualSpace *space = nullptr;
     /** The ranks' ranges of modes for G x on distributed vectors. */
     BlockPartition own_modes;
-    /** For the entries of G in this rank's modes: the relevant index of their column. */
+    /** For the entries of G in this rank's modes: the local index of their column (owned or ghost). */
     std::vector<unsigned int> own_mode_column;
     /** G by the columns this rank owns (CSC in the order of the local entries, modes increasing).
      */
     std::vector<unsigned int>      own_column_start, own_column_mode;
     std::vector<double>            own_column_value;
-    mutable dealii::Vector<double> relevant_work;
     /**
      * The relevant columns (increasing) with their entries by increasing mode (CSC: start, mode,
      * value).

@@ -3,7 +3,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/feti/coarse_problem.h>
-#include <feticontact/feti/dual_distribution.h>
+#include <feticontact/feti/dual_space.h>
 #include <feticontact/feti/equality_constraints.h>
 #include <feticontact/subdomain/subdomain.h>
 
@@ -14,12 +14,10 @@
 
 namespace FetiContact
 {
-  /** The type of the dual vectors λ (and of h, c, F λ and the QP's work vectors). */
-  using DualVector = DistributedVector;
-
   /**
-   * B_i of one subdomain in coordinate form: rows (dual indices), DoFs of subdomain i, values,
-   * and the slot of each entry (its index among the nonzeros of B, where B_i u_i is written).
+   * B_i of one subdomain in coordinate form: rows (their numbers), DoFs of subdomain i, values,
+   * and the slot of each entry (its local index in the vector of the slots, the nonzeros of B,
+   * where B_i u_i is written).
    */
   struct BlockOfB
   {
@@ -33,15 +31,15 @@ namespace FetiContact
    *   min ½ λᵀFλ − λᵀh  s.t.  Gλ = e  (and, with contact, bounds on some components of λ)
    *
    * with F = B K⁺ Bᵀ, h = B K⁺ f − c, G = Rᵀ Bᵀ, e = Rᵀ f, assembled from the blocks B_i of the
-   * subdomains that this rank owns. The dual vectors are distributed over the ranks
-   * (DistributedVector, laid out by distribution()): every row belongs to the rank of the first
-   * subdomain in its summation order, or of the subdomain its set of rows held together names
-   * (DualRows::held_by; the contact rows of a slave vertex, its home subdomain), and a rank needs
-   * the values of the rows that touch its subdomains (DualDistribution::import). F is applied
-   * subdomain by subdomain, and the sum is rank-independent: every subdomain writes its terms
-   * B_i u_i into its own slots (one per nonzero of B), the slots of other ranks' subdomains in a
-   * row are sent to the row's rank point to point, and every row adds its slots in the order of
-   * increasing subdomain. F x, h and B u − c are then the same bits on any number of ranks and
+   * subdomains that this rank owns. The dual vectors are deal.II's distributed vectors on the
+   * partitioner of space(): every row belongs to the rank of the first subdomain in its
+   * summation order, or of the subdomain its set of rows held together names (DualRows::held_by;
+   * the contact rows of a slave vertex, its home subdomain), and the rows that touch a rank's
+   * subdomains are its ghosts. F is applied subdomain by subdomain, and the sum is
+   * rank-independent: every subdomain writes its terms B_i u_i into its own slots (the entries of
+   * a distributed vector with one entry per nonzero of B, owned by the row's rank), the slots of
+   * other ranks' subdomains reach the row's rank unchanged (compress(add) onto zero), and every
+   * row adds its slots in the order of increasing subdomain. F x, h and B u − c are then the same bits on any number of ranks and
    * any assignment of subdomains to ranks, and so are the iterates and iteration counts of the
    * solvers that use them (floating-point addition is not associative: a sum in rank order made
    * n_A differ by 8 % between one and two ranks). Knows nothing of friction: it sees rows of B and
@@ -73,16 +71,16 @@ namespace FetiContact
 
     /** y = F x (counted in n_F_applications, timed in F_time). */
     void
-    apply_F(const DistributedVector &x, DistributedVector &y) const;
+    apply_F(const DualVector &x, DualVector &y) const;
 
     /**
-     * How the dual vectors are distributed: the rows this rank adds up (those of its first
-     * subdomain in summation order) and the rows of its subdomains.
+     * The dual space: the rows this rank adds up (those of its first subdomain in summation
+     * order) and, as ghosts, the other rows of its subdomains.
      */
-    const DualDistribution &
-    distribution() const
+    const DualSpace &
+    space() const
     {
-      return *row_distribution;
+      return *dual_space;
     }
 
     /** What one application of F exchanges on this rank, counted in values (doubles). */
@@ -109,26 +107,26 @@ namespace FetiContact
      * lumped_time).
      */
     void
-    apply_lumped(const DistributedVector &x, DistributedVector &y) const;
+    apply_lumped(const DualVector &x, DualVector &y) const;
 
     /**
      * The primal solution u_i = K_i⁺(f_i − B_iᵀλ) + R_i α_i of every owned subdomain, with
      * α = (GGᵀ)⁻¹G(Fλ − h) (so that B u = c holds in the least-squares sense on the range of G).
      */
     std::vector<dealii::Vector<double>>
-    recover_primal(const DistributedVector &lambda) const;
+    recover_primal(const DualVector &lambda) const;
 
     /** The same with given coefficients α of the rigid modes (e.g. from SMALBE's multiplier). */
     std::vector<dealii::Vector<double>>
-    recover_primal(const DistributedVector &lambda, const dealii::Vector<double> &alpha) const;
+    recover_primal(const DualVector &lambda, const dealii::Vector<double> &alpha) const;
 
     /** r = B u − c on this rank's rows, from the subdomain solutions of this rank. */
-    DistributedVector
+    DualVector
     constraint_residual(const std::vector<dealii::Vector<double>> &u) const;
 
     CoarseProblem coarse;
-    /** h and c on this rank's rows (the layout of distribution()). */
-    DistributedVector h, c;
+    /** h and c on this rank's rows (vectors of space()). */
+    DualVector h, c;
     /** e = Rᵀf, on every rank. */
     dealii::Vector<double> e;
     mutable unsigned int   n_F_applications = 0;
@@ -164,23 +162,20 @@ namespace FetiContact
       rank_of_entry(const DualRows &rows, const unsigned int k) const;
     };
     /**
-     * The rows of each rank and the slots that cross ranks (from the rows and the owners).
-     * Owners::row_rank is given for the rows of @p rows.
+     * The dual space and the slots (from the rows and the owners). Owners::row_rank is given
+     * for the rows of @p rows.
      */
     Owners
     setup_row_sums(const DualRows &rows, const unsigned int n_subdomains);
     /** The owners of the subdomains and of the rows given (collective). */
     Owners
     row_owners(const DualRows &rows, const unsigned int n_subdomains) const;
-    /** The slots of this rank sent to, and received from, the ranks that add up their rows. */
+    /** The dual space and the local index of the row of every entry of B_i. */
     void
-    set_up_slot_exchanges(const DualRows &rows, const Owners &owners);
-    /** This rank's rows. */
+    set_up_space(const DualRows &rows, const Owners &owners);
+    /** The vector of the slots and the local slot of every entry of B_i. */
     void
-    set_up_own_rows(const DualRows &rows, const Owners &owners);
-    /** The distribution of the dual vectors and the relevant index of every entry of B_i. */
-    void
-    set_up_distribution(const DualRows &rows, const Owners &owners);
+    set_up_slots(const DualRows &rows, const Owners &owners);
     /** The index in @p rows of the row numbered @p number. */
     static unsigned int
     index_of_row(const DualRows &rows, const unsigned int number);
@@ -195,20 +190,21 @@ namespace FetiContact
     relevant_G_entries(const std::vector<CoarseProblem::Entry> &own_entries,
                        const DualRows                          &rows,
                        const Owners                            &owners) const;
-    /** x = B_iᵀ λ from the values of λ on the relevant rows (DualDistribution::import). */
+    /** x = B_iᵀ λ, with the ghosts of λ up to date. */
     void
-    set_Bt_relevant(const unsigned int            i,
-                    const dealii::Vector<double> &lambda_relevant,
-                    dealii::Vector<double>       &x) const;
+    set_Bt(const unsigned int i, const DualVector &lambda, dealii::Vector<double> &x) const;
     /**
-     * Receives the slots of other ranks' subdomains in this rank's rows and sends this rank's
+     * Brings the slots of other ranks' subdomains in this rank's rows here, and sends this rank's
      * slots in other ranks' rows.
      */
     void
     exchange_slots() const;
-    /** The sums of this rank's rows (after exchange_slots()), in the order of own_rows. */
+    /** The sums of this rank's rows (after exchange_slots()), in the order of the owned entries. */
     void
     sum_own_rows(double *sums) const;
+    /** y = the row sums of the slots written (exchange_slots(), then sum_own_rows()). */
+    void
+    sum_rows_into(DualVector &y) const;
     /** B_i of every owned subdomain from the rows (DoFs looked up by body vertex). */
     void
     build_blocks(const DualRows &rows);
@@ -218,22 +214,15 @@ namespace FetiContact
      */
     std::pair<unsigned int, unsigned int>
     own_modes(const std::vector<unsigned int> &mode_offset) const;
-    /** y = F x with x given on the relevant rows (the local work, then the row sums). */
-    void
-    apply_F_relevant(const dealii::Vector<double> &x_relevant, DistributedVector &y) const;
-    /** The local part of recover_primal(): u_i = K_i⁺(f_i − B_iᵀλ) + R_i α_i. */
-    std::vector<dealii::Vector<double>>
-    recover_primal_relevant(const dealii::Vector<double> &lambda_relevant,
-                            const dealii::Vector<double> &alpha) const;
 
-    /** The rows of this rank's dual vectors, and the relevant rows of its subdomains. */
-    std::unique_ptr<DualDistribution> row_distribution;
-    /** Per owned subdomain: the relevant index of the row of every entry of B_i. */
-    std::vector<std::vector<unsigned int>> relevant_row;
-    /** Work vectors of the distributed products: x on the relevant rows. */
-    mutable dealii::Vector<double> x_relevant;
-    /** D of apply_lumped on the relevant rows. */
-    mutable dealii::Vector<double> lumped_scale_relevant;
+    /** The rows of this rank's dual vectors, and the other rows of its subdomains. */
+    std::unique_ptr<DualSpace> dual_space;
+    /** Per owned subdomain: the local index in the dual vectors of the row of every entry of B_i. */
+    std::vector<std::vector<unsigned int>> row_local;
+    /** D of apply_lumped, with its ghosts. */
+    mutable DualVector lumped_scale;
+    /** D x in apply_lumped, with its ghosts. */
+    mutable DualVector x_scaled;
 
     /** Work vectors of apply_lumped: K_i Bᵀ D x per owned subdomain. */
     mutable std::vector<dealii::Vector<double>> lumped_Ku;
@@ -245,36 +234,24 @@ namespace FetiContact
     std::vector<BlockOfB>                       B;
     std::vector<unsigned int>                   first_mode;
     mutable std::vector<dealii::Vector<double>> work;
-    /** The slots of every row in summation order (CSR: slot_start, slot_order). */
+    /** The entries of every row given in summation order (CSR: slot_start, slot_order). */
     std::vector<unsigned int> slot_start, slot_order;
     /**
-     * One number per nonzero of B: B_i u_i entry by entry. This rank's blocks write their slots
-     * (all of them, in every product); the slots of other ranks' subdomains in this rank's rows
-     * are received before the rows are added up; the rest stay zero and are never read.
+     * One number per nonzero of B: B_i u_i entry by entry, numbered by the rows' order in the
+     * dual vectors and within a row in its summation order. A rank owns the slots of its rows;
+     * its blocks write their slots (owned or ghost) in every product, and the owned slots of
+     * other ranks' subdomains (foreign_slots) are set to zero before the ghosts are added to
+     * them.
      */
-    mutable std::vector<double> slots;
+    mutable DistributedVector slots;
+    /** The owned slots that other ranks' subdomains write. */
+    std::vector<unsigned int> foreign_slots;
+    /** The slots of owned row j: [row_slot_start[j], row_slot_start[j + 1]) (local indices). */
+    std::vector<unsigned int> row_slot_start;
     /**
      * Whether the subdomains' local work runs on threads (SubdomainThreads): if every local
      * solver may solve on several threads at once.
      */
     bool threaded = false;
-    /**
-     * The slots exchanged with one other rank: their indices (increasing) and a buffer for
-     * their values.
-     */
-    struct SlotExchange
-    {
-      int                         rank;
-      std::vector<unsigned int>   slots;
-      mutable std::vector<double> buffer;
-    };
-    bool                             single_rank = true;
-    std::vector<SlotExchange>        send_slots, receive_slots;
-    mutable std::vector<MPI_Request> requests;
-    /**
-     * This rank's rows: their numbers (increasing) and their indices in the rows given to the
-     * constructor (the rows of the slots).
-     */
-    std::vector<unsigned int> own_rows, own_local;
   };
 } // namespace FetiContact

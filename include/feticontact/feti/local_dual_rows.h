@@ -2,7 +2,6 @@
 
 #include <deal.II/lac/vector.h>
 
-#include <feticontact/base/distributed_vector.h>
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/feti/dual_problem.h>
 
@@ -12,10 +11,8 @@
 namespace FetiContact
 {
   /**
-   * The rows of the dual problem that this rank holds in its dual vectors (DistributedVector):
-   * the rows it adds up in F x (DualProblem::distribution()), in increasing order, so the rows of
-   * a range of rows are a range of local entries; and the conversions to and from vectors of all
-   * rows.
+   * The rows of the dual problem that this rank holds in its dual vectors: the rows it adds up
+   * in F x (DualProblem::space()), and the conversions to and from vectors of all rows.
    *
    * For the solvers that act on rows by their meaning (the contact rows of a node, the blocks
    * λ_T and λ_c of the Gauss–Seidel split): they loop over the local entries and reduce counts,
@@ -45,10 +42,19 @@ namespace FetiContact
     dealii::Vector<double>
     gather(const DualVector &x) const;
 
-    /** The local index of @p row, or numbers::invalid_unsigned_int if this rank does not hold it.
+    /**
+     * The local index of row @p row, or numbers::invalid_unsigned_int if this rank does not own
+     * it.
      */
     unsigned int
     local_index(const unsigned int row) const;
+
+    /** The number of the row of owned entry @p i. */
+    unsigned int
+    row(const unsigned int i) const
+    {
+      return space.row(i);
+    }
 
     /** The number of entries this rank holds. */
     unsigned int
@@ -56,15 +62,19 @@ namespace FetiContact
 
     /**
      * The rows [first, first + n) as a dual vector of their own (the blocks of a Gauss–Seidel
-     * split): the local entries [begin, end) of a vector of all rows, and the layout of the
-     * block's vectors (their sums are taken in the same chunks).
+     * split): the owned entries of a vector of all rows in the block (in their order), and the
+     * partitioner of the block's vectors (their sums are taken in the same chunks; the key of a
+     * row is its number less @p first).
      */
     struct Block
     {
-      unsigned int                                     first = 0, n = 0;
-      unsigned int                                     begin = 0, end = 0;
-      std::shared_ptr<const DistributedVector::Layout> layout;
+      unsigned int                                   first = 0, n = 0;
+      std::vector<unsigned int>                      entries;
+      std::shared_ptr<const ReproduciblePartitioner> partitioner;
 
+      /** The index in the block's vectors of owned entry @p i of a vector of all rows. */
+      unsigned int
+      index_of(const unsigned int i) const;
       /** A zero vector of the block. */
       DualVector
       vector() const;
@@ -97,7 +107,6 @@ namespace FetiContact
 
   private:
     const DualProblem &dual;
-    /** The layout of the dual vectors. */
-    std::shared_ptr<const DistributedVector::Layout> layout;
+    const DualSpace   &space;
   };
 } // namespace FetiContact

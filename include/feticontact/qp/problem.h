@@ -58,7 +58,7 @@ namespace FetiContact::QP
     double
     linear_term_norm() const
     {
-      return linear_term_scale > 0 ? linear_term_scale : linear_term.l2_norm();
+      return linear_term_scale > 0 ? linear_term_scale : l2_norm(linear_term);
     }
 
     /** m, the number of unknowns (over all ranks). */

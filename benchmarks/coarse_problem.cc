@@ -29,7 +29,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <feticontact/feti/coarse_problem.h>
-#include <feticontact/feti/dual_distribution.h>
+#include <feticontact/feti/dual_space.h>
 
 #include <algorithm>
 #include <array>
@@ -227,8 +227,8 @@ namespace
     const auto                owner_of = [&](const unsigned int s) { return s * size / N; };
     const auto                mine     = [&](const unsigned int s) { return owner_of(s) == rank; };
     const auto                all      = columns(n, [](const unsigned int) { return true; });
-    std::vector<unsigned int> owned, relevant;
-    std::vector<int>          relevant_owner;
+    std::vector<unsigned int> owned, chunk, ghosts;
+    std::vector<int>          ghost_owner;
     std::vector<CoarseProblem::Entry> entries;
     unsigned int                      first_subdomain = N, end_subdomain = 0;
     for (unsigned int s = 0; s < N; ++s)
@@ -241,17 +241,23 @@ namespace
       {
         const Column &c = all[j];
         if (mine(c.a))
-          owned.push_back(j);
+          {
+            owned.push_back(j);
+            chunk.push_back(c.a);
+          }
+        else if (c.glue && mine(c.b))
+          {
+            ghosts.push_back(j);
+            ghost_owner.push_back(owner_of(c.a));
+          }
         if (mine(c.a) || (c.glue && mine(c.b)))
           {
-            relevant.push_back(j);
-            relevant_owner.push_back(owner_of(c.a));
             for (const auto &[mode, value] : column_entries(n, c))
               entries.push_back({mode, j, value});
           }
       }
     const unsigned int     total = all.size();
-    const DualDistribution distribution(comm, owned, relevant, relevant_owner, total);
+    const DualSpace        distribution(comm, owned, chunk, ghosts, ghost_owner, total);
     if (first_subdomain > end_subdomain)
       first_subdomain = end_subdomain;
     // The ranks' mode ranges must follow each other: a rank without subdomains starts where the

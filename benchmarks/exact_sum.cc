@@ -1,10 +1,11 @@
 // exact_sum [--sizes N1,N2,...] [--repeats R]: the time per term of a dot product of two vectors
-// of N random numbers, summed in order (a plain loop), exactly term by term (DistributedVector
-// without chunks: every product into ExactSum) and by chunks of 1000 entries (DistributedVector
-// with chunks, as the FETI dual vectors: plain sums within a chunk, the chunks' sums exactly),
+// of N random numbers, summed in order (a plain loop), exactly term by term (ReproducibleReductions
+// on a partitioner without chunks: every product into ExactSum) and by chunks of 1000 entries (a
+// ReproduciblePartitioner with chunks, as the FETI dual vectors: plain sums within a chunk, the
+// chunks' sums exactly),
 // the median of R repetitions (doc/performance.md, "Reproducible sums").
 
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/reproducible_partitioner.h>
 
 #include <algorithm>
 #include <chrono>
@@ -64,13 +65,12 @@ main(int argc, char **argv)
       std::vector<unsigned int> index(n);
       for (unsigned int i = 0; i < n; ++i)
         index[i] = i;
-      const auto layout =
-        std::make_shared<const DistributedVector::Layout>(MPI_COMM_SELF, index, n);
+      const auto layout = std::make_shared<const dealii::Utilities::MPI::Partitioner>(n);
       std::vector<unsigned int> chunk_of_entry(n);
       for (unsigned int i = 0; i < n; ++i)
         chunk_of_entry[i] = i / 1000;
-      const auto chunked_layout =
-        std::make_shared<const DistributedVector::Layout>(MPI_COMM_SELF, index, n, chunk_of_entry);
+      const auto chunked_layout = std::make_shared<const ReproduciblePartitioner>(
+        MPI_COMM_SELF, 0, n, dealii::IndexSet(n), index, chunk_of_entry);
       DistributedVector                a(layout), b(layout), ac(chunked_layout), bc(chunked_layout);
       std::mt19937                     engine(1);
       std::normal_distribution<double> normal;
@@ -91,8 +91,9 @@ main(int argc, char **argv)
         },
         n,
         repeats);
-      const double exact   = median_ns_per_term([&]() { sink = a * b; }, n, repeats);
-      const double chunked = median_ns_per_term([&]() { sink = ac * bc; }, n, repeats);
+      using ReproducibleReductions::dot;
+      const double exact   = median_ns_per_term([&]() { sink = dot(a, b); }, n, repeats);
+      const double chunked = median_ns_per_term([&]() { sink = dot(ac, bc); }, n, repeats);
       std::cout << n << ',' << std::setprecision(3) << plain << ',' << exact << ',' << chunked
                 << std::endl;
     }

@@ -13,7 +13,7 @@
 
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/feti/coarse_problem.h>
-#include <feticontact/feti/dual_distribution.h>
+#include <feticontact/feti/dual_space.h>
 
 #include "test_tools.h"
 
@@ -33,24 +33,22 @@ namespace
    * The columns of G: rank p owns the columns c with c % n_ranks == p, and rank 0 all modes, so
    * that its relevant columns are all columns.
    */
-  DualDistribution
+  DualSpace
   columns_of_G(const MPI_Comm comm)
   {
     const unsigned int        rank    = Utilities::MPI::this_mpi_process(comm);
     const unsigned int        n_ranks = Utilities::MPI::n_mpi_processes(comm);
-    std::vector<unsigned int> owned, relevant;
-    std::vector<int>          relevant_owner;
+    std::vector<unsigned int> owned, ghosts;
+    std::vector<int>          ghost_owner;
     for (unsigned int c = 0; c < n_columns; ++c)
-      {
-        if (c % n_ranks == rank)
-          owned.push_back(c);
-        if (rank == 0 || c % n_ranks == rank)
-          {
-            relevant.push_back(c);
-            relevant_owner.push_back(c % n_ranks);
-          }
-      }
-    return DualDistribution(comm, owned, relevant, relevant_owner, n_columns);
+      if (c % n_ranks == rank)
+        owned.push_back(c);
+      else if (rank == 0)
+        {
+          ghosts.push_back(c);
+          ghost_owner.push_back(c % n_ranks);
+        }
+    return DualSpace(comm, owned, owned, ghosts, ghost_owner, n_columns);
   }
 
   /**
@@ -59,13 +57,15 @@ namespace
    */
   void
   initialize(CoarseProblem          &coarse,
-             const DualDistribution &columns,
+             const DualSpace        &columns,
              const unsigned int      unrestrained = n_modes)
   {
-    const bool root = Utilities::MPI::this_mpi_process(columns.layout()->comm) == 0;
+    const bool root =
+      Utilities::MPI::this_mpi_process(columns.partitioner()->get_mpi_communicator()) == 0;
     std::vector<CoarseProblem::Entry> entries;
-    for (const unsigned int c : columns.relevant_rows())
-      for (unsigned int m = 0; m < n_modes; ++m)
+    for (unsigned int c = 0; c < n_columns; ++c)
+      if (columns.local_index(c) != numbers::invalid_unsigned_int)
+        for (unsigned int m = 0; m < n_modes; ++m)
         if ((m * 7 + c * 3) % 5 < 2 && m != unrestrained)
           entries.push_back({m, c, 1.0 + ((m * 131 + c * 71 + m * c * 17) % 97) / 97.0});
     coarse.initialize(columns, entries, n_modes, n_columns, root ? 0 : n_modes, n_modes);
@@ -73,7 +73,7 @@ namespace
 
   /** The numbers a coarse problem gives for fixed right-hand sides, in one vector. */
   std::vector<double>
-  results(const CoarseProblem &coarse, const DualDistribution &columns)
+  results(const CoarseProblem &coarse, const DualSpace &columns)
   {
     Vector<double> b(n_modes);
     for (unsigned int i = 0; i < n_modes; ++i)
@@ -89,7 +89,7 @@ namespace
         coarse.apply_orthonormalizing_factor(half, transpose);
         append(half);
       }
-    DistributedVector lambda = columns.vector();
+    DualVector lambda = columns.vector();
     coarse.least_norm_solution(b, lambda);
     append(columns.gather(lambda));
     // Tier 0: the even columns, which restrain every mode here: a factor of their G_t G_tᵀ.
@@ -101,10 +101,10 @@ namespace
 
   /** ‖GGᵀ x − b‖ / ‖b‖ for the x of solve_GGt(). */
   double
-  residual(const CoarseProblem &coarse, const DualDistribution &columns)
+  residual(const CoarseProblem &coarse, const DualSpace &columns)
   {
     Vector<double>    b(n_modes), x, r;
-    DistributedVector Gtx = columns.vector();
+    DualVector Gtx = columns.vector();
     for (unsigned int i = 0; i < n_modes; ++i)
       b[i] = 1.0 + (i % 7);
     x = b;
@@ -124,7 +124,7 @@ main(int argc, char **argv)
   const unsigned int               n_ranks = Utilities::MPI::n_mpi_processes(comm);
   const std::string                on      = " (" + std::to_string(n_ranks) + " ranks)";
 
-  const DualDistribution columns = columns_of_G(comm);
+  const DualSpace columns = columns_of_G(comm);
   CoarseProblem          per_node(CoarseProblem::FactorStorage::per_node);
   CoarseProblem          per_rank(CoarseProblem::FactorStorage::per_rank);
   initialize(per_node, columns);

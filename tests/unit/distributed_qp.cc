@@ -1,14 +1,16 @@
 // The QP layer on distributed vectors: ExactSum (the sum of a set of doubles, rounded once, in any
-// order and any split among ranks), DistributedVector, and MPGP and SMALBE instantiated for it.
-// Run on P ranks, the program solves the same problems on the first 1, 2, …, P ranks (with the
-// entries spread over them by a scrambled assignment, in a scrambled local order) and requires
-// the same solution to the last bit and the same counts on every number of ranks, and the
-// solution of the dealii::Vector instantiation within the solvers' tolerance.
+// order and any split among ranks), the reproducible reductions of DistributedVector on a
+// ReproduciblePartitioner, and MPGP and SMALBE on them. Run on P ranks, the program solves the
+// same problems on the first 1, 2, …, P ranks (the problem's unknowns spread over them by a
+// scrambled assignment; a rank's entries keyed by their unknowns) and requires the same solution
+// to the last bit and the same counts on every number of ranks, and the solution on one process
+// with a plain deal.II partitioner (every term of a sum added exactly) within the solvers'
+// tolerance.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/full_matrix.h>
 
-#include <feticontact/base/distributed_vector.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/exact_sum.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
@@ -187,7 +189,7 @@ namespace
   {
     Vector<double> x, mu;
     unsigned int   iterations = 0, multiplications = 0, inner_iterations = 0;
-    /** The global reductions of the vectors (DistributedVector::Layout::n_reductions). */
+    /** The global reductions of the vectors (ReproduciblePartitioner::n_reductions). */
     std::uint64_t reductions = 0;
     bool          converged  = false;
   };
@@ -212,20 +214,30 @@ namespace
     return set;
   }
 
-  /** The problem with vectors of type V whose entries have the global indices @p global_index. */
-  template <typename V>
+  /** The number of global reductions made so far by the vectors of @p x's partitioner. */
+  std::uint64_t
+  n_reductions(const DistributedVector &x)
+  {
+    const ReproduciblePartitioner *p = ReproducibleReductions::partitioner_of(x);
+    return p != nullptr ? p->n_reductions : 0;
+  }
+
+  /**
+   * The problem on vectors like @p zero, whose owned entries are the unknowns @p global_index of
+   * the problem.
+   */
+  using V = DistributedVector;
   Solution
   solve(const GlobalProblem             &p,
         const std::vector<unsigned int> &global_index,
-        const std::function<V()>        &zero,
+        const V                         &zero,
         const bool                       with_equality)
   {
     const auto full_of = [&](const V &x) {
       Vector<double> full(p.n);
       for (unsigned int i = 0; i < x.locally_owned_size(); ++i)
-        full[global_index[i]] = x[i];
-      if constexpr (std::is_same_v<V, DistributedVector>)
-        Utilities::MPI::sum(full, x.get_mpi_communicator(), full);
+        full[global_index[i]] = x.local_element(i);
+      Utilities::MPI::sum(full, x.get_mpi_communicator(), full);
       return full;
     };
     QP::Problem<V> problem;
@@ -237,12 +249,12 @@ namespace
           double s = 0;
           for (unsigned int j = 0; j < p.n; ++j)
             s += p.A(global_index[i], j) * full[j];
-          y[i] = s;
+          y.local_element(i) = s;
         }
     };
-    problem.linear_term = zero();
+    problem.linear_term = zero;
     for (unsigned int i = 0; i < global_index.size(); ++i)
-      problem.linear_term[i] = p.b[global_index[i]];
+      problem.linear_term.local_element(i) = p.b[global_index[i]];
     const QP::SeparableSet set = local_set(p, global_index);
     problem.set                = &set;
     if (with_equality)
@@ -259,15 +271,14 @@ namespace
               double s = 0;
               for (unsigned int r = 0; r < p.G.m(); ++r)
                 s += p.G(r, global_index[i]) * mu[r];
-              y[i] = s;
+              y.local_element(i) = s;
             }
         };
         problem.e = p.e;
       }
     Solution solution;
-    V        x = zero();
-    if constexpr (std::is_same_v<V, DistributedVector>)
-      solution.reductions = x.get_layout()->n_reductions;
+    V        x = zero;
+    solution.reductions = n_reductions(x);
     if (with_equality)
       {
         typename QP::SMALBE<V>::AdditionalData data;
@@ -282,14 +293,13 @@ namespace
     else
       {
         typename QP::MPGP<V>::AdditionalData data;
-        data.tolerance      = 1e-10 * problem.linear_term.l2_norm();
+        data.tolerance      = 1e-10 * QP::l2_norm(problem.linear_term);
         const auto report   = QP::MPGP<V>(data).solve(problem.hessian, problem.linear_term, set, x);
         solution.iterations = report.iterations;
         solution.multiplications = report.hessian_multiplications;
         solution.converged       = report.converged;
       }
-    if constexpr (std::is_same_v<V, DistributedVector>)
-      solution.reductions = x.get_layout()->n_reductions - solution.reductions;
+    solution.reductions = n_reductions(x) - solution.reductions;
     solution.x = full_of(x);
     return solution;
   }
@@ -305,8 +315,11 @@ namespace
 
     std::vector<unsigned int> all(p.n);
     std::iota(all.begin(), all.end(), 0);
-    const Solution serial = solve<Vector<double>>(
-      p, all, [&]() { return Vector<double>(p.n); }, with_equality);
+    const Solution serial =
+      solve(p,
+            all,
+            V(std::make_shared<const Utilities::MPI::Partitioner>(p.n)),
+            with_equality);
 
     std::vector<Solution> on(P + 1);
     for (unsigned int n_ranks = 1; n_ranks <= P; ++n_ranks)
@@ -321,10 +334,13 @@ namespace
         if (chunks)
           for (const unsigned int i : owned)
             chunk_of_entry.push_back(i / 2);
-        const auto layout =
-          std::make_shared<const DistributedVector::Layout>(comm, owned, p.n, chunk_of_entry);
-        on[n_ranks] = solve<DistributedVector>(
-          p, layout->global_index, [&]() { return DistributedVector(layout); }, with_equality);
+        unsigned long long n_owned = owned.size(), first = 0;
+        MPI_Exscan(&n_owned, &first, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+        if (rank == 0)
+          first = 0;
+        const auto partitioner = std::make_shared<const ReproduciblePartitioner>(
+          comm, first, p.n, IndexSet(p.n), owned, chunk_of_entry);
+        on[n_ranks] = solve(p, owned, V(partitioner), with_equality);
         MPI_Comm_free(&comm);
       }
     if (rank != 0)
@@ -333,7 +349,7 @@ namespace
     difference -= on[1].x;
     check(on[1].converged && serial.converged &&
             difference.linfty_norm() <= 1e-8 * serial.x.linfty_norm(),
-          name + " on distributed vectors, 1 rank, against dealii::Vector: difference " +
+          name + " on 1 rank against a plain partitioner on one process: difference " +
             sci(difference.linfty_norm() / serial.x.linfty_norm()) + " (" +
             std::to_string(on[1].multiplications) + " and " +
             std::to_string(serial.multiplications) + " multiplications)");

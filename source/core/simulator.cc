@@ -145,9 +145,6 @@ namespace FetiContact
   {
     // The bodies' cells are distributed: rank 0 creates and partitions every mesh, and every
     // rank keeps the cells of its own subdomains.
-    require(n_ranks == 1 || !parameters.output.write_fclib,
-            "Output/Write FCLIB problem: the export assembles the undecomposed bodies on rank 0, "
-            "and on several ranks no rank holds their whole meshes: run the export on one rank.");
     first_subdomain.clear();
     unsigned int n_subdomains = 0;
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)

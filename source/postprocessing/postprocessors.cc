@@ -1,6 +1,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <feticontact/base/mpi_tools.h>
+#include <feticontact/contact/contact_nodes.h>
 #include <feticontact/contact/rigid_obstacle.h>
 #include <feticontact/postprocessing/contact_output.h>
 #include <feticontact/postprocessing/fclib_export.h>
@@ -11,6 +12,8 @@
 #include <feticontact/scene/decomposition.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <iomanip>
 #include <numeric>
@@ -437,23 +440,105 @@ namespace FetiContact::Postprocessing
     return "FCLIB export";
   }
 
+  namespace
+  {
+    /** A contact node's key (zone, body, vertex) and its result, as numbers to gather. */
+    constexpr unsigned int values_per_node = 10;
+
+    std::vector<double>
+    keyed_results(const std::vector<ContactNode>       &nodes,
+                  const std::vector<ContactNodeResult> &results)
+    {
+      std::vector<double> values;
+      for (unsigned int k = 0; k < nodes.size(); ++k)
+        {
+          const ContactNodeResult &r = results[k];
+          values.insert(values.end(),
+                        {double(nodes[k].zone),
+                         double(nodes[k].body),
+                         double(nodes[k].vertex),
+                         r.lambda_N,
+                         r.lambda_T[0],
+                         r.lambda_T[1],
+                         r.gap,
+                         r.slip[0],
+                         r.slip[1],
+                         double(static_cast<int>(r.status))});
+        }
+      return values;
+    }
+
+    /**
+     * The whole scene on rank 0 for the FCLIB export: the bodies' whole meshes (made anew when
+     * their cells are distributed), every contact node (searched anew on them: the nodes of the
+     * ranks' home vertices together) and the result of each, gathered from the rank that holds
+     * it. On one rank the run's own.
+     */
+    struct WholeContact
+    {
+      std::vector<std::unique_ptr<Body>> made_bodies;
+      std::vector<ContactNode>           made_nodes;
+      std::vector<ContactNodeResult>     made_results;
+      const std::vector<std::unique_ptr<Body>> *bodies  = nullptr;
+      const std::vector<ContactNode>           *nodes   = nullptr;
+      const std::vector<ContactNodeResult>     *results = nullptr;
+    };
+
+    /** On rank 0, from the keyed results of every rank (@p gathered). */
+    WholeContact
+    whole_contact(const Input &input, const std::vector<std::vector<double>> &gathered)
+    {
+      WholeContact whole{{}, {}, {}, &input.bodies, &input.contact_nodes, &input.contact_results};
+      if (Utilities::MPI::n_mpi_processes(input.comm) == 1)
+        return whole;
+      for (const auto &body : input.bodies)
+        {
+          whole.made_bodies.push_back(std::make_unique<Body>(body->parameters, body->index));
+          whole.made_bodies.back()->setup();
+        }
+      whole.made_nodes = find_contact_nodes(whole.made_bodies, input.parameters.contact);
+      std::map<std::array<unsigned int, 3>, ContactNodeResult> result_of;
+      for (const auto &values : gathered)
+        for (std::size_t j = 0; j + values_per_node <= values.size(); j += values_per_node)
+          {
+            const double *v = values.data() + j;
+            result_of[{{unsigned(v[0]), unsigned(v[1]), unsigned(v[2])}}] =
+              ContactNodeResult{v[3], {v[4], v[5]}, v[6], {v[7], v[8]}, ContactStatus(int(v[9]))};
+          }
+      AssertThrow(result_of.size() == whole.made_nodes.size(),
+                  ExcMessage("FCLIB export: the ranks hold " + std::to_string(result_of.size()) +
+                             " contact nodes, the whole meshes have " +
+                             std::to_string(whole.made_nodes.size()) + "."));
+      for (const ContactNode &node : whole.made_nodes)
+        whole.made_results.push_back(result_of.at({{node.zone, node.body, node.vertex}}));
+      whole.bodies  = &whole.made_bodies;
+      whole.nodes   = &whole.made_nodes;
+      whole.results = &whole.made_results;
+      return whole;
+    }
+  } // namespace
+
   void
   FclibExport::execute(const Input &input)
   {
-    // The undecomposed bodies are assembled on rank 0, which gathers every vertex's displacement.
+    // The undecomposed bodies are assembled on rank 0, which gathers every vertex's displacement
+    // and every contact node's result.
     const auto vertex_u =
       gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
+    const auto gathered = Utilities::MPI::gather(
+      input.comm, keyed_results(input.contact_nodes, input.contact_results), 0);
     input.on_all_ranks([&]() {
       if (!input.root())
         return;
+      const WholeContact whole = whole_contact(input, gathered);
       std::string title = "feticontact:";
       for (const auto &body : input.bodies)
         title += (body->index > 0 ? ", " : " ") + body->parameters.name;
       const std::string file =
         input.result_files.reserve(input.output_directory + "/fclib_problem.hdf5");
-      const FclibProblem problem = assemble_fclib_problem(input.bodies,
-                                                          input.contact_nodes,
-                                                          input.contact_results,
+      const FclibProblem problem = assemble_fclib_problem(*whole.bodies,
+                                                          *whole.nodes,
+                                                          *whole.results,
                                                           vertex_u,
                                                           input.mapping,
                                                           input.fe,

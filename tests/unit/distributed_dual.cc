@@ -1,4 +1,4 @@
-// The FETI operators on distributed dual vectors (DualDistribution): on P ranks, each owning a
+// The FETI operators on distributed dual vectors (DualSpace): on P ranks, each owning a
 // contiguous range of the 12 subdomains of the brick (TFETI, 3 × 2 × 2 blocks), F x, the lumped
 // preconditioner, G x, Gᵀy, the projector P, the least-norm and the tiered particular solution of
 // Gλ = e, the primal recovery and B u − c must be the same bits as on one rank holding everything

@@ -171,14 +171,15 @@ namespace
   }
 
   /**
-   * The rank of a block of two consecutive global indices on @p n_ranks ranks (scrambled, so
-   * that no rank holds a contiguous range), and the local order: decreasing global index.
+   * The unknowns a rank holds: blocks of two consecutive ones, spread over @p n_ranks ranks
+   * scrambled (no rank holds a contiguous range of unknowns), in increasing order (the keys of a
+   * ReproduciblePartitioner's chunk increase).
    */
   std::vector<unsigned int>
   owned_indices(const unsigned int n, const unsigned int n_ranks, const unsigned int rank)
   {
     std::vector<unsigned int> owned;
-    for (unsigned int i = n; i-- > 0;)
+    for (unsigned int i = 0; i < n; ++i)
       if (((i / 2) * 5 + 3) % 7 % n_ranks == rank)
         owned.push_back(i);
     return owned;

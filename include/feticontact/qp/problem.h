@@ -21,8 +21,8 @@ namespace FetiContact::QP
    * (Homogenization, ProjectorEnforcement) make a new Problem from one and own the step back to
    * the solution of the original.
    *
-   * λ and h are of @p VectorType (dealii::Vector<double>, or DistributedVector with the entries
-   * spread over the ranks); the constraint side, e and the multipliers of Gλ = e, is small (one
+   * λ and h are of @p VectorType (DistributedVector, deal.II's distributed vector, with the
+   * entries spread over the ranks); the constraint side, e and the multipliers of Gλ = e, is small (one
    * number per rigid body mode) and held whole by every rank as a dealii::Vector<double>: G maps
    * a VectorType to it, Gᵀ back.
    */

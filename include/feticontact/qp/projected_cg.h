@@ -56,7 +56,7 @@ namespace FetiContact::QP
    * tolerance): the solver recomputes P(Ax − b) from x once and stops, converged if that meets
    * the tolerance, else with SolverReport::stagnated, instead of iterating on at the floor until
    * max_iterations. Knows nothing of meshes: A and P are functions; instantiated for
-   * dealii::Vector<double> and DistributedVector.
+   * DistributedVector.
    *
    * An object with its AdditionalData (declared in the caller's prm subsection) whose solve()
    * returns its statistics (a SolverReport).

@@ -27,9 +27,9 @@ namespace FetiContact::QP
    * = 0) are always active, and so is an interval narrower than twice the interval tolerance. φ and
    * β have disjoint supports (inactive blocks and active blocks).
    *
-   * The operations are templates on the vector type, instantiated for dealii::Vector<double> and
-   * DistributedVector. With a distributed vector every rank holds the set of its local entries:
-   * the component indices are local (the two of a disc on one rank), size() is the local size,
+   * The operations are templates on the vector type, instantiated for DistributedVector (deal.II's
+   * distributed vector). Every rank holds the set of its owned entries: the component indices
+   * are local (the two of a disc on one rank), size() is the local size,
    * and the scalar results (max_feasible_step(), arc_curvature(), support(), …) are reduced over
    * the ranks (Reductions), so every rank gets the same number. Those are collective.
    */

@@ -9,10 +9,13 @@
 // gradient; all constraints active; none active (= the unconstrained solution); zero-radius
 // discs; bounds only (MPRGP); data scaled by 2^∓37 (bit for bit the same x, same counts) and by
 // 1e-11 and 1e11 (same x); a start outside Ω; preconditioning in face (every case, and a badly
-// scaled problem where it must save multiplications).
+// scaled problem where it must save multiplications). The QP vectors are DistributedVector on one
+// process (global index = local index).
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 
@@ -68,7 +71,7 @@ namespace
   {
     unsigned int       n = 0;
     FullMatrix<double> A;
-    Vector<double>     b, x_star, g_star;
+    DistributedVector  b, x_star, g_star;
     std::vector<Block> blocks;
     QP::SeparableSet   set{0};
     double             A_norm = 0;
@@ -89,9 +92,9 @@ namespace
     std::shuffle(permutation.begin(), permutation.end(), random_engine);
     problem.x_star.reinit(n);
     problem.g_star.reinit(n);
-    problem.set          = QP::SeparableSet(n);
-    unsigned int    next = 0;
-    Vector<double> &x = problem.x_star, &g = problem.g_star;
+    problem.set             = QP::SeparableSet(n);
+    unsigned int       next = 0;
+    DistributedVector &x = problem.x_star, &g = problem.g_star;
     for (const auto &[role, count] : roles)
       for (unsigned int c = 0; c < count; ++c)
         {
@@ -167,14 +170,14 @@ namespace
     problem.A      = random_spd(n, condition);
     problem.A_norm = condition;
     problem.b.reinit(n);
-    problem.A.vmult(problem.b, x);
+    multiply(problem.A, x, problem.b);
     problem.b -= g;
     return problem;
   }
 
   /** The projection onto one block, written independently of SeparableSet. */
   void
-  project_block(const Block &block, Vector<double> &x)
+  project_block(const Block &block, DistributedVector &x)
   {
     if (is_disc(block.role))
       {
@@ -188,7 +191,7 @@ namespace
   }
 
   double
-  violation(const Problem &problem, const Vector<double> &x)
+  violation(const Problem &problem, const DistributedVector &x)
   {
     double v = 0;
     for (const Block &block : problem.blocks)
@@ -201,10 +204,10 @@ namespace
 
   /** ‖x − P_Ω(x − t g)‖/t with t = 1/‖A‖: zero exactly at a KKT point. */
   double
-  kkt_residual(const Problem &problem, const Vector<double> &x, const Vector<double> &g)
+  kkt_residual(const Problem &problem, const DistributedVector &x, const DistributedVector &g)
   {
-    const double   t = 1 / problem.A_norm;
-    Vector<double> y(x);
+    const double      t = 1 / problem.A_norm;
+    DistributedVector y(x);
     y.add(-t, g);
     for (const Block &block : problem.blocks)
       project_block(block, y);
@@ -214,8 +217,8 @@ namespace
 
   struct Result
   {
-    Vector<double>                               x;
-    QP::MPGP<dealii::Vector<double>>::Statistics report;
+    DistributedVector                       x;
+    QP::MPGP<DistributedVector>::Statistics report;
   };
 
   /** The variants of MPGP on discs (MPGP::AdditionalData::disc_rotations,
@@ -262,36 +265,35 @@ namespace
 
   /** Solves the problem scaled by s (A and b times s) from x0 and checks the solution. */
   Result
-  solve_and_check(const std::string    &name,
-                  const Problem        &problem,
-                  const Vector<double> &x0,
-                  const double          s         = 1,
-                  const Variant         variant   = Variant::rotations,
-                  const double          tolerance = 1e-12)
+  solve_and_check(const std::string       &name,
+                  const Problem           &problem,
+                  const DistributedVector &x0,
+                  const double             s         = 1,
+                  const Variant            variant   = Variant::rotations,
+                  const double             tolerance = 1e-12)
   {
     std::cout << name << variant_name(variant) << " (n = " << problem.n << ", scale " << s << ")"
               << std::endl;
     unsigned int count = 0;
-    const auto   A     = [&](const Vector<double> &v, Vector<double> &w) {
-      problem.A.vmult(w, v);
+    const auto   A     = [&](const DistributedVector &v, DistributedVector &w) {
+      multiply(problem.A, v, w);
       w *= s;
       ++count;
     };
-    Vector<double> b(problem.b);
+    DistributedVector b(problem.b);
     b *= s;
-    QP::MPGP<dealii::Vector<double>>::AdditionalData options;
-    options.tolerance      = tolerance * b.l2_norm();
+    QP::MPGP<DistributedVector>::AdditionalData options;
+    options.tolerance      = tolerance * QP::l2_norm(b);
     options.disc_rotations = variant != Variant::fixed_discs && variant != Variant::fixed_step;
     if (variant == Variant::preconditioned)
-      options.preconditioner = [&](const Vector<double> &v, Vector<double> &w) {
-        w.reinit(v.size());
-        for (unsigned int i = 0; i < v.size(); ++i)
-          w[i] = v[i] / (s * problem.A(i, i));
+      options.preconditioner = [&](const DistributedVector &v, DistributedVector &w) {
+        w.reinit(v, true);
+        for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
+          w.local_element(i) = v.local_element(i) / (s * problem.A(i, i));
       };
-    options.expansion =
-      variant == Variant::projected_cg ?
-        QP::MPGP<dealii::Vector<double>>::AdditionalData::Expansion::projected_cg :
-        QP::MPGP<dealii::Vector<double>>::AdditionalData::Expansion::fixed_step;
+    options.expansion                 = variant == Variant::projected_cg ?
+                                          QP::MPGP<DistributedVector>::AdditionalData::Expansion::projected_cg :
+                                          QP::MPGP<DistributedVector>::AdditionalData::Expansion::fixed_step;
     options.proportioning_line_search = variant != Variant::fixed_step;
     if (variant == Variant::recursive_arcs)
       options.recursive_gradient_tolerance = 0.1;
@@ -304,7 +306,7 @@ namespace
       }
     Result result;
     result.x      = x0;
-    result.report = QP::MPGP<dealii::Vector<double>>(options).solve(A, b, problem.set, result.x);
+    result.report = QP::MPGP<DistributedVector>(options).solve(A, b, problem.set, result.x);
     const auto &r = result.report;
     check(r.converged,
           "converged: " + std::to_string(r.iterations) + " steps (" + std::to_string(r.cg_steps) +
@@ -315,7 +317,7 @@ namespace
             " multiplications by A, ‖g^P‖/‖b‖ = " + sci(r.relative_residual));
     check(count == r.hessian_multiplications,
           "multiplications counted exactly (" + std::to_string(count) + ")");
-    Vector<double> error(result.x);
+    DistributedVector error(result.x);
     error -= problem.x_star;
     check(error.l2_norm() <= 1e4 * tolerance * problem.x_star.l2_norm(),
           "‖x − x*‖/‖x*‖ = " + sci(error.l2_norm() / problem.x_star.l2_norm()));
@@ -323,8 +325,8 @@ namespace
     check(v <= 1e-14 * std::max(1., result.x.linfty_norm()) &&
             problem.set.is_feasible(result.x, 1e-14),
           "feasible (largest violation " + sci(v) + ")");
-    Vector<double> g(problem.n);
-    problem.A.vmult(g, result.x);
+    DistributedVector g(problem.n);
+    multiply(problem.A, result.x, g);
     g -= problem.b; // unscaled gradient
     const double kkt = kkt_residual(problem, result.x, g);
     check(kkt <= 1e2 * tolerance * problem.b.l2_norm(),
@@ -333,13 +335,6 @@ namespace
     check(g.l2_norm() <= 1e5 * tolerance * problem.b.l2_norm(),
           "multipliers: ‖g − g*‖/‖b‖ = " + sci(g.l2_norm() / problem.b.l2_norm()));
     return result;
-  }
-
-  /** A vector from a list of numbers. */
-  Vector<double>
-  vec(const std::vector<double> &v)
-  {
-    return Vector<double>(v.begin(), v.end());
   }
 
   void
@@ -353,7 +348,7 @@ namespace
     const unsigned int k1 = set.add_disc(4, 5, {{1, 2}}, 0);
     check(k0 == 0 && k1 == 1 && set.n_discs() == 2, "disc numbers");
 
-    Vector<double> x = vec({2., -3., 3., 4., 5., 5., 9.});
+    DistributedVector x = vec({2., -3., 3., 4., 5., 5., 9.});
     set.project(x);
     check(x[0] == 1 && x[1] == 1 && std::abs(x[2] - 0.6) < 1e-15 && std::abs(x[3] - 0.8) < 1e-15 &&
             x[4] == 1 && x[5] == 2 && x[6] == 9,
@@ -369,28 +364,29 @@ namespace
       changed.set_interval(1, -1, 2);
       changed.set_interval(2, 0, 1);
       changed.set_interval(2, -inf, inf);
-      Vector<double> y = vec({-5., 3., -7., -1.}), g = vec({1., 1., 1., -1.}), phi, beta;
+      DistributedVector y = vec({-5., 3., -7., -1.}), g = vec({1., 1., 1., -1.}), phi, beta;
       changed.project(y);
-      check(y == vec({-5., 2., -7., 0.}), "intervals set out of order, twice, and freed again");
+      check(same_entries(y, vec({-5., 2., -7., 0.})),
+            "intervals set out of order, twice, and freed again");
       changed.free_gradient(y, g, phi);
       changed.chopped_gradient(y, g, beta);
-      check(phi == vec({1., 0., 1., 0.}) && beta == vec({0., 1., 0., -1.}),
+      check(same_entries(phi, vec({1., 0., 1., 0.})) && same_entries(beta, vec({0., 1., 0., -1.})),
             "gradient splitting over the changed intervals");
       check(changed.largest_violation(vec({-5., 2.5, -7., -0.5})) == 0.5, "largest violation");
     }
 
     // x = (0.25, 1 + 1e-15 (active), (1, 0) on the circle, fixed disc, free)
-    x                = vec({0.25, 1 + 1e-15, 1, 0, 1, 2, 0});
-    Vector<double> g = vec({1, -1, -2, 3, 1, 1, 5}), phi, beta, gP;
+    x                   = vec({0.25, 1 + 1e-15, 1, 0, 1, 2, 0});
+    DistributedVector g = vec({1, -1, -2, 3, 1, 1, 5}), phi, beta, gP;
     set.free_gradient(x, g, phi);
     set.chopped_gradient(x, g, beta);
     set.projected_gradient(x, g, gP);
-    check(phi == vec({1, 0, 0, 0, 0, 0, 5}), "free gradient");
-    check(beta == vec({0, -1, 0, 3, 0, 0, 0}),
+    check(same_entries(phi, vec({1, 0, 0, 0, 0, 0, 5})), "free gradient");
+    check(same_entries(beta, vec({0, -1, 0, 3, 0, 0, 0})),
           "chopped gradient: lower end min(g, 0), disc g − min(g·ν, 0)ν, fixed disc 0");
     g = vec({1, 2, 2, 3, 1, 1, 5});
     set.chopped_gradient(x, g, beta);
-    check(beta == vec({0, 0, 2, 3, 0, 0, 0}), "chopped gradient pointing inwards = g");
+    check(same_entries(beta, vec({0, 0, 2, 3, 0, 0, 0})), "chopped gradient pointing inwards = g");
     check(gP.l2_norm() == std::sqrt(1 + 25 + 1 + 9.), "projected gradient = φ + β");
 
     // Rotations: the tangential gradient of an active disc moves into φ; β keeps the inward
@@ -399,21 +395,24 @@ namespace
     g          = vec({1, -1, -2, 3, 1, 1, 5});
     set.free_gradient(x, g, phi, Mode::rotations);
     set.chopped_gradient(x, g, beta, Mode::rotations);
-    check(phi == vec({1, 0, 0, 3, 0, 0, 5}) && beta == vec({0, -1, 0, 0, 0, 0, 0}),
+    check(same_entries(phi, vec({1, 0, 0, 3, 0, 0, 5})) &&
+            same_entries(beta, vec({0, -1, 0, 0, 0, 0, 0})),
           "rotations, disc pressed outwards (σ = 2): tangential part in φ, nothing in β");
     g = vec({1, 2, 2, 3, 1, 1, 5});
     set.free_gradient(x, g, phi, Mode::rotations);
     set.chopped_gradient(x, g, beta, Mode::rotations);
-    check(phi == vec({1, 0, 0, 3, 0, 0, 5}) && beta == vec({0, 0, 2, 0, 0, 0, 0}),
+    check(same_entries(phi, vec({1, 0, 0, 3, 0, 0, 5})) &&
+            same_entries(beta, vec({0, 0, 2, 0, 0, 0, 0})),
           "rotations, gradient pointing inwards: tangential part in φ, normal part in β");
     {
-      g                  = vec({1, -1, -2, 3, 1, 1, 5});
-      Vector<double> d   = vec({0, 0, 0.5, 2, 0, 0, 0}), Hd(7);
-      Vector<double> tan = d;
+      g                     = vec({1, -1, -2, 3, 1, 1, 5});
+      DistributedVector d   = vec({0, 0, 0.5, 2, 0, 0, 0}), Hd(7);
+      DistributedVector tan = d;
       set.remove_normal_parts(x, tan);
-      check(tan == vec({0, 0, 0, 2, 0, 0, 0}), "remove_normal_parts: tangent of the circle");
+      check(same_entries(tan, vec({0, 0, 0, 2, 0, 0, 0})),
+            "remove_normal_parts: tangent of the circle");
       set.add_arc_curvature(x, g, d, Hd);
-      check(Hd == vec({0, 0, 0, 4, 0, 0, 0}) && set.arc_curvature(x, g, d) == 8 &&
+      check(same_entries(Hd, vec({0, 0, 0, 4, 0, 0, 0})) && set.arc_curvature(x, g, d) == 8 &&
               d * Hd == set.arc_curvature(x, g, d),
             "arc curvature σ/r ‖t‖² = 2 · 4 and its operator");
       check(set.moves_active_discs(x, d) && !set.moves_active_discs(x, vec({1, 0, 0, 0, 0, 0, 1})),
@@ -424,17 +423,17 @@ namespace
             "rotations: an active disc does not limit a step along its circle");
     }
 
-    Vector<double>   y = vec({0., 1e-300, 0, 0, 1, 2, 0});
-    QP::SeparableSet lower(7);
+    DistributedVector y = vec({0., 1e-300, 0, 0, 1, 2, 0});
+    QP::SeparableSet  lower(7);
     lower.set_lower_bound(1, 0);
     lower.free_gradient(y, g, phi);
     check(phi[1] == g[1], "x_i = 1e-300 above the bound 0 is not active");
-    Vector<double> z = vec({0, 0, 1 - 1e-13, 0, 1, 2, 0});
+    DistributedVector z = vec({0, 0, 1 - 1e-13, 0, 1, 2, 0});
     set.free_gradient(z, g, phi);
     check(phi[2] == 0 && phi[3] == 0, "‖x − c‖ = r(1 − 1e-13) is on the disc boundary");
 
     // Feasible steps.
-    Vector<double> p(7);
+    DistributedVector p(7);
     x    = vec({0.25, 2, 0, 0, 1, 2, 0});
     p[0] = -0.5;
     check(set.max_feasible_step(x, p) == 1.5, "interval ratio test (upper end)");
@@ -464,13 +463,15 @@ namespace
 } // namespace
 
 int
-main()
+main(int argc, char **argv)
 {
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
   check_set();
 
   using R = Role;
   // Every variant; returns the default's result.
-  const auto both = [](const std::string &name, const Problem &p, const Vector<double> &x0) {
+  const auto both = [](const std::string &name, const Problem &p, const DistributedVector &x0) {
     const Result r = solve_and_check(name, p, x0);
     solve_and_check(name, p, x0, 1, Variant::fixed_discs);
     solve_and_check(name, p, x0, 1, Variant::fixed_step);
@@ -486,13 +487,13 @@ main()
   // 1e-11 and 1e11 the rounding differs and steps decided on gradients near the tolerance may
   // differ: the same x to 1e-9.
   const auto scaled = [](const std::string &name, const Problem &p, const Variant variant) {
-    const Vector<double> x0(p.n);
-    const Result         reference = solve_and_check(name, p, x0, 1, variant, 1e-10);
+    const DistributedVector x0(p.n);
+    const Result            reference = solve_and_check(name, p, x0, 1, variant, 1e-10);
     for (const double s : {std::ldexp(1., -37), std::ldexp(1., 37), 1e-11, 1e11})
       {
-        const bool     exact = s == std::ldexp(1., -37) || s == std::ldexp(1., 37);
-        const Result   r     = solve_and_check(name + ", scaled", p, x0, s, variant, 1e-10);
-        Vector<double> d(r.x);
+        const bool        exact = s == std::ldexp(1., -37) || s == std::ldexp(1., 37);
+        const Result      r     = solve_and_check(name + ", scaled", p, x0, s, variant, 1e-10);
+        DistributedVector d(r.x);
         d -= reference.x;
         check(d.l2_norm() <= (exact ? 0. : 1e-9) * reference.x.l2_norm(),
               std::string(exact ? "bit for bit " : "") +
@@ -506,19 +507,19 @@ main()
   };
 
   // Generic mix: every kind of block.
-  const Problem        mix = make_problem({{R::free, 6},
-                                           {R::interval_inside, 3},
-                                           {R::interval_lower, 3},
-                                           {R::interval_upper, 3},
-                                           {R::interval_fixed, 1},
-                                           {R::lower_inside, 3},
-                                           {R::lower_active, 4},
-                                           {R::upper_active, 2},
-                                           {R::disc_inside, 2},
-                                           {R::disc_centre, 1},
-                                           {R::disc_active, 4},
-                                           {R::disc_fixed, 1}});
-  const Vector<double> zero_mix(mix.n);
+  const Problem           mix = make_problem({{R::free, 6},
+                                              {R::interval_inside, 3},
+                                              {R::interval_lower, 3},
+                                              {R::interval_upper, 3},
+                                              {R::interval_fixed, 1},
+                                              {R::lower_inside, 3},
+                                              {R::lower_active, 4},
+                                              {R::upper_active, 2},
+                                              {R::disc_inside, 2},
+                                              {R::disc_centre, 1},
+                                              {R::disc_active, 4},
+                                              {R::disc_fixed, 1}});
+  const DistributedVector zero_mix(mix.n);
   both("generic mix", mix, zero_mix);
   scaled("generic mix", mix, Variant::rotations);
   scaled("generic mix", mix, Variant::fixed_discs);
@@ -527,7 +528,7 @@ main()
   scaled("generic mix", mix, Variant::recursive_arcs);
   scaled("generic mix", mix, Variant::mean_diagonal_arcs);
   {
-    Vector<double> x0(mix.n);
+    DistributedVector x0(mix.n);
     for (auto &v : x0)
       v = 20 * uniform(random_engine);
     check(mix.set.largest_violation(x0) > 1, "start outside Ω");
@@ -535,12 +536,12 @@ main()
   }
   {
     const Problem p = make_problem({{R::free, 10}, {R::disc_centre, 8}, {R::lower_inside, 6}});
-    both("solution at disc centres", p, Vector<double>(p.n));
+    both("solution at disc centres", p, DistributedVector(p.n));
   }
   {
     const Problem p = make_problem(
       {{R::free, 10}, {R::disc_degenerate, 8}, {R::disc_active, 4}, {R::lower_active, 4}});
-    both("disc boundary with zero gradient (σ = 0)", p, Vector<double>(p.n));
+    both("disc boundary with zero gradient (σ = 0)", p, DistributedVector(p.n));
   }
   {
     const Problem p = make_problem({{R::interval_lower, 6},
@@ -549,7 +550,7 @@ main()
                                     {R::upper_active, 4},
                                     {R::disc_active, 10},
                                     {R::disc_fixed, 2}});
-    both("all constraints active", p, Vector<double>(p.n));
+    both("all constraints active", p, DistributedVector(p.n));
   }
   {
     const Problem p = make_problem({{R::free, 10},
@@ -560,10 +561,10 @@ main()
     // The unconstrained minimizer A⁻¹b, independently of x*.
     FullMatrix<double> A_inverse(p.n, p.n);
     A_inverse.invert(p.A);
-    Vector<double> x_free(p.n);
-    A_inverse.vmult(x_free, p.b);
-    const Result   r = solve_and_check("no constraint active", p, Vector<double>(p.n));
-    Vector<double> d(r.x);
+    DistributedVector x_free(p.n);
+    multiply(A_inverse, p.b, x_free);
+    const Result      r = solve_and_check("no constraint active", p, DistributedVector(p.n));
+    DistributedVector d(r.x);
     d -= x_free;
     check(d.l2_norm() <= 1e-8 * x_free.l2_norm(),
           "= unconstrained solution A⁻¹b: " + sci(d.l2_norm() / x_free.l2_norm()));
@@ -573,18 +574,18 @@ main()
     // ᾱ increases f, is replaced by P(x − ᾱg) (the fallback path) and crawls: it is only run
     // for 2000 steps and must decrease f and stay feasible.
     const Problem p = make_problem({{R::free, 10}, {R::disc_curved, 8}, {R::lower_active, 4}});
-    solve_and_check("strongly curved discs (r ≤ 1e-3)", p, Vector<double>(p.n));
+    solve_and_check("strongly curved discs (r ≤ 1e-3)", p, DistributedVector(p.n));
     std::cout << "strongly curved discs, fixed-step proportioning, 2000 steps" << std::endl;
-    QP::MPGP<dealii::Vector<double>>::AdditionalData options;
-    options.tolerance                 = 1e-12 * p.b.l2_norm();
+    QP::MPGP<DistributedVector>::AdditionalData options;
+    options.tolerance                 = 1e-12 * QP::l2_norm(p.b);
     options.disc_rotations            = false;
     options.proportioning_line_search = false;
     options.max_iterations            = 2000;
-    double         f_last = std::numeric_limits<double>::infinity(), increase = 0;
-    const auto     A = [&](const Vector<double> &v, Vector<double> &w) { p.A.vmult(w, v); };
-    Vector<double> x(p.n), Ax(p.n);
-    const auto     f = [&]() {
-      p.A.vmult(Ax, x);
+    double     f_last = std::numeric_limits<double>::infinity(), increase = 0;
+    const auto A = [&](const DistributedVector &v, DistributedVector &w) { multiply(p.A, v, w); };
+    DistributedVector x(p.n), Ax(p.n);
+    const auto        f = [&]() {
+      multiply(p.A, x, Ax);
       return 0.5 * (x * Ax) - p.b * x;
     };
     options.monitor = [&](unsigned int, double) {
@@ -592,7 +593,7 @@ main()
       increase        = std::max(increase, fx - f_last);
       f_last          = fx;
     };
-    const auto r = QP::MPGP<dealii::Vector<double>>(options).solve(A, p.b, p.set, x);
+    const auto r = QP::MPGP<DistributedVector>(options).solve(A, p.b, p.set, x);
     check(r.proportioning_fallbacks > 0 && increase <= 1e-12 * std::abs(f_last),
           "f decreases with " + std::to_string(r.proportioning_fallbacks) + " fallbacks in " +
             std::to_string(r.proportioning_steps) + " proportioning steps; ‖g^P‖/‖b‖ = " +
@@ -602,7 +603,7 @@ main()
   {
     const Problem p =
       make_problem({{R::free, 8}, {R::disc_fixed, 8}, {R::disc_active, 4}, {R::interval_fixed, 4}});
-    both("zero-radius discs (fixed blocks)", p, Vector<double>(p.n));
+    both("zero-radius discs (fixed blocks)", p, DistributedVector(p.n));
   }
   {
     const Problem p = make_problem({{R::free, 8},
@@ -612,7 +613,7 @@ main()
                                     {R::lower_inside, 8},
                                     {R::lower_active, 10},
                                     {R::upper_active, 4}});
-    const Result  r = solve_and_check("bounds only (MPRGP)", p, Vector<double>(p.n));
+    const Result  r = solve_and_check("bounds only (MPRGP)", p, DistributedVector(p.n));
     check(r.report.proportioning_fallbacks == 0, "no projected proportioning without discs");
     scaled("bounds only (MPRGP)", p, Variant::rotations);
     scaled("bounds only (MPRGP)", p, Variant::projected_cg);
@@ -621,9 +622,9 @@ main()
     // Many constraints that become active from a start where all are free: the fixed-step
     // expansion activates about one per expansion, the projected CG step all those it crosses.
     const Problem p = make_problem({{R::free, 20}, {R::lower_inside, 40}, {R::lower_active, 200}});
-    const Result  fixed = solve_and_check("many active bounds", p, Vector<double>(p.n));
+    const Result  fixed = solve_and_check("many active bounds", p, DistributedVector(p.n));
     const Result  pcg =
-      solve_and_check("many active bounds", p, Vector<double>(p.n), 1, Variant::projected_cg);
+      solve_and_check("many active bounds", p, DistributedVector(p.n), 1, Variant::projected_cg);
     check(2 * pcg.report.expansion_steps < fixed.report.expansion_steps &&
             pcg.report.hessian_multiplications < fixed.report.hessian_multiplications,
           "projected CG expansion: " + std::to_string(pcg.report.expansion_steps) +
@@ -644,12 +645,12 @@ main()
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int j = 0; j < n; ++j)
         p.A(i, j) *= std::pow(10., 2. * i / n) * std::pow(10., 2. * j / n);
-    p.A.vmult(p.b, p.x_star);
+    multiply(p.A, p.x_star, p.b);
     p.b -= p.g_star;
     p.A_norm *= 1e4; // ‖S A₀ S‖ ≤ ‖S‖² ‖A₀‖
-    const Result plain = solve_and_check("badly scaled", p, Vector<double>(n));
+    const Result plain = solve_and_check("badly scaled", p, DistributedVector(n));
     const Result pre =
-      solve_and_check("badly scaled", p, Vector<double>(n), 1, Variant::preconditioned);
+      solve_and_check("badly scaled", p, DistributedVector(n), 1, Variant::preconditioned);
     check(2 * pre.report.hessian_multiplications < plain.report.hessian_multiplications &&
             pre.report.preconditioner_applications > 0,
           "preconditioned in face: " + std::to_string(pre.report.hessian_multiplications) +
@@ -661,9 +662,9 @@ main()
     // recursive update saves the second multiplication of most steps along the circles.
     const Problem p = make_problem(
       {{R::free, 10}, {R::disc_active, 30}, {R::disc_inside, 4}, {R::lower_active, 4}});
-    const Result exact = solve_and_check("mostly active discs", p, Vector<double>(p.n));
+    const Result exact = solve_and_check("mostly active discs", p, DistributedVector(p.n));
     const Result recursive =
-      solve_and_check("mostly active discs", p, Vector<double>(p.n), 1, Variant::recursive_arcs);
+      solve_and_check("mostly active discs", p, DistributedVector(p.n), 1, Variant::recursive_arcs);
     check(recursive.report.recursive_gradient_updates > 0 &&
             recursive.report.hessian_multiplications < exact.report.hessian_multiplications,
           "recursive gradient along the circles: " +
@@ -675,20 +676,20 @@ main()
     // Hutchinson's estimate of tr(A)/n: exact for a diagonal matrix (vᵢ² = 1), and within a few
     // percent of it for a dense one with many probes (its spread falls like 1/√probes).
     const unsigned int n = 40;
-    Vector<double>     d(n);
+    DistributedVector  d(n);
     for (auto &di : d)
       di = random_in(0.1, 10);
     const double exact_d    = d.mean_value();
-    const double estimate_d = QP::estimate_mean_diagonal<Vector<double>>(
-      [&](const Vector<double> &v, Vector<double> &w) { w = v, w.scale(d); }, d, 3);
+    const double estimate_d = QP::estimate_mean_diagonal<DistributedVector>(
+      [&](const DistributedVector &v, DistributedVector &w) { w = v, w.scale(d); }, d, 3);
     check(std::abs(estimate_d - exact_d) <= 1e-14 * exact_d,
           "mean diagonal of a diagonal matrix: " + sci(estimate_d) + " against " + sci(exact_d));
     const FullMatrix<double> A     = random_spd(n, 1e3);
     double                   trace = 0;
     for (unsigned int i = 0; i < n; ++i)
       trace += A(i, i);
-    const double estimate = QP::estimate_mean_diagonal<Vector<double>>(
-      [&](const Vector<double> &v, Vector<double> &w) { A.vmult(w, v); }, d, 4000);
+    const double estimate = QP::estimate_mean_diagonal<DistributedVector>(
+      [&](const DistributedVector &v, DistributedVector &w) { multiply(A, v, w); }, d, 4000);
     check(std::abs(estimate - trace / n) <= 0.05 * trace / n,
           "mean diagonal of a dense matrix, 4000 probes: " + sci(estimate) + " against " +
             sci(trace / n));

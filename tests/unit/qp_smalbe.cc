@@ -6,10 +6,13 @@
 // Gx = e, the KKT conditions of x with the returned μ (by a projection written here), and that the
 // report counts every multiplication by the inner Hessian. Cases: generic mix; e = 0; data scaled
 // by 2^∓37 (bit for bit the same x, same counts) and by 1e-11 and 1e11 (same x), μ scaled; a
-// user-supplied inner solver.
+// user-supplied inner solver. The QP vectors are DistributedVector on one process (global index =
+// local index), the vectors of G's range (μ, e) dealii::Vector<double>.
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
@@ -66,7 +69,7 @@ namespace
   {
     unsigned int       n = 0;
     FullMatrix<double> A;
-    Vector<double>     b, x_star, g_star;
+    DistributedVector  b, x_star, g_star;
     std::vector<Block> blocks;
     QP::SeparableSet   set{0};
     double             A_norm = 0;
@@ -89,9 +92,9 @@ namespace
     std::shuffle(permutation.begin(), permutation.end(), random_engine);
     problem.x_star.reinit(n);
     problem.g_star.reinit(n);
-    problem.set          = QP::SeparableSet(n);
-    unsigned int    next = 0;
-    Vector<double> &x = problem.x_star, &g = problem.g_star;
+    problem.set             = QP::SeparableSet(n);
+    unsigned int       next = 0;
+    DistributedVector &x = problem.x_star, &g = problem.g_star;
     for (const auto &[role, count] : roles)
       for (unsigned int c = 0; c < count; ++c)
         {
@@ -164,14 +167,14 @@ namespace
     problem.A      = random_spd(n, condition);
     problem.A_norm = condition;
     problem.b.reinit(n);
-    problem.A.vmult(problem.b, x);
+    multiply(problem.A, x, problem.b);
     problem.b -= g;
     return problem;
   }
 
   /** The projection onto one block, written independently of SeparableSet. */
   void
-  project_block(const Block &block, Vector<double> &x)
+  project_block(const Block &block, DistributedVector &x)
   {
     if (is_disc(block.role))
       {
@@ -185,7 +188,7 @@ namespace
   }
 
   double
-  violation(const Problem &problem, const Vector<double> &x)
+  violation(const Problem &problem, const DistributedVector &x)
   {
     double v = 0;
     for (const Block &block : problem.blocks)
@@ -198,10 +201,10 @@ namespace
 
   /** ‖x − P_Ω(x − t g)‖/t with t = 1/‖A‖: zero exactly at a KKT point. */
   double
-  kkt_residual(const Problem &problem, const Vector<double> &x, const Vector<double> &g)
+  kkt_residual(const Problem &problem, const DistributedVector &x, const DistributedVector &g)
   {
-    const double   t = 1 / problem.A_norm;
-    Vector<double> y(x);
+    const double      t = 1 / problem.A_norm;
+    DistributedVector y(x);
     y.add(-t, g);
     for (const Block &block : problem.blocks)
       project_block(block, y);
@@ -225,7 +228,7 @@ namespace
       {
         // G ← G − (Gx*) x*ᵀ/‖x*‖²: then Gx* = 0.
         Vector<double> Gx(k);
-        p.G.vmult(Gx, p.x_star);
+        multiply(p.G, p.x_star, Gx);
         const double xx = p.x_star.norm_sqr();
         for (unsigned int i = 0; i < k; ++i)
           for (unsigned int j = 0; j < p.n; ++j)
@@ -250,53 +253,58 @@ namespace
             p.G(i, j) /= std::sqrt(norm);
         }
     p.e.reinit(k);
-    p.G.vmult(p.e, p.x_star);
+    multiply(p.G, p.x_star, p.e);
     if (homogeneous)
       p.e = 0;
     p.mu_star.reinit(k);
     for (auto &v : p.mu_star)
       v = 10 * uniform(random_engine);
-    Vector<double> Gtmu(p.n);
-    p.G.Tvmult(Gtmu, p.mu_star);
+    DistributedVector Gtmu(p.n);
+    multiply_transposed(p.G, p.mu_star, Gtmu);
     p.b += Gtmu;
   }
 
   struct Result
   {
-    Vector<double>                                 x, mu;
-    QP::SMALBE<dealii::Vector<double>>::Statistics report;
+    DistributedVector                         x;
+    Vector<double>                            mu;
+    QP::SMALBE<DistributedVector>::Statistics report;
   };
 
   /** Solves the problem with F, h scaled by s and checks the solution. */
   Result
   solve_and_check(
-    const std::string                                     &name,
-    const Problem                                         &problem,
-    const double                                           s              = 1,
-    const QP::SMALBE<dealii::Vector<double>>::InnerSolver &inner_solver   = {},
-    unsigned int                                          *operator_calls = nullptr,
-    const double                                           tolerance      = 1e-12,
-    const bool                                             projector      = false,
-    const std::function<void(QP::SMALBE<dealii::Vector<double>>::AdditionalData &)> &configure = {})
+    const std::string                                &name,
+    const Problem                                    &problem,
+    const double                                      s                                   = 1,
+    const QP::SMALBE<DistributedVector>::InnerSolver &inner_solver                        = {},
+    unsigned int                                     *operator_calls                      = nullptr,
+    const double                                      tolerance                           = 1e-12,
+    const bool                                        projector                           = false,
+    const std::function<void(QP::SMALBE<DistributedVector>::AdditionalData &)> &configure = {})
   {
     std::cout << name << (projector ? ", projector variant" : "") << " (n = " << problem.n
               << ", k = " << problem.G.m() << ", scale " << s << ", ε " << tolerance << ")"
               << std::endl;
     unsigned int F_count = 0;
-    const auto   F       = [&](const Vector<double> &v, Vector<double> &w) {
-      problem.A.vmult(w, v);
+    const auto   F       = [&](const DistributedVector &v, DistributedVector &w) {
+      multiply(problem.A, v, w);
       w *= s;
       ++F_count;
     };
-    const auto     G  = [&](const Vector<double> &v, Vector<double> &w) { problem.G.vmult(w, v); };
-    const auto     Gt = [&](const Vector<double> &v, Vector<double> &w) { problem.G.Tvmult(w, v); };
-    Vector<double> h(problem.b);
+    const auto G = [&](const DistributedVector &v, Vector<double> &w) {
+      multiply(problem.G, v, w);
+    };
+    const auto Gt = [&](const Vector<double> &v, DistributedVector &w) {
+      multiply_transposed(problem.G, v, w);
+    };
+    DistributedVector h(problem.b);
     h *= s;
-    QP::SMALBE<dealii::Vector<double>>::AdditionalData options;
+    QP::SMALBE<DistributedVector>::AdditionalData options;
     options.tolerance             = tolerance;
     options.feasibility_tolerance = tolerance;
     unsigned int outer_monitored  = 0;
-    const auto   monitor          = [&](const QP::SMALBE<dealii::Vector<double>>::Step &step) {
+    const auto   monitor          = [&](const QP::SMALBE<DistributedVector>::Step &step) {
       ++outer_monitored;
       std::cout << "    outer " << step.outer_iteration << ": inner " << step.inner_iterations
                 << " steps/" << step.inner_calls << " calls, n_A = " << step.hessian_multiplications
@@ -306,11 +314,11 @@ namespace
     };
     if (configure)
       configure(options);
-    QP::SMALBE<dealii::Vector<double>> smalbe(options);
+    QP::SMALBE<DistributedVector> smalbe(options);
     if (inner_solver)
       smalbe.set_inner_solver(inner_solver);
     smalbe.set_monitor(monitor);
-    QP::Problem<dealii::Vector<double>> qp;
+    QP::Problem<DistributedVector> qp;
     qp.hessian     = F;
     qp.linear_term = h;
     qp.set         = &problem.set;
@@ -320,10 +328,9 @@ namespace
     Result result;
     result.x.reinit(problem.n);
     if (projector)
-      result.report =
-        smalbe.solve(QP::ProjectorEnforcement<dealii::Vector<double>>(qp).transformed(),
-                     result.x,
-                     result.mu);
+      result.report = smalbe.solve(QP::ProjectorEnforcement<DistributedVector>(qp).transformed(),
+                                   result.x,
+                                   result.mu);
     else
       result.report = smalbe.solve(qp, result.x, result.mu);
     const auto &r = result.report;
@@ -340,7 +347,7 @@ namespace
             std::to_string(r.norm_estimate_multiplications) + " for ‖F‖)");
     if (operator_calls)
       *operator_calls = F_count;
-    Vector<double> error(result.x);
+    DistributedVector error(result.x);
     error -= problem.x_star;
     check(error.l2_norm() <= 1e4 * tolerance * problem.x_star.l2_norm(),
           "‖x − x*‖/‖x*‖ = " + sci(error.l2_norm() / problem.x_star.l2_norm()));
@@ -348,11 +355,12 @@ namespace
     if (projector)
       {
         // The multiplier of the original problem: μ − G(Fλ − h).
-        Vector<double> r(problem.n), Gr(problem.G.m());
+        DistributedVector r(problem.n);
+        Vector<double>    Gr(problem.G.m());
         F(result.x, r);
         --F_count;
         r -= h;
-        problem.G.vmult(Gr, r);
+        multiply(problem.G, r, Gr);
         mu_error -= Gr;
         result.mu = mu_error;
       }
@@ -365,16 +373,16 @@ namespace
     check(v <= 1e-14 * std::max(1., result.x.linfty_norm()),
           "x ∈ Ω (largest violation " + sci(v) + ")");
     Vector<double> Gx(problem.G.m());
-    problem.G.vmult(Gx, result.x);
+    multiply(problem.G, result.x, Gx);
     Gx -= problem.e;
     const double e_scale = problem.e.l2_norm() > 0 ? problem.e.l2_norm() : result.x.l2_norm();
     check(Gx.l2_norm() <= 10 * tolerance * e_scale,
           "‖Gx − e‖/scale = " + sci(Gx.l2_norm() / e_scale));
     // KKT: g = Ax − b + Gᵀμ (unscaled) in −N_Ω(x).
-    Vector<double> g(problem.n), Gtmu(problem.n);
-    problem.A.vmult(g, result.x);
+    DistributedVector g(problem.n), Gtmu(problem.n);
+    multiply(problem.A, result.x, g);
     g -= problem.b;
-    problem.G.Tvmult(Gtmu, result.mu);
+    multiply_transposed(problem.G, result.mu, Gtmu);
     g.add(1 / s, Gtmu);
     const double kkt = kkt_residual(problem, result.x, g);
     check(kkt <= 1e3 * tolerance * problem.b.l2_norm(),
@@ -384,8 +392,10 @@ namespace
 } // namespace
 
 int
-main()
+main(int argc, char **argv)
 {
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
   using R = Role;
   const std::vector<std::pair<Role, unsigned int>> roles{{R::free, 8},
                                                          {R::interval_inside, 3},
@@ -417,7 +427,7 @@ main()
         const bool   exact = s == std::ldexp(1., -37) || s == std::ldexp(1., 37);
         const Result r =
           solve_and_check("generic mix, scaled", mix, s, {}, nullptr, exact ? 1e-10 : 1e-12);
-        Vector<double> d(r.x);
+        DistributedVector d(r.x);
         d -= exact ? reference.x : tight.x;
         check(d.l2_norm() <= (exact ? 0. : 1e-9) * reference.x.l2_norm(),
               std::string(exact ? "bit for bit " : "") +
@@ -446,18 +456,21 @@ main()
     bool refused = false;
     try
       {
-        Problem        q = make_problem(roles);
-        Vector<double> x(q.n), mu;
+        Problem           q = make_problem(roles);
+        DistributedVector x(q.n);
+        Vector<double>    mu;
         add_equalities(q, 3, false, true);
-        QP::Problem<dealii::Vector<double>> qp;
-        qp.hessian     = [&](const Vector<double> &v, Vector<double> &w) { q.A.vmult(w, v); };
+        QP::Problem<DistributedVector> qp;
+        qp.hessian = [&](const DistributedVector &v, DistributedVector &w) { multiply(q.A, v, w); };
         qp.linear_term = q.b;
         qp.set         = &q.set;
-        qp.G           = [&](const Vector<double> &v, Vector<double> &w) { q.G.vmult(w, v); };
-        qp.Gt          = [&](const Vector<double> &v, Vector<double> &w) { q.G.Tvmult(w, v); };
-        qp.e           = q.e;
-        QP::ProjectorEnforcement<dealii::Vector<double>> projector(qp);
-        QP::SMALBE<dealii::Vector<double>>().solve(projector.transformed(), x, mu);
+        qp.G  = [&](const DistributedVector &v, Vector<double> &w) { multiply(q.G, v, w); };
+        qp.Gt = [&](const Vector<double> &v, DistributedVector &w) {
+          multiply_transposed(q.G, v, w);
+        };
+        qp.e = q.e;
+        QP::ProjectorEnforcement<DistributedVector> projector(qp);
+        QP::SMALBE<DistributedVector>().solve(projector.transformed(), x, mu);
       }
     catch (const std::exception &)
       {
@@ -471,18 +484,18 @@ main()
     // moves the radii) reports whether the set is that of the previous call. "Yes" is the
     // default path; "no" keeps M at M_0 (the M test compares Lagrangians over different sets),
     // and SMALBE still converges here.
-    const auto plug = [&](const bool same_set) -> QP::SMALBE<dealii::Vector<double>>::InnerSolver {
-      return [&, same_set](const QP::Operator<dealii::Vector<double>> &A,
-                           const Vector<double>                       &b,
-                           Vector<double>                             &x,
-                           const double                                tolerance,
-                           const Vector<double>                       &gradient)
-               -> QP::SMALBE<dealii::Vector<double>>::InnerReport {
-        QP::MPGP<dealii::Vector<double>>::AdditionalData options;
+    const auto plug = [&](const bool same_set) -> QP::SMALBE<DistributedVector>::InnerSolver {
+      return [&, same_set](const QP::Operator<DistributedVector> &A,
+                           const DistributedVector               &b,
+                           DistributedVector                     &x,
+                           const double                           tolerance,
+                           const DistributedVector               &gradient)
+               -> QP::SMALBE<DistributedVector>::InnerReport {
+        QP::MPGP<DistributedVector>::AdditionalData options;
         options.tolerance = tolerance;
-        Vector<double>                                  g(gradient);
-        QP::SMALBE<dealii::Vector<double>>::InnerReport report(
-          QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x, &g));
+        DistributedVector                          g(gradient);
+        QP::SMALBE<DistributedVector>::InnerReport report(
+          QP::MPGP<DistributedVector>(options).solve(A, b, mix.set, x, &g));
         report.gradient.swap(g);
         report.same_set = same_set;
         return report;
@@ -499,18 +512,18 @@ main()
   {
     // The plug: an inner solver of our own (MPGP with Γ = 2 and ᾱ from a power method on the
     // inner operator), counting its calls.
-    unsigned int                                          inner_calls = 0;
-    const QP::SMALBE<dealii::Vector<double>>::InnerSolver inner =
-      [&](const QP::Operator<dealii::Vector<double>> &A,
-          const Vector<double>                       &b,
-          Vector<double>                             &x,
-          const double                                tolerance,
-          const Vector<double> & /*gradient*/) -> QP::SolverReport {
+    unsigned int                                     inner_calls = 0;
+    const QP::SMALBE<DistributedVector>::InnerSolver inner =
+      [&](const QP::Operator<DistributedVector> &A,
+          const DistributedVector               &b,
+          DistributedVector                     &x,
+          const double                           tolerance,
+          const DistributedVector & /*gradient*/) -> QP::SolverReport {
       ++inner_calls;
-      QP::MPGP<dealii::Vector<double>>::AdditionalData options;
+      QP::MPGP<DistributedVector>::AdditionalData options;
       options.tolerance = tolerance;
       options.gamma     = 2;
-      return QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x);
+      return QP::MPGP<DistributedVector>(options).solve(A, b, mix.set, x);
     };
     unsigned int calls = 0;
     const Result r     = solve_and_check("user-supplied inner solver", mix, 1, inner, &calls);
@@ -520,21 +533,20 @@ main()
   {
     // The gradient passed between the inner solves: an inner solver that starts from SMALBE's
     // gradient and returns its own saves the multiplication at its start and SMALBE's after it.
-    const auto plug =
-      [&](const bool pass_gradient) -> QP::SMALBE<dealii::Vector<double>>::InnerSolver {
-      return [&, pass_gradient](const QP::Operator<dealii::Vector<double>> &A,
-                                const Vector<double>                       &b,
-                                Vector<double>                             &x,
-                                const double                                tolerance,
-                                const Vector<double>                       &gradient)
-               -> QP::SMALBE<dealii::Vector<double>>::InnerReport {
-        QP::MPGP<dealii::Vector<double>>::AdditionalData options;
+    const auto plug = [&](const bool pass_gradient) -> QP::SMALBE<DistributedVector>::InnerSolver {
+      return [&, pass_gradient](const QP::Operator<DistributedVector> &A,
+                                const DistributedVector               &b,
+                                DistributedVector                     &x,
+                                const double                           tolerance,
+                                const DistributedVector               &gradient)
+               -> QP::SMALBE<DistributedVector>::InnerReport {
+        QP::MPGP<DistributedVector>::AdditionalData options;
         options.tolerance = tolerance;
         if (!pass_gradient)
-          return QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x);
-        Vector<double>                                  g(gradient);
-        QP::SMALBE<dealii::Vector<double>>::InnerReport report(
-          QP::MPGP<dealii::Vector<double>>(options).solve(A, b, mix.set, x, &g));
+          return QP::MPGP<DistributedVector>(options).solve(A, b, mix.set, x);
+        DistributedVector                          g(gradient);
+        QP::SMALBE<DistributedVector>::InnerReport report(
+          QP::MPGP<DistributedVector>(options).solve(A, b, mix.set, x, &g));
         report.gradient.swap(g);
         return report;
       };

@@ -256,8 +256,8 @@ namespace
               entries.push_back({mode, j, value});
           }
       }
-    const unsigned int     total = all.size();
-    const DualSpace        distribution(comm, owned, chunk, ghosts, ghost_owner, total);
+    const unsigned int total = all.size();
+    const DualSpace    distribution(comm, owned, chunk, ghosts, ghost_owner, total);
     if (first_subdomain > end_subdomain)
       first_subdomain = end_subdomain;
     // The ranks' mode ranges must follow each other: a rank without subdomains starts where the

@@ -137,8 +137,9 @@ namespace FetiContact
       if (scale == 0 || !std::isfinite(scale))
         return scale;
       const double *x = a.begin();
-      return scale * std::sqrt(sum(
-                       a, [x, scale](const unsigned int i) { return (x[i] / scale) * (x[i] / scale); }));
+      return scale * std::sqrt(sum(a, [x, scale](const unsigned int i) {
+               return (x[i] / scale) * (x[i] / scale);
+             }));
     }
 
     double

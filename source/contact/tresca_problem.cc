@@ -286,7 +286,8 @@ namespace FetiContact
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {
         const unsigned int r = local_normal_row[k];
-        normal_force[k]      = layout.scale_of_node(k) * (lambda_tilde.local_element(r) + lambda0.local_element(r));
+        normal_force[k] =
+          layout.scale_of_node(k) * (lambda_tilde.local_element(r) + lambda0.local_element(r));
       }
     return normal_force;
   }
@@ -502,7 +503,8 @@ namespace FetiContact
     // slip and stick compare multipliers of the same node.
     double lambda_max = 0;
     for (unsigned int k = 0; k < nodes.size(); ++k)
-      lambda_max = std::max(lambda_max, layout.scale_of_node(k) * lambda.local_element(local_normal_row[k]));
+      lambda_max =
+        std::max(lambda_max, layout.scale_of_node(k) * lambda.local_element(local_normal_row[k]));
     lambda_max = rows.max_over_ranks(lambda_max);
     for (unsigned int k = 0; k < nodes.size(); ++k)
       {

@@ -129,12 +129,12 @@ namespace FetiContact
   }
 
   void
-  CoarseProblem::initialize(const DualSpace &d,
-                            std::vector<Entry>      relevant_entries,
-                            const unsigned int      n_modes,
-                            const unsigned int      n_columns,
-                            const unsigned int      first_mode,
-                            const unsigned int      end_mode)
+  CoarseProblem::initialize(const DualSpace   &d,
+                            std::vector<Entry> relevant_entries,
+                            const unsigned int n_modes,
+                            const unsigned int n_columns,
+                            const unsigned int first_mode,
+                            const unsigned int end_mode)
   {
     n_rows = n_modes;
     n_cols = n_columns;
@@ -236,20 +236,27 @@ namespace FetiContact
     unsigned int mask = 0;
     for (const unsigned int c : space->partitioner()->owned_keys())
       mask |= 1u << tier(c);
-    MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, space->partitioner()->get_mpi_communicator());
+    MPI_Allreduce(
+      MPI_IN_PLACE, &mask, 1, MPI_UNSIGNED, MPI_BOR, space->partitioner()->get_mpi_communicator());
     return mask;
   }
 
   void
-  CoarseProblem::distribute(const DualSpace &d,
-                            const unsigned int      first_mode,
-                            const unsigned int      end_mode)
+  CoarseProblem::distribute(const DualSpace   &d,
+                            const unsigned int first_mode,
+                            const unsigned int end_mode)
   {
-    space = &d;
-    int n_ranks  = 1;
+    space       = &d;
+    int n_ranks = 1;
     MPI_Comm_size(d.partitioner()->get_mpi_communicator(), &n_ranks);
     std::vector<unsigned int> firsts(n_ranks + 1, n_rows);
-    MPI_Allgather(&first_mode, 1, MPI_UNSIGNED, firsts.data(), 1, MPI_UNSIGNED, d.partitioner()->get_mpi_communicator());
+    MPI_Allgather(&first_mode,
+                  1,
+                  MPI_UNSIGNED,
+                  firsts.data(),
+                  1,
+                  MPI_UNSIGNED,
+                  d.partitioner()->get_mpi_communicator());
     own_modes = BlockPartition(d.partitioner()->get_mpi_communicator(), firsts);
     AssertThrow(own_modes.begin() == first_mode && own_modes.end() == end_mode,
                 ExcMessage(
@@ -393,7 +400,7 @@ namespace FetiContact
   void
   CoarseProblem::particular_solution(const Vector<double>                            &e,
                                      const std::function<unsigned int(unsigned int)> &tier,
-                                     DualVector                               &lambda) const
+                                     DualVector                                      &lambda) const
   {
     Assert(space, ExcMessage("CoarseProblem: distribute() first."));
     lambda.reinit(space->partitioner());

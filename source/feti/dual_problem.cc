@@ -43,7 +43,7 @@ namespace FetiContact
         });
       }
     const Owners owners = setup_row_sums(rows, mode_offset.size() - 1);
-    threaded = std::all_of(owned.begin(), owned.end(), [](Subdomain *s) {
+    threaded            = std::all_of(owned.begin(), owned.end(), [](Subdomain *s) {
       return s->local_solver()->thread_safe();
     });
 
@@ -329,8 +329,8 @@ namespace FetiContact
     // The slots numbered by the rows' order in the dual vectors, a row's slots in its summation
     // order: every rank owns the slots of its rows, and those its subdomains write in other
     // ranks' rows are its ghosts.
-    const int          this_rank = Utilities::MPI::this_mpi_process(comm);
-    const unsigned int n_owned   = dual_space->n_owned();
+    const int                 this_rank = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int        n_owned   = dual_space->n_owned();
     std::vector<unsigned int> position(rows.entries.size()); // of an entry in its row's order
     for (unsigned int r = 0; r < rows.n_rows(); ++r)
       for (unsigned int p = slot_start[r]; p < slot_start[r + 1]; ++p)

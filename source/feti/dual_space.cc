@@ -59,12 +59,11 @@ namespace FetiContact
       return key[a] < key[b];
     });
     const auto owned_local = [&](const unsigned int row) {
-      const auto it = std::lower_bound(by_number.begin(),
-                                       by_number.end(),
-                                       row,
-                                       [&](const unsigned int i, const unsigned int r) {
-                                         return key[i] < r;
-                                       });
+      const auto it =
+        std::lower_bound(by_number.begin(),
+                         by_number.end(),
+                         row,
+                         [&](const unsigned int i, const unsigned int r) { return key[i] < r; });
       return it != by_number.end() && key[*it] == row ? *it : numbers::invalid_unsigned_int;
     };
     std::map<unsigned int, std::vector<types::global_dof_index>> answers;

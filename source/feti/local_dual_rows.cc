@@ -79,7 +79,7 @@ namespace FetiContact
           }
       }
     unsigned long long n_owned = key.size(), offset = 0;
-    const MPI_Comm     comm    = p.get_mpi_communicator();
+    const MPI_Comm     comm = p.get_mpi_communicator();
     MPI_Exscan(&n_owned, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
     if (Utilities::MPI::this_mpi_process(comm) == 0)
       offset = 0;

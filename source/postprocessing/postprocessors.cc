@@ -13,9 +13,9 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -476,9 +476,9 @@ namespace FetiContact::Postprocessing
      */
     struct WholeContact
     {
-      std::vector<std::unique_ptr<Body>> made_bodies;
-      std::vector<ContactNode>           made_nodes;
-      std::vector<ContactNodeResult>     made_results;
+      std::vector<std::unique_ptr<Body>>        made_bodies;
+      std::vector<ContactNode>                  made_nodes;
+      std::vector<ContactNodeResult>            made_results;
       const std::vector<std::unique_ptr<Body>> *bodies  = nullptr;
       const std::vector<ContactNode>           *nodes   = nullptr;
       const std::vector<ContactNodeResult>     *results = nullptr;
@@ -525,13 +525,15 @@ namespace FetiContact::Postprocessing
     // and every contact node's result.
     const auto vertex_u =
       gather_vertex_displacements(input.comm, input.bodies, input.owned, input.u);
-    const auto gathered = Utilities::MPI::gather(
-      input.comm, keyed_results(input.contact_nodes, input.contact_results), 0);
+    const auto gathered =
+      Utilities::MPI::gather(input.comm,
+                             keyed_results(input.contact_nodes, input.contact_results),
+                             0);
     input.on_all_ranks([&]() {
       if (!input.root())
         return;
       const WholeContact whole = whole_contact(input, gathered);
-      std::string title = "feticontact:";
+      std::string        title = "feticontact:";
       for (const auto &body : input.bodies)
         title += (body->index > 0 ? ", " : " ") + body->parameters.name;
       const std::string file =

@@ -1,7 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
-#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/mpgp.h>
 
 #include <algorithm>
@@ -70,8 +70,8 @@ namespace FetiContact::QP
     MinstdSequence random(20120101);
     for (unsigned int i = 0; i < v.locally_owned_size(); ++i)
       v.local_element(i) = double(random(Reductions<VectorType>::global_index(v, i))) /
-               double(MinstdSequence::modulus - 1) -
-             0.5;
+                             double(MinstdSequence::modulus - 1) -
+                           0.5;
     const double v_norm = l2_norm(v);
     for (double &v_i : v)
       v_i /= v_norm;
@@ -269,10 +269,12 @@ namespace FetiContact::QP
     // the multiplier g·ν).
     const VectorType &xx    = *x;
     const double      df    = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
-      return (xx.local_element(i) - x_old.local_element(i)) * (g.local_element(i) + g_old.local_element(i));
+      return (xx.local_element(i) - x_old.local_element(i)) *
+             (g.local_element(i) + g_old.local_element(i));
     });
     const double      noise = Reductions<VectorType>::sum(xx, [&](const unsigned int i) {
-      return std::abs(xx.local_element(i)) * (std::abs(g.local_element(i)) + std::abs(g_old.local_element(i)));
+      return std::abs(xx.local_element(i)) *
+             (std::abs(g.local_element(i)) + std::abs(g_old.local_element(i)));
     });
     return df > 32 * std::numeric_limits<double>::epsilon() * noise;
   }
@@ -375,7 +377,10 @@ namespace FetiContact::QP
     const VectorType &xx = *x;
     const double      phi_tilde_phi =
       Reductions<VectorType>::sum(xx,
-                                  [&](const unsigned int i) { return (xx.local_element(i) - y.local_element(i)) * phi.local_element(i); }) /
+                                  [&](const unsigned int i) {
+                                    return (xx.local_element(i) - y.local_element(i)) *
+                                           phi.local_element(i);
+                                  }) /
       alpha_bar;
     return norm_sqr(beta) <= additional_data.gamma * additional_data.gamma * phi_tilde_phi;
   }

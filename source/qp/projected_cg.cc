@@ -1,6 +1,6 @@
-#include <feticontact/qp/vector_reductions.h>
 #include <feticontact/base/input_parsing.h>
 #include <feticontact/qp/projected_cg.h>
+#include <feticontact/qp/vector_reductions.h>
 
 #include <algorithm>
 #include <cmath>

@@ -159,14 +159,15 @@ namespace FetiContact::QP
       x.local_element(i) = std::min(std::max(x.local_element(i), lower[i]), upper[i]);
     for (const Disc &d : discs)
       {
-        const double y1 = x.local_element(d.i) - d.centre[0], y2 = x.local_element(d.j) - d.centre[1];
+        const double y1   = x.local_element(d.i) - d.centre[0],
+                     y2   = x.local_element(d.j) - d.centre[1];
         const double norm = std::hypot(y1, y2);
         if (norm > d.radius)
           {
             // norm > r ≥ 0, so norm > 0.
-            const double s = d.radius / norm;
-            x.local_element(d.i)         = d.centre[0] + s * y1;
-            x.local_element(d.j)         = d.centre[1] + s * y2;
+            const double s       = d.radius / norm;
+            x.local_element(d.i) = d.centre[0] + s * y1;
+            x.local_element(d.j) = d.centre[1] + s * y2;
           }
       }
   }
@@ -193,10 +194,10 @@ namespace FetiContact::QP
           }
         else if (mode == DiscMode::rotations && d.radius > 0)
           {
-            const auto   nu = outward_normal(d, x);
-            const double gn = g.local_element(d.i) * nu[0] + g.local_element(d.j) * nu[1];
-            phi.local_element(d.i)        = g.local_element(d.i) - gn * nu[0];
-            phi.local_element(d.j)        = g.local_element(d.j) - gn * nu[1];
+            const auto   nu        = outward_normal(d, x);
+            const double gn        = g.local_element(d.i) * nu[0] + g.local_element(d.j) * nu[1];
+            phi.local_element(d.i) = g.local_element(d.i) - gn * nu[0];
+            phi.local_element(d.j) = g.local_element(d.j) - gn * nu[1];
           }
         else
           phi.local_element(d.i) = phi.local_element(d.j) = 0;
@@ -268,7 +269,9 @@ namespace FetiContact::QP
       if (d.local_element(i) != 0)
         {
           // x_i − α d_i stays in [l, u].
-          const double a = d.local_element(i) > 0 ? (x.local_element(i) - lower[i]) / d.local_element(i) : (upper[i] - x.local_element(i)) / (-d.local_element(i));
+          const double a = d.local_element(i) > 0 ?
+                             (x.local_element(i) - lower[i]) / d.local_element(i) :
+                             (upper[i] - x.local_element(i)) / (-d.local_element(i));
           alpha          = std::min(alpha, std::max(a, 0.));
         }
     for (const Disc &disc : discs)
@@ -284,7 +287,8 @@ namespace FetiContact::QP
         if (mode == DiscMode::rotations && disc_active(disc, x))
           continue;
         // ‖y − α d‖² = r²: α²‖d‖² − 2α y·d + ‖y‖² − r² = 0, the positive root.
-        const double y1 = x.local_element(disc.i) - disc.centre[0], y2 = x.local_element(disc.j) - disc.centre[1];
+        const double y1 = x.local_element(disc.i) - disc.centre[0],
+                     y2 = x.local_element(disc.j) - disc.centre[1];
         const double dd = d1 * d1 + d2 * d2;
         const double yd = y1 * d1 + y2 * d2;
         const double ny = std::hypot(y1, y2);
@@ -313,12 +317,15 @@ namespace FetiContact::QP
     typename Reductions<VectorType>::Sum curvature(x);
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) ||
+            !disc_active(disc, x))
           continue;
-        const auto   nu    = outward_normal(disc, x);
-        const double sigma = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
-        const double dn    = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
-        const double t1 = d.local_element(disc.i) - dn * nu[0], t2 = d.local_element(disc.j) - dn * nu[1];
+        const auto   nu = outward_normal(disc, x);
+        const double sigma =
+          std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
+        const double dn = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
+        const double t1 = d.local_element(disc.i) - dn * nu[0],
+                     t2 = d.local_element(disc.j) - dn * nu[1];
         curvature.add(disc.i, sigma / disc.radius * (t1 * t1 + t2 * t2));
       }
     return curvature.result(x);
@@ -333,11 +340,13 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (d.local_element(disc.i) == 0 && d.local_element(disc.j) == 0) ||
+            !disc_active(disc, x))
           continue;
-        const auto   nu    = outward_normal(disc, x);
-        const double sigma = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
-        const double dn    = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
+        const auto   nu = outward_normal(disc, x);
+        const double sigma =
+          std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
+        const double dn = d.local_element(disc.i) * nu[0] + d.local_element(disc.j) * nu[1];
         Hd.local_element(disc.i) += sigma / disc.radius * (d.local_element(disc.i) - dn * nu[0]);
         Hd.local_element(disc.j) += sigma / disc.radius * (d.local_element(disc.j) - dn * nu[1]);
       }
@@ -349,7 +358,8 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) ||
+            !disc_active(disc, x))
           continue;
         const auto   nu = outward_normal(disc, x);
         const double vn = v.local_element(disc.i) * nu[0] + v.local_element(disc.j) * nu[1];
@@ -368,10 +378,12 @@ namespace FetiContact::QP
   {
     for (const Disc &disc : discs)
       {
-        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) || !disc_active(disc, x))
+        if (disc.radius == 0 || (v.local_element(disc.i) == 0 && v.local_element(disc.j) == 0) ||
+            !disc_active(disc, x))
           continue;
-        const auto   nu     = outward_normal(disc, x);
-        const double sigma  = std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
+        const auto   nu = outward_normal(disc, x);
+        const double sigma =
+          std::max(-(g.local_element(disc.i) * nu[0] + g.local_element(disc.j) * nu[1]), 0.);
         const double factor = 1 + sigma / (disc.radius * a);
         const double scale  = exponent == 1 ? 1 / factor : std::pow(factor, -exponent);
         v.local_element(disc.i) *= scale;
@@ -385,7 +397,8 @@ namespace FetiContact::QP
   {
     bool moves = false;
     for (const Disc &disc : discs)
-      if (disc.radius > 0 && (v.local_element(disc.i) != 0 || v.local_element(disc.j) != 0) && disc_active(disc, x))
+      if (disc.radius > 0 && (v.local_element(disc.i) != 0 || v.local_element(disc.j) != 0) &&
+          disc_active(disc, x))
         {
           moves = true;
           break;
@@ -414,10 +427,13 @@ namespace FetiContact::QP
     AssertDimension(x.locally_owned_size(), size());
     double violation = 0;
     for (const unsigned int i : intervals)
-      violation = std::max({violation, lower[i] - x.local_element(i), x.local_element(i) - upper[i]});
-    for (const Disc &d : discs)
       violation =
-        std::max(violation, std::hypot(x.local_element(d.i) - d.centre[0], x.local_element(d.j) - d.centre[1]) - d.radius);
+        std::max({violation, lower[i] - x.local_element(i), x.local_element(i) - upper[i]});
+    for (const Disc &d : discs)
+      violation = std::max(violation,
+                           std::hypot(x.local_element(d.i) - d.centre[0],
+                                      x.local_element(d.j) - d.centre[1]) -
+                             d.radius);
     return Reductions<VectorType>::max(violation, x);
   }
 

@@ -1,7 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
-#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/input_parsing.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/smalbe.h>
 
 #include <algorithm>
@@ -403,8 +403,9 @@ namespace FetiContact::QP
   SMALBE<VectorType>::lagrangian() const
   {
     const VectorType &l = *lambda;
-    const double      L =
-      Reductions<VectorType>::sum(l, [&](const unsigned int i) { return l.local_element(i) * (g.local_element(i) - b.local_element(i)); });
+    const double      L = Reductions<VectorType>::sum(l, [&](const unsigned int i) {
+      return l.local_element(i) * (g.local_element(i) - b.local_element(i));
+    });
     return L / 2 - (k > 0 ? *mu * problem->e : 0.) + rho / 2 * e_norm * e_norm;
   }
 

@@ -56,9 +56,9 @@ namespace
    * n_modes): each rank the entries of its relevant columns.
    */
   void
-  initialize(CoarseProblem          &coarse,
-             const DualSpace        &columns,
-             const unsigned int      unrestrained = n_modes)
+  initialize(CoarseProblem     &coarse,
+             const DualSpace   &columns,
+             const unsigned int unrestrained = n_modes)
   {
     const bool root =
       Utilities::MPI::this_mpi_process(columns.partitioner()->get_mpi_communicator()) == 0;
@@ -66,8 +66,8 @@ namespace
     for (unsigned int c = 0; c < n_columns; ++c)
       if (columns.local_index(c) != numbers::invalid_unsigned_int)
         for (unsigned int m = 0; m < n_modes; ++m)
-        if ((m * 7 + c * 3) % 5 < 2 && m != unrestrained)
-          entries.push_back({m, c, 1.0 + ((m * 131 + c * 71 + m * c * 17) % 97) / 97.0});
+          if ((m * 7 + c * 3) % 5 < 2 && m != unrestrained)
+            entries.push_back({m, c, 1.0 + ((m * 131 + c * 71 + m * c * 17) % 97) / 97.0});
     coarse.initialize(columns, entries, n_modes, n_columns, root ? 0 : n_modes, n_modes);
   }
 
@@ -103,8 +103,8 @@ namespace
   double
   residual(const CoarseProblem &coarse, const DualSpace &columns)
   {
-    Vector<double>    b(n_modes), x, r;
-    DualVector Gtx = columns.vector();
+    Vector<double> b(n_modes), x, r;
+    DualVector     Gtx = columns.vector();
     for (unsigned int i = 0; i < n_modes; ++i)
       b[i] = 1.0 + (i % 7);
     x = b;
@@ -125,8 +125,8 @@ main(int argc, char **argv)
   const std::string                on      = " (" + std::to_string(n_ranks) + " ranks)";
 
   const DualSpace columns = columns_of_G(comm);
-  CoarseProblem          per_node(CoarseProblem::FactorStorage::per_node);
-  CoarseProblem          per_rank(CoarseProblem::FactorStorage::per_rank);
+  CoarseProblem   per_node(CoarseProblem::FactorStorage::per_node);
+  CoarseProblem   per_rank(CoarseProblem::FactorStorage::per_rank);
   initialize(per_node, columns);
   initialize(per_rank, columns);
 

@@ -92,7 +92,8 @@ main(int argc, char **argv)
   const auto       &d  = dual.space();
   const std::string on = " on " + std::to_string(n_ranks) + " rank(s) (" +
                          std::to_string(d.partitioner()->ghost_targets().size()) + " neighbours, " +
-                         std::to_string(d.partitioner()->n_ghost_indices()) + " ghost values received)";
+                         std::to_string(d.partitioner()->n_ghost_indices()) +
+                         " ghost values received)";
 
   const unsigned int                     m = reference.size();
   std::mt19937                           random(5);
@@ -115,8 +116,8 @@ main(int argc, char **argv)
   const auto reference_F      = on_all_rows(reference, &DualProblem::apply_F);
   const auto reference_lumped = on_all_rows(reference, &DualProblem::apply_lumped);
 
-  Vector<double>    Fx, lumped_x;
-  DualVector Fx_d, lumped_x_d;
+  Vector<double> Fx, lumped_x;
+  DualVector     Fx_d, lumped_x_d;
   reference_F(x, Fx);
   dual.apply_F(x_d, Fx_d);
   check(same_bits(d.gather(Fx_d), Fx), "F x" + on + ": the same bits as on one rank");
@@ -139,7 +140,7 @@ main(int argc, char **argv)
   reference.coarse.project(Px_one);
   reference.coarse.least_norm_solution(reference.e, lambda0_one);
   const Vector<double> Px = rd.gather(Px_one), lambda0 = rd.gather(lambda0_one);
-  DualVector    Px_d(x_d), lambda0_d;
+  DualVector           Px_d(x_d), lambda0_d;
   dual.coarse.project(Px_d);
   dual.coarse.least_norm_solution(dual.e, lambda0_d);
   check(same_bits(d.gather(Px_d), Px) && same_bits(d.gather(lambda0_d), lambda0),
@@ -158,11 +159,10 @@ main(int argc, char **argv)
   const DualVector x_one  = rd.restrict(x);
   const DualVector Fx_one = rd.restrict(Fx);
   using namespace ReproducibleReductions;
-  check(same_bits(dot(x_d, Fx_d), dot(x_one, Fx_one)) &&
-          same_bits(l2_norm(Fx_d), l2_norm(Fx_one)),
+  check(same_bits(dot(x_d, Fx_d), dot(x_one, Fx_one)) && same_bits(l2_norm(Fx_d), l2_norm(Fx_one)),
         "xᵀF x and ‖F x‖" + on + ": the same bits as on one rank (" + sci(dot(x_d, Fx_d)) + ")");
 
-  const auto        tier = [](const unsigned int c) { return c % 10 == 0 ? 1u : 0u; };
+  const auto tier = [](const unsigned int c) { return c % 10 == 0 ? 1u : 0u; };
   DualVector tiered_d, tiered_one;
   dual.coarse.particular_solution(dual.e, tier, tiered_d);
   reference.coarse.particular_solution(reference.e, tier, tiered_one);
@@ -200,7 +200,7 @@ main(int argc, char **argv)
           " of the " + std::to_string(rows.n_rows()) + " rows on a rank");
   const DualProblem on_local(world, own, mode_offset, local);
   const auto       &d_l = on_local.space();
-  DualVector Fx_l, lumped_x_l, lambda0_l;
+  DualVector        Fx_l, lumped_x_l, lambda0_l;
   on_local.apply_F(d_l.restrict(x), Fx_l);
   on_local.apply_lumped(d_l.restrict(x), lumped_x_l);
   on_local.coarse.least_norm_solution(on_local.e, lambda0_l);

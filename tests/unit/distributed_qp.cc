@@ -10,8 +10,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/full_matrix.h>
 
-#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/base/exact_sum.h>
+#include <feticontact/base/reproducible_partitioner.h>
 #include <feticontact/qp/mpgp.h>
 #include <feticontact/qp/separable_set.h>
 #include <feticontact/qp/smalbe.h>
@@ -278,7 +278,7 @@ namespace
         problem.e = p.e;
       }
     Solution solution;
-    V        x = zero;
+    V        x          = zero;
     solution.reductions = n_reductions(x);
     if (with_equality)
       {
@@ -301,7 +301,7 @@ namespace
         solution.converged       = report.converged;
       }
     solution.reductions = n_reductions(x) - solution.reductions;
-    solution.x = full_of(x);
+    solution.x          = full_of(x);
     return solution;
   }
 
@@ -317,10 +317,7 @@ namespace
     std::vector<unsigned int> all(p.n);
     std::iota(all.begin(), all.end(), 0);
     const Solution serial =
-      solve(p,
-            all,
-            V(std::make_shared<const Utilities::MPI::Partitioner>(p.n)),
-            with_equality);
+      solve(p, all, V(std::make_shared<const Utilities::MPI::Partitioner>(p.n)), with_equality);
 
     std::vector<Solution> on(P + 1);
     for (unsigned int n_ranks = 1; n_ranks <= P; ++n_ranks)

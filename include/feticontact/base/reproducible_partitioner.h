@@ -43,12 +43,12 @@ namespace FetiContact
      * every owned entry (any numbers; the entries of one chunk consecutive, keys increasing), or
      * empty: every entry its own chunk. Collective (deal.II finds the ghosts' owners).
      */
-    ReproduciblePartitioner(const MPI_Comm                   comm,
+    ReproduciblePartitioner(const MPI_Comm                        comm,
                             const dealii::types::global_dof_index first,
                             const dealii::types::global_dof_index n,
-                            const dealii::IndexSet          &ghosts,
-                            std::vector<unsigned int>        key,
-                            const std::vector<unsigned int> &chunk);
+                            const dealii::IndexSet               &ghosts,
+                            std::vector<unsigned int>             key,
+                            const std::vector<unsigned int>      &chunk);
 
     /** The key of owned entry @p i (local index). */
     unsigned int

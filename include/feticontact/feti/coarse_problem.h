@@ -83,12 +83,12 @@ namespace FetiContact
      * must outlive this object.
      */
     void
-    initialize(const DualSpace &space,
-               std::vector<Entry>      relevant_entries,
-               const unsigned int      n_modes,
-               const unsigned int      n_columns,
-               const unsigned int      first_mode,
-               const unsigned int      end_mode);
+    initialize(const DualSpace   &space,
+               std::vector<Entry> relevant_entries,
+               const unsigned int n_modes,
+               const unsigned int n_columns,
+               const unsigned int first_mode,
+               const unsigned int end_mode);
 
     unsigned int
     n_modes() const
@@ -158,7 +158,7 @@ namespace FetiContact
     void
     particular_solution(const dealii::Vector<double>                    &e,
                         const std::function<unsigned int(unsigned int)> &tier,
-                        DualVector                               &lambda) const;
+                        DualVector                                      &lambda) const;
     /**
      * λ ← λ + Gᵀ(GGᵀ)⁻¹(e − Gλ): removes the drift from Gλ = e that rounding accumulates over
      * many projected iterations (without it the force balance of floating subdomains is off by
@@ -212,9 +212,7 @@ namespace FetiContact
      * columns are all relevant rows). Collective.
      */
     void
-    distribute(const DualSpace &space,
-               const unsigned int      first_mode,
-               const unsigned int      end_mode);
+    distribute(const DualSpace &space, const unsigned int first_mode, const unsigned int end_mode);
     /** y = Gᵀx, or y += Gᵀx if @p add (each column summed in the order of increasing mode). */
     void
     add_Gt(const dealii::Vector<double> &x, const bool add, DualVector &y) const;
@@ -255,12 +253,13 @@ namespace FetiContact
     const DualSpace *space = nullptr;
     /** The ranks' ranges of modes for G x on distributed vectors. */
     BlockPartition own_modes;
-    /** For the entries of G in this rank's modes: the local index of their column (owned or ghost). */
+    /** For the entries of G in this rank's modes: the local index of their column (owned or ghost).
+     */
     std::vector<unsigned int> own_mode_column;
     /** G by the columns this rank owns (CSC in the order of the local entries, modes increasing).
      */
-    std::vector<unsigned int>      own_column_start, own_column_mode;
-    std::vector<double>            own_column_value;
+    std::vector<unsigned int> own_column_start, own_column_mode;
+    std::vector<double>       own_column_value;
     /**
      * The relevant columns (increasing) with their entries by increasing mode (CSC: start, mode,
      * value).

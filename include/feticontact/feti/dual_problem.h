@@ -39,11 +39,11 @@ namespace FetiContact
    * rank-independent: every subdomain writes its terms B_i u_i into its own slots (the entries of
    * a distributed vector with one entry per nonzero of B, owned by the row's rank), the slots of
    * other ranks' subdomains reach the row's rank unchanged (compress(add) onto zero), and every
-   * row adds its slots in the order of increasing subdomain. F x, h and B u − c are then the same bits on any number of ranks and
-   * any assignment of subdomains to ranks, and so are the iterates and iteration counts of the
-   * solvers that use them (floating-point addition is not associative: a sum in rank order made
-   * n_A differ by 8 % between one and two ranks). Knows nothing of friction: it sees rows of B and
-   * their right-hand side c.
+   * row adds its slots in the order of increasing subdomain. F x, h and B u − c are then the same
+   * bits on any number of ranks and any assignment of subdomains to ranks, and so are the iterates
+   * and iteration counts of the solvers that use them (floating-point addition is not associative:
+   * a sum in rank order made n_A differ by 8 % between one and two ranks). Knows nothing of
+   * friction: it sees rows of B and their right-hand side c.
    */
   class DualProblem
   {
@@ -217,7 +217,8 @@ namespace FetiContact
 
     /** The rows of this rank's dual vectors, and the other rows of its subdomains. */
     std::unique_ptr<DualSpace> dual_space;
-    /** Per owned subdomain: the local index in the dual vectors of the row of every entry of B_i. */
+    /** Per owned subdomain: the local index in the dual vectors of the row of every entry of B_i.
+     */
     std::vector<std::vector<unsigned int>> row_local;
     /** D of apply_lumped, with its ghosts. */
     mutable DualVector lumped_scale;

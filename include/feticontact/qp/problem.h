@@ -22,9 +22,9 @@ namespace FetiContact::QP
    * the solution of the original.
    *
    * λ and h are of @p VectorType (DistributedVector, deal.II's distributed vector, with the
-   * entries spread over the ranks); the constraint side, e and the multipliers of Gλ = e, is small (one
-   * number per rigid body mode) and held whole by every rank as a dealii::Vector<double>: G maps
-   * a VectorType to it, Gᵀ back.
+   * entries spread over the ranks); the constraint side, e and the multipliers of Gλ = e, is small
+   * (one number per rigid body mode) and held whole by every rank as a dealii::Vector<double>: G
+   * maps a VectorType to it, Gᵀ back.
    */
   template <typename VectorType>
   struct Problem

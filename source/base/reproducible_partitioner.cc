@@ -29,9 +29,13 @@ namespace FetiContact
                                                    const IndexSet                  &ghosts,
                                                    std::vector<unsigned int>        key,
                                                    const std::vector<unsigned int> &chunk)
-    : Utilities::MPI::Partitioner(owned_range(first, key.size(), n), ghosts, comm)
+    : Utilities::MPI::Partitioner(owned_range(first, key.size(), n), comm)
     , keys(std::move(key))
   {
+    // The ghosts' owners (deal.II's consensus algorithm), unless no rank has ghosts: it fails
+    // on an empty vector, and a block without ghosts needs no exchange.
+    if (n > 0 && Utilities::MPI::max(ghosts.n_elements(), comm) > 0)
+      set_ghost_indices(ghosts);
     if (chunk.empty())
       return;
     AssertDimension(chunk.size(), keys.size());

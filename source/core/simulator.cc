@@ -43,72 +43,12 @@ namespace FetiContact
     , parameters(parameters)
     , effective_parameters(effective_parameters)
     , input(input)
-    , pcout(tee, rank == 0)
+    , output(comm, parameters.output.directory)
+    , pcout(output.log(), rank == 0)
     , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
     , fe(FE_SimplexP<3>(1), 3)
     , mapping(FE_SimplexP<3>(1))
   {}
-
-  void
-  Simulator::prepare_output_directory()
-  {
-    const std::string &dir = parameters.output.directory;
-    on_all_ranks([&]() {
-      if (rank != 0)
-        return;
-      // Files of an earlier run must not pass for this run's.
-      OutputFiles::clean(dir);
-      // The input as read, at once: they are no results, and a run that stops keeps them.
-      ResultFiles inputs;
-      inputs.open(dir + "/parameters.prm") << effective_parameters;
-      inputs.open(dir + "/input.prm") << input;
-      inputs.commit();
-      errno = 0;
-      log_file.open(dir + "/log.txt");
-      if (!log_file)
-        throw OutputError("Cannot create the output file <" + dir +
-                          "/log.txt>: " + std::strerror(errno) + ".");
-      tee.add(log_file, dir + "/log.txt");
-    });
-  }
-
-  void
-  Simulator::on_all_ranks(const std::function<void()> &write)
-  {
-    MPITools::collectively<OutputError>(comm, write);
-  }
-
-  void
-  Simulator::check_log()
-  {
-    tee.flush();
-    on_all_ranks([this]() {
-      if (!tee.failed().empty())
-        throw OutputError("Cannot write the output file <" + tee.failed() + ">: " +
-                          OutputFiles::failure_reason(tee.failure_errno(), tee.failed()) + ".");
-    });
-  }
-
-  void
-  Simulator::commit_results()
-  {
-    on_all_ranks([this]() {
-      result_files.complete();
-      summary_file.complete();
-    });
-    check_log();
-    try
-      {
-        on_all_ranks([this]() { result_files.commit(); });
-      }
-    catch (const OutputError &)
-      {
-        // Also the ranks whose files were renamed: no set of result files stays incomplete.
-        result_files.remove_all();
-        throw;
-      }
-    on_all_ranks([this]() { summary_file.commit(); });
-  }
 
   void
   Simulator::validate()
@@ -336,12 +276,9 @@ namespace FetiContact
       .set_leading("n_subdomains", first_subdomain.back())
       .set_leading("n_contact_nodes", n_contact_nodes)
       .set_leading("n_mpi_ranks", n_ranks);
-    on_all_ranks([&]() {
-      if (rank == 0)
-        summary.write(summary_file, parameters.output.directory);
-    });
+    output.write_summary(summary.str());
     timer.print_summary();
-    commit_results();
+    output.commit();
     return false;
   }
 
@@ -447,7 +384,7 @@ namespace FetiContact
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
           << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
           << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
-    check_log();
+    output.check_log();
   }
 
   void
@@ -488,7 +425,7 @@ namespace FetiContact
       solve_linear();
     else
       solve_contact();
-    check_log();
+    output.check_log();
     solve_F_time                      = dual->F_time;
     solve_F_local_time                = dual->F_local_time;
     solve_F_applications              = dual->n_F_applications;
@@ -566,11 +503,11 @@ namespace FetiContact
         [this](const std::vector<double> &g) { return load_balance_test->tresca(g); });
     const auto result = solver.solve();
     // The iteration history, also when the solver proved that no equilibrium exists.
-    on_all_ranks([&]() {
+    output.on_all_ranks([&]() {
       if (rank == 0)
         ContactSolver::write_history(result.history,
-                                     result_files.open(parameters.output.directory +
-                                                       "/history.csv"));
+                                     output.results().open(parameters.output.directory +
+                                                           "/history.csv"));
     });
     lambda = result.lambda;
     // Primal recovery: Fλ − h + Gᵀμ is the gradient of the Lagrangian, and
@@ -632,7 +569,7 @@ namespace FetiContact
                                       mapping,
                                       fe,
                                       parameters.output.directory,
-                                      result_files,
+                                      output.results(),
                                       summary,
                                       pcout};
     summary.set_solver_converged(converged);
@@ -823,12 +760,9 @@ namespace FetiContact
   Simulator::finish()
   {
     summarize_run();
-    on_all_ranks([&]() {
-      if (rank == 0)
-        summary.write(summary_file, parameters.output.directory);
-    });
+    output.write_summary(summary.str());
     timer.print_summary();
-    commit_results();
+    output.commit();
     return converged;
   }
 
@@ -1032,8 +966,8 @@ namespace FetiContact
     // so the other ranks' tee must have no destination, or every iteration line would appear
     // once per rank on the terminal.
     if (rank == 0)
-      tee.add(std::cout);
-    prepare_output_directory();
+      output.log().add(std::cout);
+    output.prepare(effective_parameters, input);
     set_up_scene();
     test_load_balance();
     if (equilibrium_impossible)

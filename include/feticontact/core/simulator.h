@@ -6,8 +6,7 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/lac/vector.h>
 
-#include <feticontact/base/output_files.h>
-#include <feticontact/base/tee_stream.h>
+#include <feticontact/base/output_directory.h>
 #include <feticontact/contact/contact_forces.h>
 #include <feticontact/contact/contact_geometry.h>
 #include <feticontact/contact/contact_rows.h>
@@ -109,9 +108,6 @@ namespace FetiContact
     }
 
   private:
-    /** Creates the output directory's input files and log.txt (rank 0). */
-    void
-    prepare_output_directory();
     /**
      * The set-up of the scene: the memory estimate, the bodies (and that each is held), the
      * reference displacements, the contact nodes (set_up_contact_nodes()).
@@ -272,18 +268,6 @@ namespace FetiContact
     /** How the subdomain solves were shared among the ranks (summary.json: local_work). */
     JsonObject
     summarize_local_work() const;
-    /** Renames every rank's result files to their final names, summary.json last. */
-    void
-    commit_results();
-    /**
-     * Runs @p write (on this rank) and makes an OutputError of any rank every rank's, so that
-     * all ranks stop together.
-     */
-    void
-    on_all_ranks(const std::function<void()> &write);
-    /** Throws OutputError on every rank if rank 0's log.txt could not be written. */
-    void
-    check_log();
 
     MPI_Comm           comm;
     const unsigned int rank;
@@ -291,12 +275,8 @@ namespace FetiContact
     Parameters::Scene  parameters;
     MemoryEstimate     memory_estimate; ///< of the run's peak, made before any mesh is built
     const std::string  effective_parameters, input;
-    std::ofstream      log_file;
-    /** This rank's result files, renamed to their final names at the end of run(). */
-    ResultFiles result_files;
-    /** summary.json, renamed after every other result file. */
-    ResultFiles                summary_file;
-    TeeStream                  tee;
+    /** The output directory, its log and this rank's result files. */
+    OutputDirectory            output;
     dealii::ConditionalOStream pcout;
     dealii::TimerOutput        timer;
 

@@ -12,6 +12,7 @@
 #include <feticontact/contact/contact_solver.h>
 #include <feticontact/contact/load_balance.h>
 #include <feticontact/core/simulator.h>
+#include <feticontact/core/solution_evaluation.h>
 #include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/postprocessing/postprocessors.h>
 #include <feticontact/postprocessing/stresses.h>
@@ -120,45 +121,16 @@ namespace FetiContact
   void
   Simulator::set_up_contact_nodes()
   {
-    std::vector<ZoneReport> &reports = zone_reports;
-    Timer                    search_timer;
-    // Every rank finds the nodes of its home vertices, whose rows it will hold.
-    contact_nodes =
-      find_contact_nodes(bodies, parameters.contact, &contact_surfaces, &reports, true);
-    n_contact_nodes = Utilities::MPI::sum(static_cast<unsigned int>(contact_nodes.size()), comm);
+    Timer search_timer;
+    contact.find(bodies, parameters.contact, comm);
     contact_rows_time += search_timer.wall_time();
-    mortar_zones.clear();
-    for (const ZoneReport &r : reports)
-      mortar_zones.push_back(r.discretization == "mortar");
-    for (unsigned int z = 0; z < reports.size(); ++z)
-      {
-        const ZoneReport &r = reports[z];
-        if (r.n_touching > 0)
-          pcout << "Contact zone " << z + 1 << ": " << r.n_touching
-                << " nodes start inside by less than "
-                << InputParsing::number_text(touching_fraction)
-                << " of the local mesh size: they touch (initial gap 0)" << std::endl;
-        if (r.discretization == "rigid plane")
-          continue;
-        pcout << "Contact zone " << z + 1 << ": " << r.discretization << ", " << r.n_nodes
-              << " nodes";
-        if (r.discretization == "mortar")
-          pcout << " (" << r.n_partly_covered << " partly covered, " << r.n_overlapping
-                << " overlapping initially); " << r.n_uncovered
-                << " slave vertices without a master opposite them; " << r.n_segments
-                << " segments within the search distance "
-                << InputParsing::number_text(r.search_distance) << " m";
-        if (r.discretization == "rigid obstacle")
-          pcout << " (" << r.n_overlapping << " inside it initially); " << r.n_uncovered
-                << " vertices farther than the search distance";
-        pcout << std::endl;
-      }
-    check_bodies_held_by_contact();
-    require(n_contact_nodes > 0 || !parameters.verification.hertz.enabled,
+    contact.report_zones(pcout);
+    contact.check_bodies_held(bodies, parameters.contact, comm);
+    require(contact.n_nodes() > 0 || !parameters.verification.hertz.enabled,
             "Verification/Hertz: the scene has no contact nodes.");
-    require(n_contact_nodes > 0 || !parameters.output.write_fclib,
+    require(contact.n_nodes() > 0 || !parameters.output.write_fclib,
             "Output/Write FCLIB problem: the scene has no contact nodes.");
-    for (const auto &node : contact_nodes)
+    for (const auto &node : contact.nodes())
       require(!parameters.output.write_fclib || !node.keeper || node.friction == 0,
               "Output/Write FCLIB problem: the node at " + InputParsing::number_text(node.x[0]) +
                 ", " + InputParsing::number_text(node.x[1]) + ", " +
@@ -171,18 +143,17 @@ namespace FetiContact
   void
   Simulator::test_load_balance()
   {
-    if (n_contact_nodes == 0)
+    if (contact.n_nodes() == 0)
       return;
     TimerOutput::Scope scope(timer, "setup");
     const bool         tresca =
       parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-    // The test of this rank's nodes, those the contact solver will hold (find_contact_nodes()
-    // gives a rank the nodes of its home vertices).
-    load_balance_test = std::make_unique<LoadBalanceTest>(bodies, contact_nodes, comm);
     const LoadBalance balance =
-      tresca ? load_balance_test->tresca(
-                 std::vector<double>(contact_nodes.size(), parameters.contact_solver.slip_bound)) :
-               load_balance_test->coulomb();
+      contact.test_load_balance(bodies,
+                                tresca ?
+                                  std::optional<double>(parameters.contact_solver.slip_bound) :
+                                  std::nullopt,
+                                comm);
     const char *outcome[] = {"balanced", "impossible", "undecided"};
     summary.set("load_balance",
                 JsonObject()
@@ -195,78 +166,11 @@ namespace FetiContact
             << "); the solve decides" << std::endl;
     if (balance.outcome != LoadBalance::Outcome::impossible)
       return;
-    message                = no_equilibrium_message(balance, tresca);
+    message                = contact.no_equilibrium_message(balance, tresca);
     equilibrium_impossible = true;
     converged              = false;
     pcout << "Load balance: " << message << std::endl;
     summary.set("solver_message", message).set("no_equilibrium", true);
-  }
-
-  void
-  Simulator::check_bodies_held_by_contact() const
-  {
-    // Contact nodes per body, as slave or as master, over all ranks.
-    std::vector<unsigned int> touching(bodies.size());
-    for (const ContactNode &node : contact_nodes)
-      {
-        ++touching[node.body];
-        for (const MasterPoint &m : node.master)
-          ++touching[m.body];
-      }
-    MPI_Allreduce(MPI_IN_PLACE, touching.data(), touching.size(), MPI_UNSIGNED, MPI_SUM, comm);
-    for (const auto &body : bodies)
-      {
-        if (touching[body->index] > 0 || !in_contact(parameters.contact, body->index))
-          continue;
-        const FreeRigidMotions free = body->free_rigid_motions();
-        if (free.n() > 0)
-          throw InputError("Body '" + body->parameters.name +
-                           "' is not held: its prescribed displacements "
-                           "leave " +
-                           std::to_string(free.n()) + " rigid body motion(s) free (" + free.text() +
-                           "), and its contact zones found no contact node on it" +
-                           uncoupled_vertices_text() + ".");
-      }
-  }
-
-  std::string
-  Simulator::uncoupled_vertices_text() const
-  {
-    std::string text;
-    for (unsigned int z = 0; z < zone_reports.size(); ++z)
-      {
-        const ZoneReport &r = zone_reports[z];
-        if (r.n_uncovered == 0 || r.discretization == "rigid plane")
-          continue;
-        text += ". In contact zone " + std::to_string(z + 1) + ", " +
-                std::to_string(r.n_uncovered) + " slave vertices have " +
-                (r.discretization == "rigid obstacle" ? "no obstacle" : "no master") +
-                " within the search distance " + InputParsing::number_text(r.search_distance) +
-                " m and are no contact nodes: a larger 'Contact/Zone " + std::to_string(z + 1) +
-                "/Search distance' couples them";
-      }
-    return text;
-  }
-
-  std::string
-  Simulator::no_equilibrium_message(const LoadBalance &balance, const bool tresca) const
-  {
-    std::ostringstream text;
-    text << "no equilibrium: the loads cannot be balanced by contact forces within "
-         << (tresca ? "the bounds λ_N ≥ 0, ‖λ_T‖ ≤ g (Tresca)" : "the friction cones ‖λ_T‖ ≤ μ λ_N")
-         << ". On the rigid motion with " << balance.motion << " the loads do the work "
-         << InputParsing::number_text(balance.load_work) << " J per metre of that motion, and ";
-    if (std::isfinite(balance.force_bound))
-      text << "only contact forces whose magnitudes sum to more than "
-           << InputParsing::number_text(balance.force_bound) << " N (" << std::setprecision(2)
-           << balance.force_bound / balance.load_resultant << std::setprecision(6)
-           << " times the loads' resultant) could oppose it";
-    else
-      text << "no contact force within them can oppose it";
-    text << ". A body held only by contact is pulled off its obstacle, or its tangential loads "
-            "exceed what friction can hold (full sliding)"
-         << uncoupled_vertices_text();
-    return text.str();
   }
 
   bool
@@ -274,7 +178,7 @@ namespace FetiContact
   {
     summary.set_leading("converged", false)
       .set_leading("n_subdomains", first_subdomain.back())
-      .set_leading("n_contact_nodes", n_contact_nodes)
+      .set_leading("n_contact_nodes", contact.n_nodes())
       .set_leading("n_mpi_ranks", n_ranks);
     output.write_summary(summary.str());
     timer.print_summary();
@@ -350,7 +254,7 @@ namespace FetiContact
     const unsigned directions = polygonal ? parameters.contact_solver.polygon_directions : 0;
     Timer          rows_timer;
     rows = build_shared_contact_rows(comm,
-                                     contact_nodes,
+                                     contact.nodes(),
                                      first_subdomain,
                                      owner,
                                      layout,
@@ -362,8 +266,8 @@ namespace FetiContact
                                            build_equality_rows(comm, owned, !primal);
     layout.n_equality       = equality.n_all;
     rows.append(equality);
-    if (n_contact_nodes > 0)
-      pcout << "Contact: " << n_contact_nodes << " contact nodes, " << layout.n_normal
+    if (contact.n_nodes() > 0)
+      pcout << "Contact: " << contact.n_nodes() << " contact nodes, " << layout.n_normal
             << " normal and " << layout.n_tangential << " tangential multipliers" << std::endl;
   }
 
@@ -380,7 +284,7 @@ namespace FetiContact
   {
     factorize_subdomains();
     build_dual_problem();
-    hold_contact_nodes_here();
+    contact.hold(*dual, layout, owner, first_subdomain, comm);
     pcout << "FETI: " << first_subdomain.back() << " subdomains on " << n_ranks << " rank(s) × "
           << SubdomainThreads::n_threads() << " thread(s), " << mode_offset.back()
           << " rigid body modes, " << dual->size() << " dual unknowns" << std::endl;
@@ -421,7 +325,7 @@ namespace FetiContact
   void
   Simulator::solve()
   {
-    if (n_contact_nodes == 0)
+    if (contact.n_nodes() == 0)
       solve_linear();
     else
       solve_contact();
@@ -495,12 +399,12 @@ namespace FetiContact
   {
     TimerOutput::Scope scope(timer, "solve");
     // The solver works on the nodes whose rows this rank holds.
-    const HeldContactNodes &held = held_contact;
+    const HeldContactNodes &held = contact.held();
     ContactSolver           solver(
       *dual, held.layout, held.nodes, parameters.contact_solver, pcout.get_stream());
-    if (load_balance_test && load_balance_test->has_free_motions())
+    if (contact.load_balance() && contact.load_balance()->has_free_motions())
       solver.set_equilibrium_test(
-        [this](const std::vector<double> &g) { return load_balance_test->tresca(g); });
+        [this](const std::vector<double> &g) { return contact.load_balance()->tresca(g); });
     const auto result = solver.solve();
     // The iteration history, also when the solver proved that no equilibrium exists.
     output.on_all_ranks([&]() {
@@ -545,8 +449,9 @@ namespace FetiContact
     if (equilibrium_impossible)
       return;
     recover_primal();
-    TimerOutput::Scope          scope(timer, "output");
-    const Evaluation            evaluation = evaluate_solution();
+    TimerOutput::Scope       scope(timer, "output");
+    const SolutionEvaluation evaluation = SolutionEvaluation::of(
+      comm, parameters, owned, u, mapping, *dual, layout, lambda, contact, first_subdomain, owner);
     const Postprocessing::Input input{comm,
                                       parameters,
                                       bodies,
@@ -559,12 +464,12 @@ namespace FetiContact
                                       evaluation.u_max,
                                       evaluation.interface_jump,
                                       evaluation.largest_strain,
-                                      held_contact.nodes,
-                                      held_contact.layout,
-                                      contact_surfaces,
-                                      evaluation.contact_results,
-                                      evaluation.contact_check,
-                                      evaluation.contact_forces,
+                                      contact.held().nodes,
+                                      contact.held().layout,
+                                      contact.surfaces(),
+                                      evaluation.contact.results,
+                                      evaluation.contact.check,
+                                      evaluation.contact.forces,
                                       reference_displacements,
                                       mapping,
                                       fe,
@@ -573,7 +478,7 @@ namespace FetiContact
                                       summary,
                                       pcout};
     summary.set_solver_converged(converged);
-    for (const auto &postprocessor : Postprocessing::create(parameters, n_contact_nodes > 0))
+    for (const auto &postprocessor : Postprocessing::create(parameters, contact.n_nodes() > 0))
       {
         postprocessor->execute(input);
         if (const auto *hertz =
@@ -592,168 +497,6 @@ namespace FetiContact
   {
     TimerOutput::Scope scope(timer, "primal recovery");
     u = alpha_given ? dual->recover_primal(lambda, alpha) : dual->recover_primal(lambda);
-  }
-
-  void
-  Simulator::hold_contact_nodes_here()
-  {
-    dual_rows.emplace(*dual);
-    held_contact = hold_contact_nodes(contact_nodes, layout, [this](const unsigned int k) {
-      return holds_contact_node(contact_nodes[k]);
-    });
-    // The rows of a node belong to its home subdomain (DualRows::held_by): a rank holds the
-    // normal rows of exactly its nodes. Checked by all ranks together, so that all stop.
-    std::string      error;
-    const DualVector row_numbers = dual_rows->vector();
-    unsigned int     n_normal    = 0;
-    for (unsigned int i = 0; i < row_numbers.locally_owned_size(); ++i)
-      n_normal += row_numbers.global_index(i) >= layout.first_normal() &&
-                  row_numbers.global_index(i) < layout.first_equality();
-    for (unsigned int k = 0; k < held_contact.nodes.size(); ++k)
-      if (dual_rows->local_index(held_contact.layout.normal_row[k]) ==
-          numbers::invalid_unsigned_int)
-        error = "the rows of contact node " + std::to_string(held_contact.layout.node_number(k)) +
-                " are not held by the rank of its home subdomain";
-    if (error.empty() && n_normal != held_contact.nodes.size())
-      error = "rank " + std::to_string(rank) + " holds " + std::to_string(n_normal) +
-              " normal rows of contact nodes and " + std::to_string(held_contact.nodes.size()) +
-              " contact nodes";
-    error = MPITools::first_error(comm, error);
-    AssertThrow(error.empty(), ExcMessage("Contact nodes and their rows: " + error + "."));
-  }
-
-  bool
-  Simulator::holds_contact_node(const ContactNode &node) const
-  {
-    return owner[first_subdomain[node.body] + node.copies.parts.front()] == rank;
-  }
-
-  double
-  Simulator::contact_multiplier(const unsigned int row) const
-  {
-    return lambda[dual_rows->local_index(row)];
-  }
-
-  unsigned int
-  Simulator::multipliers_not_finite() const
-  {
-    unsigned int n = 0;
-    for (const double l : lambda)
-      n += !std::isfinite(l);
-    return Utilities::MPI::sum(n, comm);
-  }
-
-  double
-  Simulator::largest_equality_residual() const
-  {
-    double           jump     = 0;
-    const DualVector residual = dual->constraint_residual(u);
-    for (unsigned int i = 0; i < residual.locally_owned_size(); ++i)
-      if (residual.global_index(i) >= layout.first_equality())
-        jump = std::max(jump, std::abs(residual[i]));
-    return Utilities::MPI::max(jump, comm);
-  }
-
-  Simulator::Evaluation
-  Simulator::evaluate_solution() const
-  {
-    Evaluation evaluation;
-    // Every vertex once, in the subdomain that reports it.
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      for (const auto &[w, v] : owned[i]->reported_vertices())
-        {
-          Tensor<1, 3> u_v;
-          for (unsigned int c = 0; c < 3; ++c)
-            {
-              u_v[c] = u[i][owned[i]->vertex_dofs[v][c]];
-              evaluation.u_not_finite += !std::isfinite(u_v[c]);
-            }
-          evaluation.u_max = std::max(evaluation.u_max, u_v.norm());
-          if (n_contact_nodes > 0)
-            evaluation.vertex_penetration =
-              std::max(evaluation.vertex_penetration,
-                       vertex_penetration(parameters.contact,
-                                          owned[i]->body.index,
-                                          owned[i]->mesh.get_vertices()[v],
-                                          u_v));
-        }
-    evaluation.u_max              = Utilities::MPI::max(evaluation.u_max, comm);
-    evaluation.u_not_finite       = Utilities::MPI::sum(evaluation.u_not_finite, comm);
-    evaluation.vertex_penetration = Utilities::MPI::max(evaluation.vertex_penetration, comm);
-    // Constraint residual B_E u − c: the jump of the displacements across interfaces (and the
-    // Dirichlet misfit in TFETI), relative to the largest displacement. Only the equality rows:
-    // the contact rows of B u − c are the gaps and the slips.
-    const double jump            = largest_equality_residual();
-    evaluation.lambda_not_finite = multipliers_not_finite();
-    evaluation.interface_jump    = evaluation.u_max > 0 ? jump / evaluation.u_max : jump;
-    if (evaluation.u_not_finite == 0)
-      for (unsigned int i = 0; i < owned.size(); ++i)
-        for (const auto &strain : cell_strains(*owned[i], mapping, u[i]))
-          for (const double e : eigenvalues(strain))
-            evaluation.largest_strain = std::max(evaluation.largest_strain, std::abs(e));
-    evaluation.largest_strain = Utilities::MPI::max(evaluation.largest_strain, comm);
-    evaluation.contact_forces.on_body.resize(bodies.size());
-    evaluation.contact_forces.of_zone.resize(parameters.contact.zones.size());
-    if (n_contact_nodes > 0)
-      evaluate_contact(evaluation);
-    return evaluation;
-  }
-
-  void
-  Simulator::evaluate_contact(Evaluation &evaluation) const
-  {
-    const bool tresca =
-      parameters.contact_solver.friction_law == Parameters::ContactSolver::FrictionLaw::tresca;
-    evaluation.surface_u       = contact_displacements();
-    evaluation.contact_results = FetiContact::evaluate_contact(
-      held_contact.nodes,
-      held_contact.layout,
-      [this](const unsigned int row) { return contact_multiplier(row); },
-      evaluation.surface_u,
-      evaluation.u_max,
-      evaluation.contact_check,
-      tresca ? std::optional<double>(parameters.contact_solver.slip_bound) : std::nullopt,
-      comm);
-    // The independent check counts every vertex of the bodies in front of a rigid plane too.
-    double largest_cell = 0;
-    for (const Subdomain *s : owned)
-      largest_cell = std::max(largest_cell, GridTools::maximal_cell_diameter(s->mesh));
-    largest_cell            = Utilities::MPI::max(largest_cell, comm);
-    const double u_max      = evaluation.u_max;
-    const double on_surface = surface_penetration(
-      parameters.contact, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
-    evaluation.contact_check.penetration =
-      std::max({evaluation.contact_check.penetration,
-                on_surface,
-                u_max > 0 ? evaluation.vertex_penetration / u_max : evaluation.vertex_penetration});
-    // Mortar rows hold the gap weakly: the pointwise overlap of their surfaces, reported apart.
-    if (std::find(mortar_zones.begin(), mortar_zones.end(), true) != mortar_zones.end())
-      evaluation.contact_check.mortar_overlap = mortar_overlap(
-        mortar_zones, contact_surfaces, evaluation.surface_u, u_max, largest_cell, comm);
-    evaluation.contact_forces = ContactForces::of(held_contact.nodes,
-                                                  evaluation.contact_results,
-                                                  bodies.size(),
-                                                  parameters.contact.zones.size(),
-                                                  comm);
-  }
-
-  VertexDisplacements
-  Simulator::contact_displacements() const
-  {
-    std::vector<std::array<unsigned int, 3>> wanted; // (body, vertex, home part)
-    for (const auto *list : {&contact_surfaces.slave, &contact_surfaces.master})
-      for (const ContactTriangle &t : *list)
-        for (unsigned int i = 0; i < 3; ++i)
-          wanted.push_back({{t.body, t.vertices[i], t.home[i]}});
-    for (const ContactSurfaces::Vertex &v : contact_surfaces.uncoupled)
-      wanted.push_back({{v.body, v.vertex, v.home}});
-    for (const ContactNode &node : held_contact.nodes)
-      {
-        wanted.push_back({{node.body, node.vertex, node.copies.parts.front()}});
-        for (const MasterPoint &m : node.master)
-          wanted.push_back({{m.body, m.vertex, m.copies.parts.front()}});
-      }
-    return fetch_vertex_displacements(comm, first_subdomain, owner, owned, u, wanted);
   }
 
   bool
@@ -794,7 +537,7 @@ namespace FetiContact
     // with it.
     const double       hessian_time = Utilities::MPI::max(solve_F_time, comm);
     const double       mean_F = solve_F_applications > 0 ? hessian_time / solve_F_applications : 0;
-    const unsigned int n_A    = n_contact_nodes == 0 ? dual->n_F_applications : n_bound + n_disc;
+    const unsigned int n_A    = contact.n_nodes() == 0 ? dual->n_F_applications : n_bound + n_disc;
     const double       floor  = time("factorization") + n_A * mean_F;
     // Of the applications of F, the work in the subdomains of the slowest and of the fastest
     // rank; the rest of hessian_applications is the exchange of B u among the ranks and waiting.
@@ -855,10 +598,7 @@ namespace FetiContact
       .set("model_cells", memory_estimate.cells)
       .set("model_factor_units", memory_estimate.factor_units)
       .set("meshes_mib", meshes_mib())
-      .set("contact_mib",
-           static_cast<double>(memory_consumption(contact_nodes, contact_surfaces) +
-                               memory_consumption(held_contact.nodes, ContactSurfaces())) /
-             (1024.0 * 1024.0))
+      .set("contact_mib", static_cast<double>(contact.memory_consumption()) / (1024.0 * 1024.0))
       .set("coarse_shared_mib_per_rank",
            Utilities::MPI::all_gather(comm,
                                       static_cast<double>(dual->coarse.shared_factor_bytes()) /
@@ -908,8 +648,8 @@ namespace FetiContact
       if (body->mesh.n_active_cells() > 0)
         h_min = std::min(h_min, GridTools::minimal_cell_diameter(body->mesh));
     h_min                            = Utilities::MPI::min(h_min, comm);
-    const unsigned int n_bound_total = n_contact_nodes == 0 ? dual->n_F_applications : n_bound;
-    const unsigned int n_A = n_contact_nodes == 0 ? dual->n_F_applications : n_bound + n_disc;
+    const unsigned int n_bound_total = contact.n_nodes() == 0 ? dual->n_F_applications : n_bound;
+    const unsigned int n_A = contact.n_nodes() == 0 ? dual->n_F_applications : n_bound + n_disc;
 
     double           total_time    = 0;
     const JsonObject times         = summarize_times(total_time);
@@ -950,7 +690,7 @@ namespace FetiContact
     const auto solve_time                  = timer_data.find("solve");
     const auto output_time                 = timer_data.find("output");
     run_statistics.n_primal                = n_primal;
-    run_statistics.n_contact_nodes         = n_contact_nodes;
+    run_statistics.n_contact_nodes         = contact.n_nodes();
     run_statistics.outer_iterations        = iterations;
     run_statistics.hessian_multiplications = n_A;
     run_statistics.h_min                   = h_min;

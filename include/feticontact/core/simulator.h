@@ -7,14 +7,10 @@
 #include <deal.II/lac/vector.h>
 
 #include <feticontact/base/output_directory.h>
-#include <feticontact/contact/contact_forces.h>
-#include <feticontact/contact/contact_geometry.h>
-#include <feticontact/contact/contact_rows.h>
-#include <feticontact/contact/load_balance.h>
+#include <feticontact/contact/contact_state.h>
 #include <feticontact/core/memory_estimate.h>
 #include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
-#include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
 #include <feticontact/qp/projected_cg.h>
@@ -129,26 +125,6 @@ namespace FetiContact
      */
     void
     test_load_balance();
-    /**
-     * The message of a load balance proved impossible, with the slave vertices that the contact
-     * search left without a master (uncoupled_vertices_text()).
-     */
-    std::string
-    no_equilibrium_message(const LoadBalance &balance, const bool tresca) const;
-    /**
-     * Throws InputError naming the body and its free rigid motions if a body that only contact
-     * could hold has no contact node (as slave or master): the coarse problem would be singular.
-     * Collective.
-     */
-    void
-    check_bodies_held_by_contact() const;
-    /**
-     * For a message of no equilibrium: per zone whose search left slave vertices without a
-     * master (or an obstacle) within its search distance, their number and the distance; "" if
-     * none.
-     */
-    std::string
-    uncoupled_vertices_text() const;
     /** Writes the summary of a run that stops without equilibrium before the solve. */
     bool
     stop_without_equilibrium();
@@ -192,58 +168,6 @@ namespace FetiContact
     postprocess();
     void
     recover_primal();
-    /**
-     * The contact nodes whose rows this rank holds (held_contact), after the dual
-     * problem is built.
-     */
-    void
-    hold_contact_nodes_here();
-
-    /**
-     * The displacements of the vertices that the contact evaluation and output on this rank
-     * read: those of the contact surfaces' triangles it lists, of its uncoupled vertices and of
-     * its nodes and their master vertices, each from the rank of its home subdomain. Collective.
-     */
-    VertexDisplacements
-    contact_displacements() const;
-    /**
-     * Whether this rank holds @p node: with distributed dual vectors the rank of the node's
-     * home subdomain (the lowest copy of its slave vertex), with replicated ones every rank.
-     */
-    bool
-    holds_contact_node(const ContactNode &node) const;
-    /** λ of row @p row of a contact node this rank holds. */
-    double
-    contact_multiplier(const unsigned int row) const;
-    /** The number of entries of λ that are not finite numbers, over all rows and ranks. */
-    unsigned int
-    multipliers_not_finite() const;
-    /** max |B_E u − c| over the equality rows, over all ranks. */
-    double
-    largest_equality_residual() const;
-    /**
-     * The quantities of the solution every postprocessor reads: the displacements per body
-     * vertex, the interface jump, the contact nodes' results, checks and forces.
-     */
-    struct Evaluation
-    {
-      /** The displacements of the vertices of the contact surfaces. */
-      VertexDisplacements surface_u;
-      /** max |u| over all vertices, and the displacement components that are not finite. */
-      double       u_max = 0, interface_jump = 0, largest_strain = 0;
-      unsigned int u_not_finite = 0;
-      /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
-      double vertex_penetration = 0;
-      /** The entries of λ not finite. */
-      unsigned int                   lambda_not_finite = 0;
-      std::vector<ContactNodeResult> contact_results;
-      ContactCheck                   contact_check;
-      ContactForces                  contact_forces;
-    };
-    Evaluation
-    evaluate_solution() const;
-    void
-    evaluate_contact(Evaluation &evaluation) const;
     /** Writes summary.json, prints the timer table and commits the result files. */
     bool
     finish();
@@ -293,27 +217,11 @@ namespace FetiContact
     std::vector<unsigned int>               mode_offset;
     /** The rows of B that this rank holds (build_dual_rows()). */
     DualRows rows;
-    /**
-     * The contact nodes this rank found (find_contact_nodes()): the search is shared, and these
-     * are the nodes of this rank's home vertices.
-     */
-    std::vector<ContactNode> contact_nodes;
-    /** The number of contact nodes of all ranks. */
-    unsigned int n_contact_nodes = 0;
-    /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
-    std::unique_ptr<LoadBalanceTest> load_balance_test;
-    ContactSurfaces                  contact_surfaces;
-    /** Per contact zone: whether its rows are mortar rows (the mortar overlap check). */
-    std::vector<bool>            mortar_zones;
+    /** The contact nodes, those whose rows this rank holds, and their evaluation. */
+    ContactState contact;
+    /** The layout of λ = [λ_T; λ_N; λ_E]: the numbers of its rows of each kind. */
     DualLayout                   layout;
     std::unique_ptr<DualProblem> dual;
-    /**
-     * The contact nodes whose rows this rank holds (hold_contact_nodes()): each node on the rank
-     * of its home subdomain.
-     */
-    HeldContactNodes held_contact;
-    /** The rows this rank holds of the dual vectors (set with the dual problem). */
-    std::optional<LocalDualRows> dual_rows;
 
     /** The solution λ on this rank's rows. */
     DualVector lambda;
@@ -332,11 +240,9 @@ namespace FetiContact
     /** Time in and number of applications of F up to the end of the solve. */
     double solve_F_time = 0;
     /** Wall time of the contact search, the mortar integrals and the contact rows (in setup). */
-    double contact_rows_time = 0;
-    /** What the contact search found per zone (counts over all ranks). */
-    std::vector<ZoneReport> zone_reports;
-    double                  solve_F_local_time   = 0;
-    unsigned int            solve_F_applications = 0;
+    double       contact_rows_time    = 0;
+    double       solve_F_local_time   = 0;
+    unsigned int solve_F_applications = 0;
     /** Time in and number of applications of the lumped preconditioner (part of the solve). */
     double       solve_preconditioner_time         = 0;
     unsigned int solve_preconditioner_applications = 0;

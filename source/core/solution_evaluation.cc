@@ -39,10 +39,8 @@ namespace FetiContact
             if (with_contact)
               evaluation.vertex_penetration =
                 std::max(evaluation.vertex_penetration,
-                         vertex_penetration(contact,
-                                            owned[i]->body.index,
-                                            owned[i]->mesh.get_vertices()[v],
-                                            u_v));
+                         vertex_penetration(
+                           contact, owned[i]->body.index, owned[i]->mesh.get_vertices()[v], u_v));
           }
       evaluation.u_max              = Utilities::MPI::max(evaluation.u_max, comm);
       evaluation.u_not_finite       = Utilities::MPI::sum(evaluation.u_not_finite, comm);
@@ -78,10 +76,10 @@ namespace FetiContact
     /** The largest |eigenvalue| of the strains of the cells of @p owned, over all ranks. */
     double
     largest_principal_strain(const std::vector<Subdomain *>            &owned,
-                   const std::vector<dealii::Vector<double>> &u,
-                   const dealii::Mapping<3>                  &mapping,
-                   const bool                                 u_finite,
-                   const MPI_Comm                             comm)
+                             const std::vector<dealii::Vector<double>> &u,
+                             const dealii::Mapping<3>                  &mapping,
+                             const bool                                 u_finite,
+                             const MPI_Comm                             comm)
     {
       double largest = 0;
       if (u_finite)

@@ -28,7 +28,7 @@ namespace FetiContact
    * where the run reads the entries of a dual vector by their rows.
    */
   void
-  for_each_held_row(const DualVector                                         &x,
+  for_each_held_row(const DualVector                                            &x,
                     const std::function<void(const unsigned int, const double)> &f);
 
   /**
@@ -131,15 +131,15 @@ namespace FetiContact
      * With a @p tresca_slip_bound the bound of nodes with friction is that slip bound. Collective.
      */
     ContactEvaluation
-    evaluate(const DualVector            &lambda,
-             const VertexDisplacements   &surface_u,
-             const double                 u_max,
-             const double                 vertex_penetration,
-             const double                 largest_cell,
-             const Parameters::Contact   &contact,
-             const std::optional<double>  tresca_slip_bound,
-             const unsigned int           n_bodies,
-             const MPI_Comm               comm) const;
+    evaluate(const DualVector           &lambda,
+             const VertexDisplacements  &surface_u,
+             const double                u_max,
+             const double                vertex_penetration,
+             const double                largest_cell,
+             const Parameters::Contact  &contact,
+             const std::optional<double> tresca_slip_bound,
+             const unsigned int          n_bodies,
+             const MPI_Comm              comm) const;
 
     /** The contact nodes this rank found (find()): those of its home vertices. */
     const std::vector<ContactNode> &

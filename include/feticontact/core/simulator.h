@@ -9,6 +9,7 @@
 #include <feticontact/base/output_directory.h>
 #include <feticontact/contact/contact_state.h>
 #include <feticontact/core/memory_estimate.h>
+#include <feticontact/core/run_summary.h>
 #include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
@@ -85,17 +86,7 @@ namespace FetiContact
     }
 
     /** What a refinement study tabulates of a run (RefinementStudy). */
-    struct Statistics
-    {
-      unsigned int n_primal = 0, n_contact_nodes = 0, outer_iterations = 0,
-                   hessian_multiplications = 0;
-      /** The smallest cell diameter of all bodies. */
-      double h_min = 0;
-      /** Wall time of the solve and of the whole run without output [s]. */
-      double solve_time = 0, time_without_output = 0;
-      /** Verification/Hertz, if enabled. */
-      std::optional<HertzResult> hertz;
-    };
+    using Statistics = RunStatistics;
     /** Available after run(). */
     const Statistics &
     statistics() const
@@ -131,9 +122,6 @@ namespace FetiContact
     /** This rank's subdomains, their meshes and DoFs, and the rows of B. */
     void
     set_up_subdomains();
-    /** The rank of every subdomain (owner): contiguous ranges balanced by cells. */
-    void
-    distribute_subdomains();
     /**
      * The rows of B, λ = [λ_T; λ_N; λ_E]: all of them, or with distributed dual vectors on
      * several ranks (and no shared local work) those that touch this rank's subdomains.
@@ -151,15 +139,9 @@ namespace FetiContact
     build_dual_problem();
     void
     solve();
-    /** Projected CG (no contact). */
+    /** Projected CG (no contact): LinearDualSolution. */
     void
     solve_linear();
-    /**
-     * The closing message of projected CG: "converged", or why it stopped (stagnation at the
-     * rounding floor of F above the tolerance, or the iteration limit), with its numbers.
-     */
-    std::string
-    projected_cg_message(const QP::SolverReport &report) const;
     /** ContactSolver. */
     void
     solve_contact();
@@ -171,27 +153,6 @@ namespace FetiContact
     /** Writes summary.json, prints the timer table and commits the result files. */
     bool
     finish();
-    /** The leading members of summary.json; records statistics(). */
-    void
-    summarize_run();
-    /** The times of the phases and of the parts of the solve (summary.json: times). */
-    JsonObject
-    summarize_times(double &total_time) const;
-    /** The peak memory of every rank and the estimate (summary.json: memory). */
-    JsonObject
-    summarize_memory() const;
-    /**
-     * The memory of the meshes that this rank holds (Triangulation::memory_consumption()): every
-     * body's whole mesh, or with distributed cells the rank's own, in MiB.
-     */
-    double
-    meshes_mib() const;
-    /** The exchanges of one application of F, per rank (DualProblem::communication_volume). */
-    JsonObject
-    summarize_communication() const;
-    /** How the subdomain solves were shared among the ranks (summary.json: local_work). */
-    JsonObject
-    summarize_local_work() const;
 
     MPI_Comm           comm;
     const unsigned int rank;
@@ -230,21 +191,12 @@ namespace FetiContact
     bool                                alpha_given = false;
     std::vector<dealii::Vector<double>> u;
     /** summary.json under construction. */
-    Summary      summary;
-    bool         converged              = false;
-    bool         equilibrium_impossible = false;
-    std::string  message;
-    unsigned int iterations = 0;
-    unsigned int n_bound = 0, n_disc = 0;
-    Statistics   run_statistics;
-    /** Time in and number of applications of F up to the end of the solve. */
-    double solve_F_time = 0;
-    /** Wall time of the contact search, the mortar integrals and the contact rows (in setup). */
-    double       contact_rows_time    = 0;
-    double       solve_F_local_time   = 0;
-    unsigned int solve_F_applications = 0;
-    /** Time in and number of applications of the lumped preconditioner (part of the solve). */
-    double       solve_preconditioner_time         = 0;
-    unsigned int solve_preconditioner_applications = 0;
+    Summary     summary;
+    bool        converged              = false;
+    bool        equilibrium_impossible = false;
+    std::string message;
+    Statistics  run_statistics;
+    /** The counts and times of the solve that summary.json reports. */
+    SolveWork work;
   };
 } // namespace FetiContact

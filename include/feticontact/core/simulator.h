@@ -14,17 +14,13 @@
 #include <feticontact/feti/dual_problem.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
-#include <feticontact/qp/projected_cg.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
 
-#include <fstream>
-#include <functional>
 #include <memory>
 #include <mpi.h>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 namespace FetiContact

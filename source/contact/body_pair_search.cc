@@ -474,27 +474,35 @@ namespace FetiContact::ContactSearch
         uncoupled.push_back({side.z, side.zone.body, vertex, data.x, data.copies.parts.front()});
   }
 
+  BoundarySelector
+  resolved_surface(const Body &body, const BoundarySelector &selection, const std::string &where)
+  {
+    BoundarySelector surface(selection);
+    try
+      {
+        surface.resolve(body.mesh,
+                        body.parameters.name,
+                        body.mesh_comm(),
+                        body.parameters.mesh.transform);
+      }
+    catch (const InputError &e)
+      {
+        throw InputError(where + e.what());
+      }
+    return surface;
+  }
+
   void
   add_body_pair_nodes(const ZoneSide                           &side,
                       const std::vector<std::unique_ptr<Body>> &bodies,
                       std::vector<ContactNode>                 &nodes,
                       ZoneReport                               &report)
   {
-    using Discretization         = Parameters::ContactZone::Discretization;
-    const auto      &zone        = side.zone;
-    const Body      &master_body = *bodies[zone.master_body];
-    BoundarySelector master_selector(zone.master_surface);
-    try
-      {
-        master_selector.resolve(master_body.mesh,
-                                master_body.parameters.name,
-                                master_body.mesh_comm(),
-                                master_body.parameters.mesh.transform);
-      }
-    catch (const InputError &e)
-      {
-        throw InputError(side.where + "Master surface: " + e.what());
-      }
+    using Discretization               = Parameters::ContactZone::Discretization;
+    const auto            &zone        = side.zone;
+    const Body            &master_body = *bodies[zone.master_body];
+    const BoundarySelector master_selector =
+      resolved_surface(master_body, zone.master_surface, side.where + "Master surface: ");
     MasterSurface master(side, master_body, master_selector);
 
     std::optional<std::map<unsigned int, unsigned int>> partner;

@@ -250,23 +250,12 @@ namespace FetiContact
     std::vector<ContactNode> nodes;
     for (unsigned int z = 0; z < contact.zones.size(); ++z)
       {
-        const auto       &zone  = contact.zones[z];
-        const std::string where = "Contact zone " + std::to_string(z + 1) + ": ";
-        const Body       &body  = *bodies[zone.body];
-        BoundarySelector  surface(zone.surface);
-        try
-          {
-            surface.resolve(body.mesh,
-                            body.parameters.name,
-                            body.mesh_comm(),
-                            body.parameters.mesh.transform);
-          }
-        catch (const InputError &e)
-          {
-            throw InputError(where + "Surface: " + e.what());
-          }
-        const Share   share = shared ? Share::home_rings : Share::whole;
-        const Surface slave = collect_surface(body, surface, parts_of_vertex(body), share);
+        const auto            &zone    = contact.zones[z];
+        const std::string      where   = "Contact zone " + std::to_string(z + 1) + ": ";
+        const Body            &body    = *bodies[zone.body];
+        const BoundarySelector surface = resolved_surface(body, zone.surface, where + "Surface: ");
+        const Share            share   = shared ? Share::home_rings : Share::whole;
+        const Surface          slave = collect_surface(body, surface, parts_of_vertex(body), share);
         if (surfaces != nullptr)
           slave.append_to(surfaces->slave, z, zone.body);
 

@@ -25,10 +25,4 @@ namespace FetiContact
     JsonObject whole = leading;
     return whole.append(results).str();
   }
-
-  void
-  Summary::write(ResultFiles &file, const std::string &directory) const
-  {
-    file.open(directory + "/summary.json") << str() << '\n';
-  }
 } // namespace FetiContact

@@ -174,7 +174,7 @@ namespace FetiContact
   DualProblem::own_modes(const std::vector<unsigned int> &mode_offset) const
   {
     // G x on distributed vectors: every rank the modes of its subdomains, which follow each other
-    // in rank order (contiguous ranges of subdomains, Simulator::distribute_subdomains).
+    // in rank order (contiguous ranges of subdomains, SubdomainDistribution::owners()).
     unsigned int n_own_modes = 0, first_own_mode = 0;
     for (const Subdomain *s : owned)
       n_own_modes += mode_offset[s->global_index + 1] - mode_offset[s->global_index];

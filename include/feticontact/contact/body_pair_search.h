@@ -8,6 +8,14 @@
 namespace FetiContact::ContactSearch
 {
   /**
+   * The part of the boundary of @p body that @p selection names, resolved on the body's mesh
+   * (BoundarySelector::resolve()); an InputError gives @p where (the zone and the entry, e.g.
+   * "Contact zone 1: Surface: ") before its reason.
+   */
+  BoundarySelector
+  resolved_surface(const Body &body, const BoundarySelector &selection, const std::string &where);
+
+  /**
    * Appends the home vertices of the slave surface of @p side that are no node of the zone
    * (its nodes are those of @p nodes from @p first) to @p uncoupled.
    */

@@ -6,29 +6,21 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/lac/vector.h>
 
-#include <feticontact/base/output_files.h>
-#include <feticontact/base/tee_stream.h>
-#include <feticontact/contact/contact_forces.h>
-#include <feticontact/contact/contact_geometry.h>
-#include <feticontact/contact/contact_rows.h>
-#include <feticontact/contact/load_balance.h>
+#include <feticontact/base/output_directory.h>
+#include <feticontact/contact/contact_state.h>
 #include <feticontact/core/memory_estimate.h>
+#include <feticontact/core/run_summary.h>
 #include <feticontact/core/summary.h>
 #include <feticontact/feti/dual_problem.h>
-#include <feticontact/feti/local_dual_rows.h>
 #include <feticontact/postprocessing/hertz_comparison.h>
 #include <feticontact/postprocessing/interface.h>
-#include <feticontact/qp/projected_cg.h>
 #include <feticontact/scene/body.h>
 #include <feticontact/scene/scene_parameters.h>
 #include <feticontact/subdomain/subdomain.h>
 
-#include <fstream>
-#include <functional>
 #include <memory>
 #include <mpi.h>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 namespace FetiContact
@@ -90,17 +82,7 @@ namespace FetiContact
     }
 
     /** What a refinement study tabulates of a run (RefinementStudy). */
-    struct Statistics
-    {
-      unsigned int n_primal = 0, n_contact_nodes = 0, outer_iterations = 0,
-                   hessian_multiplications = 0;
-      /** The smallest cell diameter of all bodies. */
-      double h_min = 0;
-      /** Wall time of the solve and of the whole run without output [s]. */
-      double solve_time = 0, time_without_output = 0;
-      /** Verification/Hertz, if enabled. */
-      std::optional<HertzResult> hertz;
-    };
+    using Statistics = RunStatistics;
     /** Available after run(). */
     const Statistics &
     statistics() const
@@ -109,9 +91,6 @@ namespace FetiContact
     }
 
   private:
-    /** Creates the output directory's input files and log.txt (rank 0). */
-    void
-    prepare_output_directory();
     /**
      * The set-up of the scene: the memory estimate, the bodies (and that each is held), the
      * reference displacements, the contact nodes (set_up_contact_nodes()).
@@ -133,35 +112,12 @@ namespace FetiContact
      */
     void
     test_load_balance();
-    /**
-     * The message of a load balance proved impossible, with the slave vertices that the contact
-     * search left without a master (uncoupled_vertices_text()).
-     */
-    std::string
-    no_equilibrium_message(const LoadBalance &balance, const bool tresca) const;
-    /**
-     * Throws InputError naming the body and its free rigid motions if a body that only contact
-     * could hold has no contact node (as slave or master): the coarse problem would be singular.
-     * Collective.
-     */
-    void
-    check_bodies_held_by_contact() const;
-    /**
-     * For a message of no equilibrium: per zone whose search left slave vertices without a
-     * master (or an obstacle) within its search distance, their number and the distance; "" if
-     * none.
-     */
-    std::string
-    uncoupled_vertices_text() const;
     /** Writes the summary of a run that stops without equilibrium before the solve. */
     bool
     stop_without_equilibrium();
     /** This rank's subdomains, their meshes and DoFs, and the rows of B. */
     void
     set_up_subdomains();
-    /** The rank of every subdomain (owner): contiguous ranges balanced by cells. */
-    void
-    distribute_subdomains();
     /**
      * The rows of B, λ = [λ_T; λ_N; λ_E]: all of them, or with distributed dual vectors on
      * several ranks (and no shared local work) those that touch this rank's subdomains.
@@ -179,15 +135,9 @@ namespace FetiContact
     build_dual_problem();
     void
     solve();
-    /** Projected CG (no contact). */
+    /** Projected CG (no contact): LinearDualSolution. */
     void
     solve_linear();
-    /**
-     * The closing message of projected CG: "converged", or why it stopped (stagnation at the
-     * rounding floor of F above the tolerance, or the iteration limit), with its numbers.
-     */
-    std::string
-    projected_cg_message(const QP::SolverReport &report) const;
     /** ContactSolver. */
     void
     solve_contact();
@@ -196,94 +146,9 @@ namespace FetiContact
     postprocess();
     void
     recover_primal();
-    /**
-     * The contact nodes whose rows this rank holds (held_contact), after the dual
-     * problem is built.
-     */
-    void
-    hold_contact_nodes_here();
-
-    /**
-     * The displacements of the vertices that the contact evaluation and output on this rank
-     * read: those of the contact surfaces' triangles it lists, of its uncoupled vertices and of
-     * its nodes and their master vertices, each from the rank of its home subdomain. Collective.
-     */
-    VertexDisplacements
-    contact_displacements() const;
-    /**
-     * Whether this rank holds @p node: with distributed dual vectors the rank of the node's
-     * home subdomain (the lowest copy of its slave vertex), with replicated ones every rank.
-     */
-    bool
-    holds_contact_node(const ContactNode &node) const;
-    /** λ of row @p row of a contact node this rank holds. */
-    double
-    contact_multiplier(const unsigned int row) const;
-    /** The number of entries of λ that are not finite numbers, over all rows and ranks. */
-    unsigned int
-    multipliers_not_finite() const;
-    /** max |B_E u − c| over the equality rows, over all ranks. */
-    double
-    largest_equality_residual() const;
-    /**
-     * The quantities of the solution every postprocessor reads: the displacements per body
-     * vertex, the interface jump, the contact nodes' results, checks and forces.
-     */
-    struct Evaluation
-    {
-      /** The displacements of the vertices of the contact surfaces. */
-      VertexDisplacements surface_u;
-      /** max |u| over all vertices, and the displacement components that are not finite. */
-      double       u_max = 0, interface_jump = 0, largest_strain = 0;
-      unsigned int u_not_finite = 0;
-      /** The largest depth of a vertex in a rigid obstacle (vertex_penetration()), not relative. */
-      double vertex_penetration = 0;
-      /** The entries of λ not finite. */
-      unsigned int                   lambda_not_finite = 0;
-      std::vector<ContactNodeResult> contact_results;
-      ContactCheck                   contact_check;
-      ContactForces                  contact_forces;
-    };
-    Evaluation
-    evaluate_solution() const;
-    void
-    evaluate_contact(Evaluation &evaluation) const;
     /** Writes summary.json, prints the timer table and commits the result files. */
     bool
     finish();
-    /** The leading members of summary.json; records statistics(). */
-    void
-    summarize_run();
-    /** The times of the phases and of the parts of the solve (summary.json: times). */
-    JsonObject
-    summarize_times(double &total_time) const;
-    /** The peak memory of every rank and the estimate (summary.json: memory). */
-    JsonObject
-    summarize_memory() const;
-    /**
-     * The memory of the meshes that this rank holds (Triangulation::memory_consumption()): every
-     * body's whole mesh, or with distributed cells the rank's own, in MiB.
-     */
-    double
-    meshes_mib() const;
-    /** The exchanges of one application of F, per rank (DualProblem::communication_volume). */
-    JsonObject
-    summarize_communication() const;
-    /** How the subdomain solves were shared among the ranks (summary.json: local_work). */
-    JsonObject
-    summarize_local_work() const;
-    /** Renames every rank's result files to their final names, summary.json last. */
-    void
-    commit_results();
-    /**
-     * Runs @p write (on this rank) and makes an OutputError of any rank every rank's, so that
-     * all ranks stop together.
-     */
-    void
-    on_all_ranks(const std::function<void()> &write);
-    /** Throws OutputError on every rank if rank 0's log.txt could not be written. */
-    void
-    check_log();
 
     MPI_Comm           comm;
     const unsigned int rank;
@@ -291,12 +156,8 @@ namespace FetiContact
     Parameters::Scene  parameters;
     MemoryEstimate     memory_estimate; ///< of the run's peak, made before any mesh is built
     const std::string  effective_parameters, input;
-    std::ofstream      log_file;
-    /** This rank's result files, renamed to their final names at the end of run(). */
-    ResultFiles result_files;
-    /** summary.json, renamed after every other result file. */
-    ResultFiles                summary_file;
-    TeeStream                  tee;
+    /** The output directory, its log and this rank's result files. */
+    OutputDirectory            output;
     dealii::ConditionalOStream pcout;
     dealii::TimerOutput        timer;
 
@@ -313,27 +174,11 @@ namespace FetiContact
     std::vector<unsigned int>               mode_offset;
     /** The rows of B that this rank holds (build_dual_rows()). */
     DualRows rows;
-    /**
-     * The contact nodes this rank found (find_contact_nodes()): the search is shared, and these
-     * are the nodes of this rank's home vertices.
-     */
-    std::vector<ContactNode> contact_nodes;
-    /** The number of contact nodes of all ranks. */
-    unsigned int n_contact_nodes = 0;
-    /** The load-balance test of the scene, for the pre-solve test and every MSA step. */
-    std::unique_ptr<LoadBalanceTest> load_balance_test;
-    ContactSurfaces                  contact_surfaces;
-    /** Per contact zone: whether its rows are mortar rows (the mortar overlap check). */
-    std::vector<bool>            mortar_zones;
+    /** The contact nodes, those whose rows this rank holds, and their evaluation. */
+    ContactState contact;
+    /** The layout of λ = [λ_T; λ_N; λ_E]: the numbers of its rows of each kind. */
     DualLayout                   layout;
     std::unique_ptr<DualProblem> dual;
-    /**
-     * The contact nodes whose rows this rank holds (hold_contact_nodes()): each node on the rank
-     * of its home subdomain.
-     */
-    HeldContactNodes held_contact;
-    /** The rows this rank holds of the dual vectors (set with the dual problem). */
-    std::optional<LocalDualRows> dual_rows;
 
     /** The solution λ on this rank's rows. */
     DualVector lambda;
@@ -342,23 +187,12 @@ namespace FetiContact
     bool                                alpha_given = false;
     std::vector<dealii::Vector<double>> u;
     /** summary.json under construction. */
-    Summary      summary;
-    bool         converged              = false;
-    bool         equilibrium_impossible = false;
-    std::string  message;
-    unsigned int iterations = 0;
-    unsigned int n_bound = 0, n_disc = 0;
-    Statistics   run_statistics;
-    /** Time in and number of applications of F up to the end of the solve. */
-    double solve_F_time = 0;
-    /** Wall time of the contact search, the mortar integrals and the contact rows (in setup). */
-    double contact_rows_time = 0;
-    /** What the contact search found per zone (counts over all ranks). */
-    std::vector<ZoneReport> zone_reports;
-    double                  solve_F_local_time   = 0;
-    unsigned int            solve_F_applications = 0;
-    /** Time in and number of applications of the lumped preconditioner (part of the solve). */
-    double       solve_preconditioner_time         = 0;
-    unsigned int solve_preconditioner_applications = 0;
+    Summary     summary;
+    bool        converged              = false;
+    bool        equilibrium_impossible = false;
+    std::string message;
+    Statistics  run_statistics;
+    /** The counts and times of the solve that summary.json reports. */
+    SolveWork work;
   };
 } // namespace FetiContact

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <feticontact/base/json_writer.h>
-#include <feticontact/base/output_files.h>
 
 #include <string>
 
@@ -68,10 +67,6 @@ namespace FetiContact
     /** The whole object as JSON text: the leading members, then the results. */
     std::string
     str() const;
-
-    /** Opens `@p directory/summary.json` in @p file (a result file) and writes str() into it. */
-    void
-    write(ResultFiles &file, const std::string &directory) const;
 
   private:
     JsonObject  leading;
